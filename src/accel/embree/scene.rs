@@ -1,0 +1,306 @@
+//! Embree scenes: a builder that owns its geometry until `commit`, and the
+//! committed scene that answers queries from any number of threads.
+
+use std::ptr::NonNull;
+
+use super::device::Device;
+use super::query::{self, Coherence};
+use super::sys;
+use crate::error::{Error, Result};
+use crate::math::{Bounds, Hit, Ray, Vec3};
+
+/// Embree's BVH build quality.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum BuildQuality {
+    Low,
+    #[default]
+    Medium,
+    High,
+}
+
+/// Scene-wide settings.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SceneOptions {
+    /// `RTC_SCENE_FLAG_ROBUST`: watertight edges, as embreex's default. On by default.
+    pub robust: bool,
+    pub quality: BuildQuality,
+}
+
+impl Default for SceneOptions {
+    fn default() -> Self {
+        SceneOptions {
+            robust: true,
+            quality: BuildQuality::default(),
+        }
+    }
+}
+
+/// An owned `RTCScene`, released on drop.
+struct SceneHandle(NonNull<sys::RTCSceneTy>);
+
+impl Drop for SceneHandle {
+    fn drop(&mut self) {
+        // SAFETY: the handle came from rtcNewScene and is released once; the device it was
+        // created on is held alive next to it (field order in the owners).
+        unsafe { sys::rtcReleaseScene(self.0.as_ptr()) };
+    }
+}
+
+/// An owned `RTCGeometry` that is not attached yet, released on drop.
+struct GeometryHandle(NonNull<sys::RTCGeometryTy>);
+
+impl Drop for GeometryHandle {
+    fn drop(&mut self) {
+        // SAFETY: the handle came from rtcNewGeometry; attaching took Embree's own
+        // reference, so releasing ours here is balanced.
+        unsafe { sys::rtcReleaseGeometry(self.0.as_ptr()) };
+    }
+}
+
+/// A scene being built. Not `Sync`: Embree calls on one object are not thread-safe.
+pub struct SceneBuilder {
+    // Released before the device: fields drop in declaration order.
+    scene: SceneHandle,
+    device: Device,
+}
+
+impl SceneBuilder {
+    pub fn new(device: &Device, options: SceneOptions) -> Result<SceneBuilder> {
+        // SAFETY: the device handle is valid for the call.
+        let raw = unsafe { sys::rtcNewScene(device.raw()) };
+        let Some(raw) = NonNull::new(raw) else {
+            device.check()?;
+            return Err(Error::Embree("rtcNewScene returned no scene".into()));
+        };
+        let scene = SceneHandle(raw);
+        let flags = if options.robust {
+            sys::RTCSceneFlags_RTC_SCENE_FLAG_ROBUST
+        } else {
+            sys::RTCSceneFlags_RTC_SCENE_FLAG_NONE
+        };
+        let quality = match options.quality {
+            BuildQuality::Low => sys::RTCBuildQuality_RTC_BUILD_QUALITY_LOW,
+            BuildQuality::Medium => sys::RTCBuildQuality_RTC_BUILD_QUALITY_MEDIUM,
+            BuildQuality::High => sys::RTCBuildQuality_RTC_BUILD_QUALITY_HIGH,
+        };
+        // SAFETY: the scene is valid and not yet shared with any thread.
+        unsafe {
+            sys::rtcSetSceneFlags(raw.as_ptr(), flags);
+            sys::rtcSetSceneBuildQuality(raw.as_ptr(), quality);
+        }
+        device.check()?;
+        Ok(SceneBuilder {
+            scene,
+            device: device.clone(),
+        })
+    }
+
+    /// Adds a triangle mesh as geometry `geom_id`. The data are copied into
+    /// buffers Embree allocates (padded for its 16-byte loads). An empty mesh
+    /// attaches nothing: no ray can hit it.
+    pub fn add_triangles(
+        &mut self,
+        geom_id: u32,
+        positions: &[Vec3],
+        triangles: &[[u32; 3]],
+    ) -> Result<()> {
+        if triangles.is_empty() {
+            return Ok(());
+        }
+        let count = positions.len();
+        if let Some(bad) = triangles.iter().flatten().find(|&&i| i as usize >= count) {
+            // Embree would read past the vertex buffer: refuse here.
+            return Err(Error::Input(format!(
+                "geometry {geom_id}: vertex index {bad} out of range (the mesh has {count} vertices)"
+            )));
+        }
+        let device = self.device.raw();
+        // SAFETY: the device is valid; a null result is checked below.
+        let raw = unsafe { sys::rtcNewGeometry(device, sys::RTCGeometryType_RTC_GEOMETRY_TYPE_TRIANGLE) };
+        let Some(raw) = NonNull::new(raw) else {
+            self.device.check()?;
+            return Err(Error::Embree("rtcNewGeometry returned no geometry".into()));
+        };
+        let geometry = GeometryHandle(raw);
+        let g = geometry.0.as_ptr();
+        // SAFETY: `g` is a new, unshared triangle geometry. Each buffer is allocated by
+        // Embree for exactly `len` items of the stated 12-byte stride, checked for null,
+        // and filled with `len` items before commit.
+        unsafe {
+            let vertices = sys::rtcSetNewGeometryBuffer(
+                g,
+                sys::RTCBufferType_RTC_BUFFER_TYPE_VERTEX,
+                0,
+                sys::RTCFormat_RTC_FORMAT_FLOAT3,
+                std::mem::size_of::<[f32; 3]>(),
+                count,
+            ) as *mut [f32; 3];
+            let indices = sys::rtcSetNewGeometryBuffer(
+                g,
+                sys::RTCBufferType_RTC_BUFFER_TYPE_INDEX,
+                0,
+                sys::RTCFormat_RTC_FORMAT_UINT3,
+                std::mem::size_of::<[u32; 3]>(),
+                triangles.len(),
+            ) as *mut [u32; 3];
+            if vertices.is_null() || indices.is_null() {
+                self.device.check()?;
+                return Err(Error::Embree("cannot allocate geometry buffers".into()));
+            }
+            for (i, p) in positions.iter().enumerate() {
+                vertices.add(i).write(p.to_array());
+            }
+            std::ptr::copy_nonoverlapping(triangles.as_ptr(), indices, triangles.len());
+            sys::rtcSetGeometryMask(g, u32::MAX);
+            sys::rtcCommitGeometry(g);
+            sys::rtcAttachGeometryByID(self.scene.0.as_ptr(), g, geom_id);
+        }
+        drop(geometry);
+        self.device.check()
+    }
+
+    /// Builds the BVH. Queries exist only on the result, so none can run on an
+    /// uncommitted or half-edited scene.
+    pub fn commit(self) -> Result<CommittedScene> {
+        // SAFETY: the scene is valid and owned by `self`; no query can run during the build.
+        unsafe { sys::rtcCommitScene(self.scene.0.as_ptr()) };
+        self.device.check()?;
+        Ok(CommittedScene {
+            scene: self.scene,
+            device: self.device,
+        })
+    }
+}
+
+/// A committed, immutable scene. Queries take `&self` and may run on many threads.
+pub struct CommittedScene {
+    // Released before the device: fields drop in declaration order.
+    scene: SceneHandle,
+    device: Device,
+}
+
+// SAFETY: the scene is owned uniquely and never mutated after commit; Embree documents
+// rtcIntersect*/rtcOccluded* on a committed scene as thread-safe.
+unsafe impl Send for CommittedScene {}
+// SAFETY: as for Send; `&CommittedScene` only permits those queries and bounds reads.
+unsafe impl Sync for CommittedScene {}
+
+impl CommittedScene {
+    /// The nearest hit in (tnear, tfar), or `Hit::MISS`.
+    pub fn intersect(&self, ray: &Ray) -> Hit {
+        let mut record = query::rayhit_record(ray);
+        self.intersect_record(&mut record, Coherence::Incoherent);
+        query::hit_from_record(&record)
+    }
+
+    /// Whether anything blocks the ray in (tnear, tfar).
+    pub fn occluded(&self, ray: &Ray) -> bool {
+        let mut record = query::ray_record(ray);
+        #[cfg(embree3)]
+        {
+            let mut context = query::context(Coherence::Incoherent);
+            // SAFETY: scene committed; `context` and `record` are live, initialised and
+            // exclusively borrowed for the call.
+            unsafe { sys::rtcOccluded1(self.scene.0.as_ptr(), &mut context, &mut record) };
+        }
+        #[cfg(embree4)]
+        {
+            let mut context = query::context();
+            let mut args = query::occluded_arguments(Coherence::Incoherent, &mut context);
+            // SAFETY: as above; `args` points at `context`, which outlives the call.
+            unsafe { sys::rtcOccluded1(self.scene.0.as_ptr(), &mut record, &mut args) };
+        }
+        query::occluded_from_record(&record)
+    }
+
+    /// Traces many rays. On Embree 3 this goes through the stream API
+    /// (`rtcIntersect1M`), on Embree 4 (no stream API) through single-ray calls.
+    /// Reports any error Embree raised during the batch.
+    pub fn intersect_batch(&self, rays: &[Ray], hits: &mut [Hit], coherent: bool) -> Result<()> {
+        assert_eq!(rays.len(), hits.len(), "one hit record per ray");
+        const CHUNK: usize = 256;
+        let coherence = if coherent {
+            Coherence::Coherent
+        } else {
+            Coherence::Incoherent
+        };
+        let mut records = [sys::RTCRayHit::default(); CHUNK];
+        for (rays, hits) in rays.chunks(CHUNK).zip(hits.chunks_mut(CHUNK)) {
+            let records = &mut records[..rays.len()];
+            for (record, ray) in records.iter_mut().zip(rays) {
+                *record = query::rayhit_record(ray);
+            }
+            self.intersect_records(records, coherence);
+            for (hit, record) in hits.iter_mut().zip(records.iter()) {
+                *hit = query::hit_from_record(record);
+            }
+        }
+        self.check()
+    }
+
+    #[cfg(embree3)]
+    fn intersect_records(&self, records: &mut [sys::RTCRayHit], coherence: Coherence) {
+        let mut context = query::context(coherence);
+        // SAFETY: scene committed; `records` is a live slice of initialised RTCRayHit with
+        // the stride given, `context` is initialised; both are exclusively borrowed.
+        unsafe {
+            sys::rtcIntersect1M(
+                self.scene.0.as_ptr(),
+                &mut context,
+                records.as_mut_ptr(),
+                records.len() as u32,
+                std::mem::size_of::<sys::RTCRayHit>(),
+            )
+        };
+    }
+
+    #[cfg(embree4)]
+    fn intersect_records(&self, records: &mut [sys::RTCRayHit], coherence: Coherence) {
+        for record in records {
+            self.intersect_record(record, coherence);
+        }
+    }
+
+    fn intersect_record(&self, record: &mut sys::RTCRayHit, coherence: Coherence) {
+        #[cfg(embree3)]
+        {
+            let mut context = query::context(coherence);
+            // SAFETY: scene committed; `context` and `record` are live, initialised and
+            // exclusively borrowed for the call.
+            unsafe { sys::rtcIntersect1(self.scene.0.as_ptr(), &mut context, record) };
+        }
+        #[cfg(embree4)]
+        {
+            let mut context = query::context();
+            let mut args = query::intersect_arguments(coherence, &mut context);
+            // SAFETY: as above; `args` points at `context`, which outlives the call.
+            unsafe { sys::rtcIntersect1(self.scene.0.as_ptr(), record, &mut args) };
+        }
+    }
+
+    /// The bounds of everything in the scene (empty for an empty scene).
+    pub fn bounds(&self) -> Bounds {
+        let mut b = sys::RTCBounds::default();
+        // SAFETY: scene committed; `b` is a live, 16-byte-aligned RTCBounds.
+        unsafe { sys::rtcGetSceneBounds(self.scene.0.as_ptr(), &mut b) };
+        Bounds {
+            min: Vec3::new(b.lower_x, b.lower_y, b.lower_z),
+            max: Vec3::new(b.upper_x, b.upper_y, b.upper_z),
+        }
+    }
+
+    /// Errors Embree reported since the last check (renders call this once at the end).
+    pub fn check(&self) -> Result<()> {
+        self.device.check()
+    }
+
+    pub fn device(&self) -> &Device {
+        &self.device
+    }
+
+    /// A raw query on a caller-owned record, for the layout guard tests.
+    #[cfg(test)]
+    pub(super) fn intersect_raw(&self, record: &mut sys::RTCRayHit) {
+        self.intersect_record(record, Coherence::Incoherent);
+    }
+}

@@ -1,0 +1,15 @@
+//! bindgen's output for the installed Embree header (see ffi/README.md).
+#![allow(
+    non_upper_case_globals,
+    non_camel_case_types,
+    non_snake_case,
+    dead_code,
+    unsafe_op_in_unsafe_fn,
+    clippy::all,
+    clippy::undocumented_unsafe_blocks
+)]
+
+include!(concat!(env!("OUT_DIR"), "/embree_sys.rs"));
+
+/// `RTC_INVALID_GEOMETRY_ID` is the cast macro `((unsigned int)-1)`, which bindgen drops.
+pub const RTC_INVALID_GEOMETRY_ID: u32 = u32::MAX;
