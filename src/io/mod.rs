@@ -1,0 +1,14 @@
+//! File formats: EXR images, PNG previews, .npy rays and hits.
+//!
+//! Each writer produces the same bytes for the same data (no timestamps, no
+//! hash-map order), so equal renders give equal files and tests can compare
+//! them byte for byte. Readers reject malformed files with [`Error::Input`]
+//! naming the path and what was expected; failures of the file system
+//! itself are [`Error::Io`].
+//!
+//! [`Error::Input`]: crate::error::Error::Input
+//! [`Error::Io`]: crate::error::Error::Io
+
+pub mod exr;
+pub mod npy;
+pub mod png;
