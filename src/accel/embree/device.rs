@@ -2,31 +2,39 @@
 
 use std::ffi::{CStr, CString, c_char, c_void};
 use std::ptr::NonNull;
+use std::sync::atomic::{AtomicI64, Ordering};
 use std::sync::{Arc, Mutex};
 
 use super::sys;
 use crate::error::{Error, Result};
 
-/// Errors Embree reported through the device callback, drained after every
-/// build, commit and batch. Embree may call the callback from any thread.
+/// What the device callbacks record: errors, drained after every build, commit
+/// and batch, and the bytes Embree has allocated. Embree may call either
+/// callback from any thread.
 #[derive(Default)]
-struct ErrorSlot(Mutex<Vec<String>>);
+struct Monitor {
+    errors: Mutex<Vec<String>>,
+    bytes: AtomicI64,
+}
 
-impl ErrorSlot {
+impl Monitor {
     fn push(&self, message: String) {
-        self.0.lock().unwrap_or_else(|e| e.into_inner()).push(message);
+        self.errors
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .push(message);
     }
 
     fn drain(&self) -> Vec<String> {
-        std::mem::take(&mut *self.0.lock().unwrap_or_else(|e| e.into_inner()))
+        std::mem::take(&mut *self.errors.lock().unwrap_or_else(|e| e.into_inner()))
     }
 }
 
 struct DeviceHandle {
     raw: NonNull<sys::RTCDeviceTy>,
-    // Boxed so its address, handed to Embree as the callback's user pointer, is stable.
-    // Declared after `raw`: the device is released before the slot is freed.
-    errors: Box<ErrorSlot>,
+    // Boxed so its address, handed to Embree as the callbacks' user pointer, is stable.
+    // Declared after `raw`: the device is released before the monitor is freed.
+    monitor: Box<Monitor>,
 }
 
 impl Drop for DeviceHandle {
@@ -38,7 +46,7 @@ impl Drop for DeviceHandle {
 }
 
 // SAFETY: Embree's API documentation states that device-level calls (creating objects,
-// setting callbacks, querying properties) are thread-safe, and the error slot is a Mutex.
+// setting callbacks, querying properties) are thread-safe, and the monitor is a Mutex and an atomic.
 unsafe impl Send for DeviceHandle {}
 // SAFETY: as for Send: sharing `&DeviceHandle` only allows thread-safe device calls.
 unsafe impl Sync for DeviceHandle {}
@@ -59,7 +67,13 @@ impl Version {
 
 impl std::fmt::Display for Version {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "{}.{}.{}", self.0 / 10000, self.0 / 100 % 100, self.0 % 100)
+        write!(
+            f,
+            "{}.{}.{}",
+            self.0 / 10000,
+            self.0 / 100 % 100,
+            self.0 % 100
+        )
     }
 }
 
@@ -79,11 +93,19 @@ extern "C" fn error_callback(user_ptr: *mut c_void, code: sys::RTCError, message
                 .to_string_lossy()
                 .into_owned()
         };
-        // SAFETY: `user_ptr` is the `ErrorSlot` registered in `Device::new`, boxed inside
-        // the DeviceHandle, which outlives every call Embree makes on this device.
-        let slot = unsafe { &*(user_ptr as *const ErrorSlot) };
-        slot.push(format!("{} (code {code})", text.trim_end()));
+        // SAFETY: `user_ptr` is the `Monitor` registered in `Device::with_config`, boxed
+        // inside the DeviceHandle, which outlives every call Embree makes on this device.
+        let monitor = unsafe { &*(user_ptr as *const Monitor) };
+        monitor.push(format!("{} (code {code})", text.trim_end()));
     });
+}
+
+extern "C" fn memory_callback(user_ptr: *mut c_void, bytes: isize, _post: bool) -> bool {
+    // SAFETY: as in `error_callback`. An atomic add cannot panic.
+    let monitor = unsafe { &*(user_ptr as *const Monitor) };
+    monitor.bytes.fetch_add(bytes as i64, Ordering::Relaxed);
+    // Never refuse an allocation.
+    true
 }
 
 impl Device {
@@ -108,13 +130,14 @@ impl Device {
         };
         let handle = DeviceHandle {
             raw,
-            errors: Box::default(),
+            monitor: Box::default(),
         };
-        let slot: *const ErrorSlot = &*handle.errors;
-        // SAFETY: the slot is boxed inside `handle` and outlives the device (field order
-        // and Drop above); the callback only reads through a shared reference.
+        let monitor = &*handle.monitor as *const Monitor as *mut c_void;
+        // SAFETY: the monitor is boxed inside `handle` and outlives the device (field order
+        // and Drop above); the callbacks only use it through a shared reference.
         unsafe {
-            sys::rtcSetDeviceErrorFunction(raw.as_ptr(), Some(error_callback), slot as *mut c_void)
+            sys::rtcSetDeviceErrorFunction(raw.as_ptr(), Some(error_callback), monitor);
+            sys::rtcSetDeviceMemoryMonitorFunction(raw.as_ptr(), Some(memory_callback), monitor);
         };
         let device = Device(Arc::new(handle));
         let library = device.library_version();
@@ -133,9 +156,17 @@ impl Device {
     pub fn library_version(&self) -> Version {
         // SAFETY: the device handle is valid; the property is a plain integer query.
         let v = unsafe {
-            sys::rtcGetDeviceProperty(self.raw(), sys::RTCDeviceProperty_RTC_DEVICE_PROPERTY_VERSION)
+            sys::rtcGetDeviceProperty(
+                self.raw(),
+                sys::RTCDeviceProperty_RTC_DEVICE_PROPERTY_VERSION,
+            )
         };
         Version(u32::try_from(v).unwrap_or(0))
+    }
+
+    /// Bytes Embree currently holds for this device's scenes, from its memory monitor.
+    pub fn bytes_in_use(&self) -> i64 {
+        self.0.monitor.bytes.load(Ordering::Relaxed)
     }
 
     pub(super) fn raw(&self) -> *mut sys::RTCDeviceTy {
@@ -144,7 +175,7 @@ impl Device {
 
     /// Turns every error Embree reported since the last check into an `Error`.
     pub(super) fn check(&self) -> Result<()> {
-        let errors = self.0.errors.drain();
+        let errors = self.0.monitor.drain();
         if errors.is_empty() {
             Ok(())
         } else {
