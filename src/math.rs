@@ -94,3 +94,62 @@ impl Bounds {
         self.max - self.min
     }
 }
+
+/// γ(n) = nε / (1 − nε), the bound on the relative error of n f32 operations
+/// (Higham; pbrt's `gamma`).
+pub fn gamma(n: u32) -> f32 {
+    let e = n as f32 * (f32::EPSILON * 0.5);
+    e / (1.0 - e)
+}
+
+/// Moves a spawned ray's origin off the surface it starts on: along the
+/// normal `n`, by the hit point's per-axis error bound `error` projected on
+/// the normal, to the side `w` leaves towards, then one float further away
+/// (pbrt's OffsetRayOrigin). The ray then cannot re-hit its own surface, and
+/// the offset scales with the hit point's magnitude, not a fixed epsilon.
+pub fn offset(p: Vec3, error: Vec3, n: Vec3, w: Vec3) -> Vec3 {
+    let d = n.abs().dot(error);
+    let mut shift = d * n;
+    if w.dot(n) < 0.0 {
+        shift = -shift;
+    }
+    let moved = p + shift;
+    let away = |x: f32, s: f32| {
+        if s > 0.0 {
+            x.next_up()
+        } else if s < 0.0 {
+            x.next_down()
+        } else {
+            x
+        }
+    };
+    Vec3::new(
+        away(moved.x, shift.x),
+        away(moved.y, shift.y),
+        away(moved.z, shift.z),
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn gamma_bounds_grow_with_operation_count() {
+        assert!(gamma(1) > 0.5 * f32::EPSILON && gamma(1) < 0.51 * f32::EPSILON);
+        assert!(gamma(7) > 7.0 * gamma(1) - 1e-12);
+    }
+
+    #[test]
+    fn offset_moves_to_the_side_the_ray_leaves_on() {
+        let p = Vec3::new(1000.0, 0.0, 0.0);
+        let err = Vec3::splat(1e-3);
+        let n = Vec3::Y;
+        let up = offset(p, err, n, Vec3::new(0.3, 1.0, 0.0));
+        let down = offset(p, err, n, Vec3::new(0.3, -1.0, 0.0));
+        assert!(up.y > 1e-3 && down.y < -1e-3);
+        assert_eq!((up.x, up.z), (p.x, p.z));
+        // A zero error bound leaves the point where it is: there is nothing to clear.
+        assert!(offset(Vec3::ZERO, Vec3::ZERO, n, n).y == 0.0);
+    }
+}

@@ -1,0 +1,147 @@
+//! Scenes: the in-memory form, loaded from a TOML file or a bare OBJ.
+
+mod camera;
+mod file;
+mod obj;
+mod suggest;
+
+use std::path::Path;
+
+pub use camera::{Camera, CameraFrame};
+pub use obj::{ObjFile, load_obj};
+
+use crate::error::{Error, Result};
+use crate::geometry::Mesh;
+use crate::lights::Light;
+use crate::math::{Bounds, INVALID_ID, Vec3};
+use crate::shading::Material;
+
+/// Per-render settings.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RenderSettings {
+    pub spp: u32,
+    pub max_depth: u32,
+    pub seed: u64,
+}
+
+impl Default for RenderSettings {
+    fn default() -> Self {
+        RenderSettings {
+            spp: 4,
+            max_depth: 5,
+            seed: 0,
+        }
+    }
+}
+
+#[derive(Clone, Debug)]
+pub struct Scene {
+    /// The file stem: renders default to `out/<name>.exr`.
+    pub name: String,
+    pub camera: Camera,
+    pub render: RenderSettings,
+    pub background: Vec3,
+    pub materials: Vec<Material>,
+    /// Geometry i of the scene is mesh i: its `geom_id` in hits.
+    pub meshes: Vec<Mesh>,
+    pub lights: Vec<Light>,
+}
+
+impl Scene {
+    /// Loads a `.toml` scene or a bare `.obj` file.
+    pub fn load(path: &Path) -> Result<Scene> {
+        match path.extension().and_then(|e| e.to_str()) {
+            Some(ext) if ext.eq_ignore_ascii_case("obj") => Scene::from_obj(path),
+            Some(ext) if ext.eq_ignore_ascii_case("toml") => file::load(path),
+            _ => Err(Error::Input(format!(
+                "{}: expected a scene file ending in .toml or .obj",
+                path.display()
+            ))),
+        }
+    }
+
+    /// A bare OBJ as a scene: a camera framing its bounds, a point light near
+    /// the camera, grey diffuse for faces without a material.
+    fn from_obj(path: &Path) -> Result<Scene> {
+        let mut scene = Scene {
+            name: scene_name(path),
+            camera: Camera::default(),
+            render: RenderSettings::default(),
+            background: Vec3::splat(0.05),
+            materials: Vec::new(),
+            meshes: Vec::new(),
+            lights: Vec::new(),
+        };
+        scene.add_obj(load_obj(path)?, None);
+        let bounds = scene.bounds();
+        if bounds.is_empty() {
+            return Err(Error::Mesh {
+                path: path.to_owned(),
+                line: 0,
+                message: "the file has no faces".into(),
+            });
+        }
+        scene.camera = Camera::framing(bounds, 640, 480);
+        scene.lights.push(headlight(&scene.camera));
+        Ok(scene)
+    }
+
+    /// Appends an OBJ's meshes; `material` replaces its own materials when given.
+    pub(crate) fn add_obj(&mut self, obj: ObjFile, material: Option<u32>) {
+        let offset = self.materials.len() as u32;
+        self.materials.extend(obj.materials);
+        let mut default = None;
+        for mut mesh in obj.meshes {
+            for m in &mut mesh.materials {
+                *m = match (material, *m) {
+                    (Some(forced), _) => forced,
+                    (None, INVALID_ID) => *default.get_or_insert_with(|| self.default_material()),
+                    (None, own) => own + offset,
+                };
+            }
+            self.meshes.push(mesh);
+        }
+    }
+
+    /// The index of the grey default material, added on first use.
+    fn default_material(&mut self) -> u32 {
+        let grey = Material::default_grey();
+        match self.materials.iter().position(|m| *m == grey) {
+            Some(i) => i as u32,
+            None => {
+                self.materials.push(grey);
+                self.materials.len() as u32 - 1
+            }
+        }
+    }
+
+    pub fn bounds(&self) -> Bounds {
+        self.meshes
+            .iter()
+            .fold(Bounds::EMPTY, |b, m| b.union(m.bounds()))
+    }
+
+    pub fn triangle_count(&self) -> usize {
+        self.meshes.iter().map(|m| m.triangles.len()).sum()
+    }
+}
+
+fn scene_name(path: &Path) -> String {
+    path.file_stem()
+        .map_or_else(|| "scene".into(), |s| s.to_string_lossy().into_owned())
+}
+
+/// A point light just above the camera, bright enough that a white surface at
+/// the look-at point receives an irradiance of about 3.
+fn headlight(camera: &Camera) -> Light {
+    let distance = camera.eye.distance(camera.look_at);
+    let position = camera.eye + 0.2 * distance * camera.up.normalize();
+    let d = position.distance(camera.look_at);
+    Light::Point {
+        position,
+        intensity: Vec3::splat(3.0 * d * d),
+    }
+}
+
+#[cfg(test)]
+mod tests;

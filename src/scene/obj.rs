@@ -1,0 +1,225 @@
+//! Wavefront OBJ geometry, read line by line so every error names its line.
+//!
+//! tobj reads the MTL files, but not the OBJ itself: tobj reports no line
+//! numbers and splits an object wherever `usemtl` changes, while the `trace`
+//! contract numbers triangles in file order within each `o`/`g` object.
+//! Polygons are fan-triangulated (v0, vi, vi+1), as embreex users and tobj do.
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+use crate::error::{Error, Result};
+use crate::geometry::Mesh;
+use crate::math::{INVALID_ID, Vec3};
+use crate::shading::Material;
+
+/// The meshes of one OBJ file with the materials of its MTL libraries.
+/// A triangle without a material has material index `INVALID_ID`.
+pub struct ObjFile {
+    pub meshes: Vec<Mesh>,
+    pub materials: Vec<Material>,
+}
+
+/// Coordinates beyond this are refused: they overflow f32 arithmetic in the BVH.
+const MAX_COORDINATE: f32 = 1e18;
+
+struct Reader<'a> {
+    path: &'a Path,
+    line: usize,
+    positions: Vec<Vec3>,
+    materials: Vec<Material>,
+    material_names: HashMap<String, u32>,
+    current_material: u32,
+    meshes: Vec<Mesh>,
+    mesh: Mesh,
+    /// Global vertex index → index in the current mesh, `INVALID_ID` if unused.
+    local: Vec<u32>,
+    /// The inverse for the current mesh: local index → global index.
+    globals: Vec<u32>,
+}
+
+impl Reader<'_> {
+    fn error(&self, message: impl Into<String>) -> Error {
+        Error::Mesh {
+            path: self.path.to_owned(),
+            line: self.line,
+            message: message.into(),
+        }
+    }
+
+    fn vertex<'w>(&self, words: impl Iterator<Item = &'w str>) -> Result<Vec3> {
+        let mut xyz = [0.0f32; 3];
+        let mut words = words;
+        for (axis, value) in xyz.iter_mut().enumerate() {
+            let word = words.next().ok_or_else(|| {
+                self.error(format!("expected 3 coordinates after `v`, found {axis}"))
+            })?;
+            *value = word
+                .parse::<f32>()
+                .map_err(|_| self.error(format!("expected a number, found `{word}`")))?;
+            if !value.is_finite() || value.abs() > MAX_COORDINATE {
+                return Err(self.error(format!(
+                    "coordinate `{word}` is not a finite number below {MAX_COORDINATE:e}"
+                )));
+            }
+        }
+        Ok(Vec3::from(xyz))
+    }
+
+    /// Resolves one `v`, `v/t`, `v//n` or `v/t/n` reference to a mesh-local index.
+    fn reference(&mut self, word: &str) -> Result<u32> {
+        let v = word.split('/').next().unwrap_or("");
+        let count = self.positions.len() as i64;
+        let index: i64 = v
+            .parse()
+            .map_err(|_| self.error(format!("expected a vertex index in face, found `{word}`")))?;
+        // OBJ indices are 1-based; negative ones count back from the last vertex.
+        let global = if index > 0 { index - 1 } else { count + index };
+        if index == 0 || global < 0 || global >= count {
+            return Err(self.error(format!(
+                "vertex index {index} out of range: {count} vertices defined so far"
+            )));
+        }
+        let slot = &mut self.local[global as usize];
+        if *slot == INVALID_ID {
+            *slot = self.mesh.positions.len() as u32;
+            self.mesh.positions.push(self.positions[global as usize]);
+            self.globals.push(global as u32);
+        }
+        Ok(*slot)
+    }
+
+    fn face<'w>(&mut self, words: impl Iterator<Item = &'w str>) -> Result<()> {
+        let mut corners = [0u32; 3];
+        let mut n = 0;
+        for word in words {
+            let index = self.reference(word)?;
+            // Fan: (v0, v1, v2), (v0, v2, v3), ...
+            if n < 3 {
+                corners[n] = index;
+            } else {
+                corners[1] = corners[2];
+                corners[2] = index;
+            }
+            n += 1;
+            if n >= 3 {
+                self.mesh.triangles.push(corners);
+                self.mesh.materials.push(self.current_material);
+            }
+        }
+        if n < 3 {
+            return Err(self.error(format!("a face needs at least 3 vertices, found {n}")));
+        }
+        Ok(())
+    }
+
+    fn finish_mesh(&mut self, next_name: String) {
+        let mesh = std::mem::replace(
+            &mut self.mesh,
+            Mesh {
+                name: next_name,
+                ..Mesh::default()
+            },
+        );
+        // Reset only the entries this mesh used: `local` spans every vertex of the file.
+        for g in self.globals.drain(..) {
+            self.local[g as usize] = INVALID_ID;
+        }
+        if !mesh.triangles.is_empty() {
+            self.meshes.push(mesh);
+        }
+    }
+
+    fn material_library(&mut self, rest: &str) -> Result<()> {
+        let dir = self.path.parent().unwrap_or(Path::new("."));
+        let file: PathBuf = dir.join(rest.trim());
+        let (materials, _) = tobj::load_mtl(&file).map_err(|err| {
+            let why = if file.is_file() {
+                format!("malformed material library {}: {err}", file.display())
+            } else {
+                format!("material library {} not found", file.display())
+            };
+            self.error(why)
+        })?;
+        for m in &materials {
+            let index = self.materials.len() as u32;
+            self.material_names.insert(m.name.clone(), index);
+            self.materials.push(Material::from_mtl(m));
+        }
+        Ok(())
+    }
+
+    fn use_material(&mut self, name: &str) -> Result<()> {
+        let name = name.trim();
+        self.current_material = *self.material_names.get(name).ok_or_else(|| {
+            let mut known: Vec<&str> = self.material_names.keys().map(String::as_str).collect();
+            known.sort_unstable();
+            self.error(format!(
+                "material `{name}` is not defined in any mtllib loaded so far (known: {})",
+                if known.is_empty() {
+                    "none".into()
+                } else {
+                    known.join(", ")
+                }
+            ))
+        })?;
+        Ok(())
+    }
+}
+
+/// Reads an OBJ file and the MTL libraries it names.
+pub fn load_obj(path: &Path) -> Result<ObjFile> {
+    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let stem = path
+        .file_stem()
+        .map_or_else(|| "mesh".into(), |s| s.to_string_lossy().into_owned());
+    let mut r = Reader {
+        path,
+        line: 0,
+        positions: Vec::new(),
+        materials: Vec::new(),
+        material_names: HashMap::new(),
+        current_material: INVALID_ID,
+        meshes: Vec::new(),
+        mesh: Mesh {
+            name: stem,
+            ..Mesh::default()
+        },
+        local: Vec::new(),
+        globals: Vec::new(),
+    };
+    for (number, line) in text.lines().enumerate() {
+        r.line = number + 1;
+        let line = line.trim();
+        let Some(keyword) = line.split_whitespace().next() else {
+            continue;
+        };
+        let rest = line[keyword.len()..].trim_start();
+        match keyword {
+            "v" => {
+                let v = r.vertex(rest.split_whitespace())?;
+                r.positions.push(v);
+                r.local.push(INVALID_ID);
+            }
+            "f" => r.face(rest.split_whitespace())?,
+            "o" | "g" => {
+                if r.mesh.triangles.is_empty() {
+                    r.mesh.name = rest.to_owned();
+                } else {
+                    r.finish_mesh(rest.to_owned());
+                }
+            }
+            "mtllib" => r.material_library(rest)?,
+            "usemtl" => r.use_material(rest)?,
+            // Normals, texture coordinates, smoothing groups, lines, points, comments and
+            // free-form geometry do not change the triangles.
+            _ => {}
+        }
+    }
+    r.line = 0;
+    r.finish_mesh(String::new());
+    Ok(ObjFile {
+        meshes: r.meshes,
+        materials: r.materials,
+    })
+}

@@ -1,0 +1,261 @@
+//! Scene loading: OBJ triangulation and numbering, MTL mapping, TOML settings,
+//! and the errors bad files produce.
+
+use std::path::{Path, PathBuf};
+
+use super::*;
+use crate::shading::MaterialKind;
+
+/// A fresh directory under the system temp dir for one test's files.
+fn scratch(test: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("sturmray-scene-{}-{test}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
+    let path = dir.join(name);
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+fn message(err: Error) -> String {
+    err.to_string()
+}
+
+const QUAD_AND_PENTAGON: &str = "\
+mtllib m.mtl
+v 0 0 0
+v 1 0 0
+v 1 1 0
+v 0 1 0
+v 2 0 0
+o first
+usemtl red
+f 1 2 3 4
+usemtl shiny
+f 2/1 5/1 3/1
+o second
+f -1 -2 -3 -4 -5
+";
+
+const MTL: &str = "\
+newmtl red
+Kd 0.8 0.1 0.1
+illum 1
+newmtl shiny
+Kd 0.5 0.5 0.5
+Ks 0.04 0.04 0.04
+Ns 100
+illum 2
+";
+
+#[test]
+fn objects_fans_and_materials() {
+    let dir = scratch("fans");
+    write(&dir, "m.mtl", MTL);
+    let scene = Scene::load(&write(&dir, "a.obj", QUAD_AND_PENTAGON)).unwrap();
+    assert_eq!(scene.meshes.len(), 2);
+    let [first, second] = &scene.meshes[..] else {
+        unreachable!()
+    };
+    assert_eq!(first.name, "first");
+    // The quad fans into (0,1,2), (0,2,3); `usemtl` does not start a new object.
+    assert_eq!(first.triangles, vec![[0, 1, 2], [0, 2, 3], [1, 4, 2]]);
+    let kinds: Vec<_> = first
+        .materials
+        .iter()
+        .map(|&m| scene.materials[m as usize].kind)
+        .collect();
+    assert_eq!(
+        kinds,
+        [
+            MaterialKind::Diffuse,
+            MaterialKind::Diffuse,
+            MaterialKind::Plastic
+        ]
+    );
+    assert_eq!(
+        scene.materials[first.materials[0] as usize].albedo,
+        Vec3::new(0.8, 0.1, 0.1)
+    );
+    // Negative indices count back: the pentagon is vertices 5, 4, 3, 2, 1 (file order).
+    assert_eq!(second.name, "second");
+    assert_eq!(second.triangles.len(), 3);
+    assert_eq!(second.positions[0], Vec3::new(2.0, 0.0, 0.0));
+    // Faces after `o second` have no usemtl... but materials persist across objects in
+    // OBJ, so they keep `shiny`.
+    assert_eq!(scene.materials[second.materials[0] as usize].name, "shiny");
+}
+
+#[test]
+fn bare_obj_gets_camera_light_and_grey() {
+    let dir = scratch("bare");
+    let path = write(&dir, "tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    let scene = Scene::load(&path).unwrap();
+    assert_eq!(scene.name, "tri");
+    assert_eq!(scene.lights.len(), 1);
+    assert_eq!(
+        scene.materials[scene.meshes[0].materials[0] as usize],
+        Material::default_grey()
+    );
+    let forward = (scene.camera.look_at - scene.camera.eye).normalize();
+    assert!(
+        forward.z < -0.5,
+        "the camera looks at the mesh from the front"
+    );
+}
+
+#[test]
+fn degenerate_triangles_keep_their_index() {
+    let dir = scratch("degenerate");
+    let path = write(
+        &dir,
+        "d.obj",
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 1 2\nf 1 2 3\n",
+    );
+    let scene = Scene::load(&path).unwrap();
+    assert_eq!(scene.meshes[0].triangles, vec![[0, 0, 1], [0, 1, 2]]);
+}
+
+#[test]
+fn obj_errors_name_the_line() {
+    let dir = scratch("objerr");
+    let cases = [
+        ("v 0 0\n", ":1: expected 3 coordinates"),
+        (
+            "v 0 0 0\nv 1 zero 0\n",
+            ":2: expected a number, found `zero`",
+        ),
+        ("v 0 0 nan\n", ":1: coordinate `nan` is not a finite number"),
+        (
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\n\nf 1 2 4\n",
+            ":5: vertex index 4 out of range",
+        ),
+        ("v 0 0 0\nf 1 1\n", ":2: a face needs at least 3 vertices"),
+        ("v 0 0 0\nf 1 a 1\n", ":2: expected a vertex index"),
+        ("mtllib nothere.mtl\n", "nothere.mtl not found"),
+        ("usemtl ghost\n", ":1: material `ghost` is not defined"),
+    ];
+    for (text, expected) in cases {
+        let path = write(&dir, "bad.obj", text);
+        let err = Scene::load(&path).unwrap_err();
+        assert!(err.is_bad_input());
+        let msg = message(err);
+        assert!(
+            msg.contains(expected) && msg.contains("bad.obj"),
+            "{text:?} gave {msg}"
+        );
+    }
+    let err = Scene::load(&dir.join("missing.obj")).unwrap_err();
+    assert!(err.is_bad_input() && message(err).contains("missing.obj"));
+}
+
+const TOML: &str = r#"
+background = [0.1, 0.2, 0.3]
+
+[camera]
+eye = [0, 0, 5]
+look_at = [0, 0, 0]
+fov = 30
+width = 32
+height = 16
+
+[render]
+spp = 3
+seed = 9
+
+[materials.gold]
+type = "plastic"
+albedo = [0.9, 0.7, 0.2]
+
+[[objects]]
+type = "mesh"
+file = "tri.obj"
+material = "gold"
+transform = { translate = [1, 0, 0], rotate = [0, 0, 90], scale = 2 }
+
+[[lights]]
+type = "directional"
+direction = [0, 0, -1]
+irradiance = [1, 1, 1]
+"#;
+
+#[test]
+fn toml_scene_settings_and_transforms() {
+    let dir = scratch("toml");
+    write(&dir, "tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    let scene = Scene::load(&write(&dir, "s.toml", TOML)).unwrap();
+    assert_eq!(scene.name, "s");
+    assert_eq!(
+        (scene.camera.width, scene.camera.height, scene.camera.fov),
+        (32, 16, 30.0)
+    );
+    assert_eq!(
+        scene.render,
+        RenderSettings {
+            spp: 3,
+            max_depth: 5,
+            seed: 9
+        }
+    );
+    assert_eq!(scene.background, Vec3::new(0.1, 0.2, 0.3));
+    let mesh = &scene.meshes[0];
+    assert_eq!(scene.materials[mesh.materials[0] as usize].name, "gold");
+    // Scale 2, rotate 90° about z, then translate by x: (1,0,0) → (0,2,0) → (1,2,0).
+    assert!((mesh.positions[1] - Vec3::new(1.0, 2.0, 0.0)).length() < 1e-5);
+    assert_eq!(scene.lights.len(), 1);
+}
+
+#[test]
+fn toml_errors_name_line_and_suggest() {
+    let dir = scratch("tomlerr");
+    write(&dir, "tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    let cases = [
+        (
+            TOML.replace("fov = 30", "fvo = 30"),
+            vec!["line 7", "unknown field `fvo`", "did you mean `fov`?"],
+        ),
+        (
+            TOML.replace("spp = 3", "spp = 3\nspp = 4"),
+            vec!["line 13", "duplicate key"],
+        ),
+        (
+            TOML.replace("type = \"directional\"", "type = \"directonal\""),
+            vec!["did you mean `directional`?"],
+        ),
+        (TOML.replace("spp = 3", "spp = 0"), vec!["render.spp"]),
+        (
+            TOML.replace("fov = 30", "fov = 180"),
+            vec!["camera.fov", "(0, 180)"],
+        ),
+        (
+            TOML.replace("width = 32", "width = 0"),
+            vec!["camera.width"],
+        ),
+        (
+            TOML.replace("material = \"gold\"", "material = \"gld\""),
+            vec!["objects[0].material", "did you mean `gold`?"],
+        ),
+        (TOML.replace("tri.obj", "nope.obj"), vec!["nope.obj"]),
+        (
+            TOML.replace("width = 32", "width = \"wide\""),
+            vec!["line 8", "invalid type"],
+        ),
+        (
+            TOML.replace("irradiance = [1, 1, 1]", "irradiance = [1, -1, 1]"),
+            vec!["lights[0].irradiance", ">= 0"],
+        ),
+    ];
+    for (text, expected) in cases {
+        let err = Scene::load(&write(&dir, "bad.toml", &text)).unwrap_err();
+        assert!(err.is_bad_input(), "{err}");
+        let msg = message(err);
+        for part in expected {
+            assert!(msg.contains(part), "expected {part:?} in: {msg}");
+        }
+    }
+    let err = Scene::load(&write(&dir, "scene.txt", "")).unwrap_err();
+    assert!(message(err).contains("expected a scene file ending in .toml or .obj"));
+}

@@ -1,0 +1,5 @@
+//! Materials and the local shading model.
+
+mod material;
+
+pub use material::{Material, MaterialKind};
