@@ -22,9 +22,11 @@ fn fail(message: &str) -> ! {
 
 /// The include dir holding `embree4/rtcore.h` or else `embree3/rtcore.h`.
 fn probe(include_dir: &Path) -> Option<u32> {
-    [4, 3]
-        .into_iter()
-        .find(|major| include_dir.join(format!("embree{major}/rtcore.h")).is_file())
+    [4, 3].into_iter().find(|major| {
+        include_dir
+            .join(format!("embree{major}/rtcore.h"))
+            .is_file()
+    })
 }
 
 fn find_embree() -> Found {
@@ -53,7 +55,9 @@ fn find_embree() -> Found {
             };
         }
     }
-    fail("Embree's header (embree4/rtcore.h or embree3/rtcore.h) was not found in /usr/local/include or /usr/include")
+    fail(
+        "Embree's header (embree4/rtcore.h or embree3/rtcore.h) was not found in /usr/local/include or /usr/include",
+    )
 }
 
 fn main() {
@@ -89,7 +93,8 @@ fn main() {
         builder = builder.clang_arg("-DSTURMRAY_EMBREE4");
     }
     // bindgen panics when it cannot load libclang; turn that into a hint.
-    let generated = std::panic::catch_unwind(std::panic::AssertUnwindSafe(move || builder.generate()));
+    let generated =
+        std::panic::catch_unwind(std::panic::AssertUnwindSafe(move || builder.generate()));
     let bindings = match generated {
         Ok(Ok(bindings)) => bindings,
         Ok(Err(err)) => fail(&format!("bindgen could not read Embree's header: {err}")),

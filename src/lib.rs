@@ -3,4 +3,13 @@
 
 pub mod accel;
 pub mod error;
+pub mod film;
+pub mod geometry;
+pub mod io;
+pub mod lights;
 pub mod math;
+pub mod render;
+pub mod report;
+pub mod sampling;
+pub mod scene;
+pub mod shading;

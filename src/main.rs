@@ -1,1 +1,225 @@
-fn main() {}
+//! The sturmray command line. Exit codes: 0 success, 2 bad input or usage,
+//! 1 an internal error.
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use anyhow::Context;
+use clap::{Parser, Subcommand, ValueEnum};
+
+use sturmray::accel::{Accel, Backend};
+use sturmray::error::Error;
+use sturmray::io;
+use sturmray::render::{RenderOptions, render};
+use sturmray::report::bench;
+use sturmray::scene::Scene;
+
+#[derive(Parser)]
+#[command(
+    name = "sturmray",
+    version,
+    about = "Ray tracing meshes and exact analytic surfaces on Embree"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum BackendArg {
+    Embree,
+}
+
+impl From<BackendArg> for Backend {
+    fn from(b: BackendArg) -> Backend {
+        match b {
+            BackendArg::Embree => Backend::Embree,
+        }
+    }
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Render a scene (.toml or a bare .obj) to an EXR with a PNG preview beside it.
+    Render {
+        scene: PathBuf,
+        /// Output EXR (default: out/<scene name>.exr).
+        #[arg(short, long)]
+        output: Option<PathBuf>,
+        /// Samples per pixel (overrides the scene's).
+        #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+        spp: Option<u32>,
+        #[arg(long, value_enum, default_value = "embree")]
+        backend: BackendArg,
+        /// Worker threads (default: all cores).
+        #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
+        threads: Option<u32>,
+        /// Write ray counts and time as JSON.
+        #[arg(long)]
+        stats: Option<PathBuf>,
+    },
+    /// Print the Embree version in use, the objects, triangle count, lights and settings.
+    Info { scene: PathBuf },
+    /// Trace rays from a .npy file and write the hits as a structured .npy.
+    Trace {
+        scene: PathBuf,
+        /// float32 (N, 6) origin + direction, or (N, 8) with tnear, tfar.
+        #[arg(long)]
+        rays: PathBuf,
+        #[arg(long)]
+        out: PathBuf,
+        #[arg(long, value_enum, default_value = "embree")]
+        backend: BackendArg,
+    },
+    /// Measure Mrays/s of camera, incoherent and shadow rays, on one thread and on all.
+    Bench {
+        /// Fewer rays and repetitions: a run of seconds.
+        #[arg(long)]
+        quick: bool,
+        /// Write the records as JSON.
+        #[arg(long)]
+        json: Option<PathBuf>,
+        /// Scenes to measure (default: scenes/knot.toml).
+        #[arg(long = "scene")]
+        scenes: Vec<PathBuf>,
+    },
+}
+
+fn main() -> ExitCode {
+    sturmray::accel::embree::enable_flush_to_zero();
+    let cli = Cli::parse();
+    match run(cli.command) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(err) => {
+            // The chain without repeats: an error's own text often includes its source's.
+            let mut message = String::new();
+            for cause in err.chain() {
+                let text = cause.to_string();
+                if !message.contains(&text) {
+                    if !message.is_empty() {
+                        message += ": ";
+                    }
+                    message += &text;
+                }
+            }
+            eprintln!("sturmray: {message}");
+            let bad_input = err.chain().any(|cause| {
+                cause
+                    .downcast_ref::<Error>()
+                    .is_some_and(Error::is_bad_input)
+            });
+            ExitCode::from(if bad_input { 2 } else { 1 })
+        }
+    }
+}
+
+/// Creates the parent folder of an output file, so `out/` need not exist.
+fn prepare_output(path: &Path) -> Result<(), Error> {
+    match path.parent() {
+        Some(dir) if !dir.as_os_str().is_empty() => {
+            std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))
+        }
+        _ => Ok(()),
+    }
+}
+
+fn run(command: Command) -> anyhow::Result<()> {
+    match command {
+        Command::Render {
+            scene,
+            output,
+            spp,
+            backend,
+            threads,
+            stats,
+        } => {
+            let scene = Scene::load(&scene)?;
+            let output = output.unwrap_or_else(|| PathBuf::from(format!("out/{}.exr", scene.name)));
+            prepare_output(&output)?;
+            let threads = threads.map(|n| n as usize);
+            let accel = Accel::build(&scene, backend.into(), threads)?;
+            let options = RenderOptions {
+                threads,
+                spp,
+                progress: true,
+            };
+            let result = render(&scene, &accel, &options)?;
+            let layers = result.film.layers();
+            let (width, height) = (result.film.width, result.film.height);
+            let image = io::exr::ImageLayers {
+                width,
+                height,
+                beauty: &layers.beauty,
+                depth: &layers.depth,
+                normal: &layers.normal,
+                albedo: &layers.albedo,
+            };
+            let spp = spp.unwrap_or(scene.render.spp);
+            let attributes = [
+                ("sturmray.spp", spp.to_string()),
+                ("sturmray.seed", scene.render.seed.to_string()),
+            ];
+            io::exr::write_exr(&output, &image, &attributes)?;
+            let preview = output.with_extension("png");
+            io::png::write_png_preview(&preview, width, height, &layers.beauty)?;
+            if let Some(path) = stats {
+                prepare_output(&path)?;
+                let json = serde_json::json!({
+                    "rays": result.stats,
+                    "seconds": result.seconds,
+                    "width": width,
+                    "height": height,
+                    "spp": spp,
+                });
+                std::fs::write(&path, format!("{json:#}\n")).map_err(|e| Error::io(&path, e))?;
+            }
+            eprintln!(
+                "wrote {} and {} ({width}x{height}, {spp} spp, {:.2} s, {:.2} Mrays/s)",
+                output.display(),
+                preview.display(),
+                result.seconds,
+                result.stats.total() as f64 / result.seconds / 1e6
+            );
+            Ok(())
+        }
+        Command::Info { scene: path } => {
+            let scene = Scene::load(&path)?;
+            let accel = Accel::build(&scene, Backend::Embree, None)?;
+            print!("{}", sturmray::report::info::describe(&scene, &accel));
+            Ok(())
+        }
+        Command::Trace {
+            scene,
+            rays,
+            out,
+            backend,
+        } => {
+            let scene = Scene::load(&scene)?;
+            let rays = io::npy::read_rays(&rays)?;
+            let accel = Accel::build(&scene, backend.into(), None)?;
+            let hits = sturmray::render::trace_all(&accel, &rays, None)?;
+            prepare_output(&out)?;
+            io::npy::write_hits(&out, &hits)?;
+            Ok(())
+        }
+        Command::Bench {
+            quick,
+            json,
+            scenes,
+        } => {
+            let scenes = if scenes.is_empty() {
+                vec![PathBuf::from("scenes/knot.toml")]
+            } else {
+                scenes
+            };
+            let records = bench::run(&scenes, quick).context("benchmark failed")?;
+            print!("{}", bench::table(&records));
+            if let Some(path) = json {
+                prepare_output(&path)?;
+                let text = serde_json::to_string_pretty(&records)?;
+                std::fs::write(&path, text + "\n").map_err(|e| Error::io(&path, e))?;
+            }
+            Ok(())
+        }
+    }
+}

@@ -77,11 +77,15 @@ pub(super) enum Coherence {
 mod version {
     use super::*;
 
-    /// Embree 3's `rtcInitIntersectContext`.
+    /// Embree 3's `rtcInitIntersectContext`. The struct update covers
+    /// `minWidthDistanceFactor`, present only in Embree builds with curve minimum width.
+    #[allow(clippy::needless_update)]
     pub(in super::super) fn context(coherence: Coherence) -> sys::RTCIntersectContext {
         sys::RTCIntersectContext {
             flags: match coherence {
-                Coherence::Coherent => sys::RTCIntersectContextFlags_RTC_INTERSECT_CONTEXT_FLAG_COHERENT,
+                Coherence::Coherent => {
+                    sys::RTCIntersectContextFlags_RTC_INTERSECT_CONTEXT_FLAG_COHERENT
+                }
                 Coherence::Incoherent => {
                     sys::RTCIntersectContextFlags_RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT
                 }
@@ -97,7 +101,9 @@ mod version {
 mod version {
     use super::*;
 
-    /// Embree 4's `rtcInitRayQueryContext`.
+    /// Embree 4's `rtcInitRayQueryContext`. The struct update covers `instStackSize`,
+    /// present only when Embree is built with more than one instance level.
+    #[allow(clippy::needless_update)]
     pub(in super::super) fn context() -> sys::RTCRayQueryContext {
         sys::RTCRayQueryContext {
             instID: [INVALID; LEVELS],
@@ -114,7 +120,9 @@ mod version {
         }
     }
 
-    /// Embree 4's `rtcInitIntersectArguments`, pointing at `context`.
+    /// Embree 4's `rtcInitIntersectArguments`, pointing at `context`. The struct update
+    /// covers `minWidthDistanceFactor`, present only with curve minimum width.
+    #[allow(clippy::needless_update)]
     pub(in super::super) fn intersect_arguments(
         coherence: Coherence,
         context: &mut sys::RTCRayQueryContext,
@@ -129,7 +137,9 @@ mod version {
         }
     }
 
-    /// Embree 4's `rtcInitOccludedArguments`, pointing at `context`.
+    /// Embree 4's `rtcInitOccludedArguments`, pointing at `context`. The struct update
+    /// covers `minWidthDistanceFactor`, present only with curve minimum width.
+    #[allow(clippy::needless_update)]
     pub(in super::super) fn occluded_arguments(
         coherence: Coherence,
         context: &mut sys::RTCRayQueryContext,

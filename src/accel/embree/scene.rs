@@ -116,7 +116,8 @@ impl SceneBuilder {
         }
         let device = self.device.raw();
         // SAFETY: the device is valid; a null result is checked below.
-        let raw = unsafe { sys::rtcNewGeometry(device, sys::RTCGeometryType_RTC_GEOMETRY_TYPE_TRIANGLE) };
+        let raw =
+            unsafe { sys::rtcNewGeometry(device, sys::RTCGeometryType_RTC_GEOMETRY_TYPE_TRIANGLE) };
         let Some(raw) = NonNull::new(raw) else {
             self.device.check()?;
             return Err(Error::Embree("rtcNewGeometry returned no geometry".into()));

@@ -28,11 +28,18 @@ fn struct_layouts_match_the_header() {
     assert_eq!(align_of::<sys::RTCRay>(), 16);
     // RTCHit: Ng (3), u, v, primID, geomID, instID[LEVELS], and instPrimID[LEVELS] when the
     // header has instance arrays (Embree 4.3+), rounded up to 16 bytes.
-    let inst_words = if cfg!(embree_inst_prim_id) { 2 * LEVELS } else { LEVELS };
+    let inst_words = if cfg!(embree_inst_prim_id) {
+        2 * LEVELS
+    } else {
+        LEVELS
+    };
     let hit_bytes = (7 + inst_words) * 4;
     assert_eq!(size_of::<sys::RTCHit>(), hit_bytes.next_multiple_of(16));
     assert_eq!(align_of::<sys::RTCRayHit>(), 16);
-    assert_eq!(size_of::<sys::RTCRayHit>(), 48 + hit_bytes.next_multiple_of(16));
+    assert_eq!(
+        size_of::<sys::RTCRayHit>(),
+        48 + hit_bytes.next_multiple_of(16)
+    );
 }
 
 #[test]
@@ -57,7 +64,10 @@ fn canary_after_the_hit_record_survives_a_hit() {
         canary: [CANARY; 8],
     };
     scene.intersect_raw(&mut guarded.record);
-    assert_eq!(guarded.record.hit.geomID, 0, "the guarded ray must really hit");
+    assert_eq!(
+        guarded.record.hit.geomID, 0,
+        "the guarded ray must really hit"
+    );
     assert_eq!(guarded.canary, [CANARY; 8]);
 }
 
@@ -99,7 +109,10 @@ fn batch_agrees_with_single_rays() {
         assert_eq!(*hit, scene.intersect(ray));
         some += hit.is_hit() as usize;
     }
-    assert!(some > 100 && some < 900, "{some} hits: the batch must mix hits and misses");
+    assert!(
+        some > 100 && some < 900,
+        "{some} hits: the batch must mix hits and misses"
+    );
 }
 
 #[test]

@@ -1,0 +1,129 @@
+//! The film: per-pixel f64 sums and sample counts, so averages do not depend
+//! on the order samples arrive in.
+
+use crate::math::Vec3;
+
+/// What one camera sample measured.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sample {
+    pub radiance: Vec3,
+    /// Distance to the first hit, inf on a miss.
+    pub depth: f32,
+    /// Unit normal of the first hit facing the camera, zero on a miss.
+    pub normal: Vec3,
+    /// Diffuse reflectance of the first hit, zero on a miss.
+    pub albedo: Vec3,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Pixel {
+    pub radiance: [f64; 3],
+    pub normal: [f64; 3],
+    pub albedo: [f64; 3],
+    /// The nearest depth of any sample (a minimum, so edges stay sharp).
+    pub depth: f32,
+    pub samples: u32,
+}
+
+impl Default for Pixel {
+    fn default() -> Self {
+        Pixel {
+            radiance: [0.0; 3],
+            normal: [0.0; 3],
+            albedo: [0.0; 3],
+            depth: f32::INFINITY,
+            samples: 0,
+        }
+    }
+}
+
+fn accumulate(sum: &mut [f64; 3], v: Vec3) {
+    for (s, x) in sum.iter_mut().zip(v.to_array()) {
+        *s += f64::from(x);
+    }
+}
+
+fn average(sum: [f64; 3], n: u32) -> [f32; 3] {
+    let n = f64::from(n.max(1));
+    sum.map(|s| (s / n) as f32)
+}
+
+impl Pixel {
+    pub fn add(&mut self, s: &Sample) {
+        accumulate(&mut self.radiance, s.radiance);
+        accumulate(&mut self.normal, s.normal);
+        accumulate(&mut self.albedo, s.albedo);
+        self.depth = self.depth.min(s.depth);
+        self.samples += 1;
+    }
+}
+
+/// A width × height image of pixel sums, row 0 at the top.
+#[derive(Clone, Debug)]
+pub struct Film {
+    pub width: usize,
+    pub height: usize,
+    pub pixels: Vec<Pixel>,
+}
+
+/// The film's averages as f32 layers, ready for an image file.
+pub struct Layers {
+    pub beauty: Vec<[f32; 3]>,
+    pub depth: Vec<f32>,
+    pub normal: Vec<[f32; 3]>,
+    pub albedo: Vec<[f32; 3]>,
+}
+
+impl Film {
+    pub fn new(width: usize, height: usize) -> Film {
+        Film {
+            width,
+            height,
+            pixels: vec![Pixel::default(); width * height],
+        }
+    }
+
+    pub fn layers(&self) -> Layers {
+        Layers {
+            beauty: self
+                .pixels
+                .iter()
+                .map(|p| average(p.radiance, p.samples))
+                .collect(),
+            depth: self.pixels.iter().map(|p| p.depth).collect(),
+            normal: self
+                .pixels
+                .iter()
+                .map(|p| average(p.normal, p.samples))
+                .collect(),
+            albedo: self
+                .pixels
+                .iter()
+                .map(|p| average(p.albedo, p.samples))
+                .collect(),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn averages_and_nearest_depth() {
+        let mut film = Film::new(2, 1);
+        let s = |r: f32, d: f32| Sample {
+            radiance: Vec3::splat(r),
+            depth: d,
+            normal: Vec3::Z,
+            albedo: Vec3::splat(0.5),
+        };
+        film.pixels[1].add(&s(1.0, 3.0));
+        film.pixels[1].add(&s(2.0, 2.0));
+        let layers = film.layers();
+        assert_eq!(layers.beauty, vec![[0.0; 3], [1.5; 3]]);
+        assert_eq!(layers.depth, vec![f32::INFINITY, 2.0]);
+        assert_eq!(layers.normal[1], [0.0, 0.0, 1.0]);
+        assert_eq!(layers.albedo[1], [0.5; 3]);
+    }
+}

@@ -1,0 +1,148 @@
+//! Rendering: the tile loop over rayon, camera sampling, and statistics.
+
+mod local;
+mod stats;
+
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::time::Instant;
+
+use rayon::prelude::*;
+
+pub use stats::RayStats;
+
+use crate::accel::Accel;
+use crate::accel::embree::enable_flush_to_zero;
+use crate::error::{Error, Result};
+use crate::film::{Film, Pixel};
+use crate::math::{Hit, Ray};
+use crate::sampling::Rng;
+use crate::scene::Scene;
+
+/// How to run a render; the scene says what to render.
+#[derive(Clone, Debug, Default)]
+pub struct RenderOptions {
+    /// Worker threads; `None` uses every core.
+    pub threads: Option<usize>,
+    /// Overrides the scene's samples per pixel.
+    pub spp: Option<u32>,
+    /// Shows a progress bar (with rays/s) on a terminal.
+    pub progress: bool,
+}
+
+pub struct RenderOutput {
+    pub film: Film,
+    pub stats: RayStats,
+    pub seconds: f64,
+}
+
+/// Tiles are squares of this many pixels a side: small enough to balance two
+/// to many threads, large enough that scheduling costs nothing.
+const TILE: usize = 16;
+
+/// A rayon pool whose threads all run with FTZ/DAZ, as Embree asks.
+pub fn thread_pool(threads: Option<usize>) -> Result<rayon::ThreadPool> {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads.unwrap_or(0))
+        .start_handler(|_| enable_flush_to_zero())
+        .build()
+        .map_err(|e| Error::Internal(format!("cannot start worker threads: {e}")))
+}
+
+pub fn render(scene: &Scene, accel: &Accel, options: &RenderOptions) -> Result<RenderOutput> {
+    let start = Instant::now();
+    let (width, height) = (scene.camera.width as usize, scene.camera.height as usize);
+    let spp = options.spp.unwrap_or(scene.render.spp);
+    if spp == 0 {
+        return Err(Error::Input("--spp must be at least 1".into()));
+    }
+    let frame = scene.camera.frame();
+    let tiles: Vec<(usize, usize)> = (0..height.div_ceil(TILE))
+        .flat_map(|ty| (0..width.div_ceil(TILE)).map(move |tx| (tx * TILE, ty * TILE)))
+        .collect();
+
+    let progress = progress_bar(options.progress, (width * height) as u64);
+    let rays_done = AtomicU64::new(0);
+    let pool = thread_pool(options.threads)?;
+    let results: Vec<(Vec<Pixel>, RayStats)> = pool.install(|| {
+        tiles
+            .par_iter()
+            .map(|&(x0, y0)| {
+                let (x1, y1) = ((x0 + TILE).min(width), (y0 + TILE).min(height));
+                let mut pixels = Vec::with_capacity((x1 - x0) * (y1 - y0));
+                let mut stats = RayStats::default();
+                for y in y0..y1 {
+                    for x in x0..x1 {
+                        let mut pixel = Pixel::default();
+                        let index = (y * width + x) as u64;
+                        for k in 0..spp {
+                            let mut rng = Rng::for_sample(scene.render.seed, index, k);
+                            // Pixel centres for one sample, jittered within the pixel for more.
+                            let (jx, jy) = if spp == 1 {
+                                (0.5, 0.5)
+                            } else {
+                                (rng.next_f32(), rng.next_f32())
+                            };
+                            let ray = frame.ray(x as f32 + jx, y as f32 + jy);
+                            stats.camera += 1;
+                            pixel.add(&local::shade(scene, accel, &ray, &mut stats));
+                        }
+                        pixels.push(pixel);
+                    }
+                }
+                let done = rays_done.fetch_add(stats.total(), Ordering::Relaxed) + stats.total();
+                if let Some(bar) = &progress {
+                    bar.inc(pixels.len() as u64);
+                    let mrays = done as f64 / start.elapsed().as_secs_f64() / 1e6;
+                    bar.set_message(format!("{mrays:.2} Mrays/s"));
+                }
+                (pixels, stats)
+            })
+            .collect()
+    });
+    if let Some(bar) = progress {
+        bar.finish_and_clear();
+    }
+    accel.check()?;
+
+    let mut film = Film::new(width, height);
+    let mut stats = RayStats::default();
+    for (&(x0, y0), (pixels, tile_stats)) in tiles.iter().zip(results) {
+        let tile_width = (x0 + TILE).min(width) - x0;
+        for (i, pixel) in pixels.into_iter().enumerate() {
+            film.pixels[(y0 + i / tile_width) * width + x0 + i % tile_width] = pixel;
+        }
+        stats += tile_stats;
+    }
+    Ok(RenderOutput {
+        film,
+        stats,
+        seconds: start.elapsed().as_secs_f64(),
+    })
+}
+
+/// A progress bar on stderr when it is a terminal; none otherwise.
+fn progress_bar(wanted: bool, pixels: u64) -> Option<indicatif::ProgressBar> {
+    use std::io::IsTerminal;
+    if !wanted || !std::io::stderr().is_terminal() {
+        return None;
+    }
+    let bar = indicatif::ProgressBar::new(pixels);
+    let style = indicatif::ProgressStyle::with_template(
+        "{spinner} [{elapsed_precise}] {wide_bar} {percent:>3}% eta {eta} {msg}",
+    )
+    .ok()?;
+    bar.set_style(style);
+    Some(bar)
+}
+
+/// Traces every ray to its nearest hit, in parallel chunks through the batch path.
+pub fn trace_all(accel: &Accel, rays: &[Ray], threads: Option<usize>) -> Result<Vec<Hit>> {
+    const CHUNK: usize = 4096;
+    let mut hits = vec![Hit::MISS; rays.len()];
+    thread_pool(threads)?.install(|| {
+        rays.par_chunks(CHUNK)
+            .zip(hits.par_chunks_mut(CHUNK))
+            .try_for_each(|(rays, hits)| accel.intersect_batch(rays, hits, false))
+    })?;
+    Ok(hits)
+}

@@ -1,0 +1,80 @@
+//! `sturmray info`: what a scene holds and what will trace it.
+
+use std::fmt::Write;
+
+use crate::accel::Accel;
+use crate::lights::Light;
+use crate::math::Vec3;
+use crate::scene::Scene;
+
+fn v(x: Vec3) -> String {
+    format!("[{}, {}, {}]", x.x, x.y, x.z)
+}
+
+pub fn describe(scene: &Scene, accel: &Accel) -> String {
+    let mut s = String::new();
+    let c = &scene.camera;
+    let r = &scene.render;
+    // Writing to a String cannot fail.
+    let _ = writeln!(s, "scene      {}", scene.name);
+    let _ = writeln!(s, "backend    {}", accel.describe());
+    let _ = writeln!(
+        s,
+        "camera     eye {} look_at {} up {} fov {}°, {}x{}",
+        v(c.eye),
+        v(c.look_at),
+        v(c.up),
+        c.fov,
+        c.width,
+        c.height
+    );
+    let _ = writeln!(
+        s,
+        "render     {} spp, max depth {}, seed {}",
+        r.spp, r.max_depth, r.seed
+    );
+    let _ = writeln!(s, "background {}", v(scene.background));
+    let _ = writeln!(s, "objects    {}", scene.meshes.len());
+    for (id, mesh) in scene.meshes.iter().enumerate() {
+        let mut names: Vec<&str> = mesh
+            .materials
+            .iter()
+            .map(|&m| scene.materials[m as usize].name.as_str())
+            .collect();
+        names.dedup();
+        names.sort_unstable();
+        names.dedup();
+        let _ = writeln!(
+            s,
+            "  {id:>3} {:<20} {:>9} triangles  {} vertices  material {}",
+            mesh.name,
+            mesh.triangles.len(),
+            mesh.positions.len(),
+            names.join(", ")
+        );
+    }
+    let _ = writeln!(s, "triangles  {}", scene.triangle_count());
+    let bounds = scene.bounds();
+    if !bounds.is_empty() {
+        let _ = writeln!(s, "bounds     {} to {}", v(bounds.min), v(bounds.max));
+    }
+    let _ = writeln!(s, "lights     {}", scene.lights.len());
+    for light in &scene.lights {
+        let _ = match light {
+            Light::Point {
+                position,
+                intensity,
+            } => writeln!(s, "  point at {} intensity {}", v(*position), v(*intensity)),
+            Light::Directional {
+                direction,
+                irradiance,
+            } => writeln!(
+                s,
+                "  directional towards {} irradiance {}",
+                v(*direction),
+                v(*irradiance)
+            ),
+        };
+    }
+    s
+}

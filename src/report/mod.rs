@@ -1,0 +1,4 @@
+//! Reports for people: scene summaries and benchmarks.
+
+pub mod bench;
+pub mod info;

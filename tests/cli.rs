@@ -1,0 +1,126 @@
+//! The command line: outputs, exit codes (0 ok, 2 bad input), messages.
+
+mod common;
+
+use common::{SQUARE, plane_scene, scratch, sturmray, write};
+use sturmray::io::npy;
+use sturmray::math::{Ray, Vec3};
+
+fn stderr(out: &std::process::Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+#[test]
+fn render_bare_obj_to_default_output_with_stats() {
+    let dir = scratch("bare");
+    write(&dir, "square.obj", SQUARE);
+    let out = sturmray(
+        &dir,
+        &[
+            "render",
+            "square.obj",
+            "--spp",
+            "2",
+            "--stats",
+            "stats.json",
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(dir.join("out/square.exr").is_file());
+    assert!(dir.join("out/square.png").is_file());
+    let stats: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.join("stats.json")).unwrap()).unwrap();
+    // The automatic camera is 640×480; two samples each.
+    assert_eq!(stats["rays"]["camera"], 640 * 480 * 2);
+    for kind in ["reflection", "refraction", "diffuse", "photon"] {
+        assert_eq!(stats["rays"][kind], 0, "{kind}");
+    }
+    assert!(stats["rays"]["shadow"].as_u64().unwrap() > 0);
+    assert!(stats["seconds"].as_f64().unwrap() > 0.0);
+}
+
+#[test]
+fn info_names_embree_objects_and_lights() {
+    let dir = scratch("info");
+    write(&dir, "square.obj", SQUARE);
+    write(&dir, "s.toml", &plane_scene(""));
+    let out = sturmray(&dir, &["info", "s.toml"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = String::from_utf8(out.stdout).unwrap();
+    for part in ["Embree 3.", "Embree 4."] {
+        if text.contains(part) {
+            return assert!(
+                text.contains("triangles  2") && text.contains("directional"),
+                "{text}"
+            );
+        }
+    }
+    panic!("no Embree version in: {text}");
+}
+
+#[test]
+fn trace_writes_one_hit_per_ray() {
+    let dir = scratch("trace");
+    write(&dir, "square.obj", SQUARE);
+    let rays = [
+        Ray::new(Vec3::new(0.5, 0.5, 1.0), -Vec3::Z),
+        Ray::new(Vec3::new(5.0, 0.5, 1.0), -Vec3::Z),
+    ];
+    npy::write_rays(&dir.join("rays.npy"), &rays).unwrap();
+    let out = sturmray(
+        &dir,
+        &[
+            "trace",
+            "square.obj",
+            "--rays",
+            "rays.npy",
+            "--out",
+            "hits.npy",
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    // A version 1.0 header (its length at bytes 8..10) then 2 records of 32 bytes each;
+    // numpy's reading of the records is checked in tests/test_embreex.py.
+    let bytes = std::fs::read(dir.join("hits.npy")).unwrap();
+    assert_eq!(&bytes[..8], b"\x93NUMPY\x01\x00");
+    let header = u16::from_le_bytes([bytes[8], bytes[9]]) as usize;
+    assert_eq!(bytes.len(), 10 + header + 2 * 32);
+    assert_eq!((10 + header) % 64, 0, "data start 64-byte aligned");
+}
+
+#[test]
+fn bad_input_exits_with_2_and_names_the_problem() {
+    let dir = scratch("bad");
+    write(&dir, "square.obj", SQUARE);
+    write(&dir, "s.toml", &plane_scene(""));
+    write(&dir, "typo.toml", &plane_scene("").replace("fov", "fvo"));
+    write(&dir, "broken.obj", "v 0 0 0\nf 1 2 3\n");
+    write(&dir, "rays.npy", "not a numpy file");
+    write(&dir, "file", "");
+    let cases: [(&[&str], &str); 8] = [
+        (&["render", "missing.toml"], "missing.toml"),
+        (&["render", "typo.toml"], "did you mean `fov`?"),
+        (&["render", "broken.obj"], "broken.obj:2"),
+        (&["render", "s.toml", "-o", "file/x.exr"], "file"),
+        (&["render", "s.toml", "--spp", "0"], "spp"),
+        (
+            &["trace", "s.toml", "--rays", "rays.npy", "--out", "h.npy"],
+            "rays.npy",
+        ),
+        (
+            &["info", "scene.txt"],
+            "expected a scene file ending in .toml or .obj",
+        ),
+        (&["frobnicate"], "unrecognized subcommand"),
+    ];
+    for (args, expected) in cases {
+        let out = sturmray(&dir, args);
+        let err = stderr(&out);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+        assert!(
+            err.contains(expected),
+            "{args:?}: expected {expected:?} in {err}"
+        );
+        assert!(!err.contains("panicked"), "{args:?}: {err}");
+    }
+}

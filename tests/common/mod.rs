@@ -1,0 +1,58 @@
+//! Helpers shared by the integration tests.
+#![allow(dead_code)] // each test crate uses a different subset
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// A fresh scratch directory for one test.
+pub fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("sturmray-it-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+pub fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
+    let path = dir.join(name);
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+/// Runs the sturmray binary in `dir`.
+pub fn sturmray(dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_sturmray"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("the sturmray binary runs")
+}
+
+/// A square [-1, 1]² in the plane z = 0 (two triangles), as OBJ text.
+pub const SQUARE: &str = "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nf 1 2 3 4\n";
+
+/// A scene looking straight down -z at SQUARE with a directional light along -z.
+pub fn plane_scene(extra: &str) -> String {
+    format!(
+        r#"background = [0.1, 0.2, 0.3]
+[camera]
+eye = [0, 0, 4]
+look_at = [0, 0, 0]
+fov = 40
+width = 32
+height = 24
+[render]
+spp = 1
+[materials.paint]
+type = "diffuse"
+albedo = [0.5, 0.25, 0.125]
+[[objects]]
+type = "mesh"
+file = "square.obj"
+material = "paint"
+[[lights]]
+type = "directional"
+direction = [0, 0, -1]
+irradiance = [2, 2, 2]
+{extra}"#
+    )
+}

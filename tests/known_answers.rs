@@ -1,0 +1,114 @@
+//! Renders with answers known in closed form, through the library.
+
+mod common;
+
+use std::f32::consts::PI;
+
+use common::{SQUARE, plane_scene, scratch, write};
+use sturmray::accel::{Accel, Backend};
+use sturmray::math::Vec3;
+use sturmray::render::{RenderOptions, render};
+use sturmray::scene::Scene;
+
+fn load(name: &str, extra: &str) -> Scene {
+    let dir = scratch(name);
+    write(&dir, "square.obj", SQUARE);
+    Scene::load(&write(&dir, "s.toml", &plane_scene(extra))).unwrap()
+}
+
+fn options(threads: usize) -> RenderOptions {
+    RenderOptions {
+        threads: Some(threads),
+        ..RenderOptions::default()
+    }
+}
+
+#[test]
+fn lambert_plane_under_a_directional_light() {
+    let scene = load("lambert", "");
+    let accel = Accel::build(&scene, Backend::Embree, None).unwrap();
+    let out = render(&scene, &accel, &options(2)).unwrap();
+    let layers = out.film.layers();
+    let expected = Vec3::new(0.5, 0.25, 0.125) * 2.0 / PI;
+    let (w, h) = (out.film.width, out.film.height);
+    // The centre pixel sees the square; the corner sees the background.
+    let centre = layers.beauty[(h / 2) * w + w / 2];
+    assert!(
+        (Vec3::from(centre) - expected).abs().max_element() < 1e-6,
+        "{centre:?}"
+    );
+    assert_eq!(layers.beauty[0], [0.1, 0.2, 0.3]);
+    assert_eq!(layers.depth[0], f32::INFINITY);
+    // Depth is the distance from the eye: 4 on the axis.
+    assert!((layers.depth[(h / 2) * w + w / 2] - 4.0).abs() < 0.02);
+    assert_eq!(out.stats.camera, (w * h) as u64);
+    let lit = layers
+        .beauty
+        .iter()
+        .filter(|p| **p != [0.1, 0.2, 0.3])
+        .count() as u64;
+    assert_eq!(out.stats.shadow, lit, "one shadow ray per lit pixel");
+}
+
+#[test]
+fn an_occluder_casts_a_shadow_and_no_light_no_shadow_rays() {
+    // A second, smaller square above the first blocks the light in the middle.
+    let dir = scratch("occluder");
+    write(&dir, "square.obj", SQUARE);
+    write(
+        &dir,
+        "small.obj",
+        "v -0.2 -0.2 1\nv 0.2 -0.2 1\nv 0.2 0.2 1\nv -0.2 0.2 1\nf 1 2 3 4\n",
+    );
+    let mut text = plane_scene("");
+    text = text.replace(
+        "[[lights]]",
+        "[[objects]]\ntype = \"mesh\"\nfile = \"small.obj\"\n[[lights]]",
+    );
+    // Look from the side so the shadowed part of the big square is visible.
+    text = text.replace("eye = [0, 0, 4]", "eye = [0, -3, 3]");
+    let scene = Scene::load(&write(&dir, "s.toml", &text)).unwrap();
+    let accel = Accel::build(&scene, Backend::Embree, None).unwrap();
+    // Straight down from the light through (0, 0, 1) onto the origin: shadowed.
+    let frame_hit = sturmray::math::Ray::new(Vec3::new(0.0, 0.0, 0.5), Vec3::Z);
+    assert!(accel.occluded(&frame_hit));
+    let out = render(&scene, &accel, &options(1)).unwrap();
+    let black = out
+        .film
+        .layers()
+        .beauty
+        .iter()
+        .filter(|p| **p == [0.0; 3])
+        .count();
+    assert!(black > 0, "part of the floor is in shadow");
+
+    let mut dark = scene.clone();
+    dark.lights.clear();
+    let out = render(&dark, &accel, &options(1)).unwrap();
+    assert_eq!(out.stats.shadow, 0, "no lights, no shadow rays");
+    assert_eq!(
+        out.stats.reflection + out.stats.refraction + out.stats.diffuse + out.stats.photon,
+        0
+    );
+}
+
+#[test]
+fn same_image_for_any_thread_count() {
+    let scene = load("threads", "");
+    let mut scene = scene;
+    scene.render.spp = 4;
+    let accel = Accel::build(&scene, Backend::Embree, None).unwrap();
+    let one = render(&scene, &accel, &options(1)).unwrap().film;
+    let two = render(&scene, &accel, &options(2)).unwrap().film;
+    let bits = |f: &sturmray::film::Film| -> Vec<u64> {
+        f.pixels
+            .iter()
+            .flat_map(|p| p.radiance.map(f64::to_bits))
+            .collect()
+    };
+    assert_eq!(bits(&one), bits(&two));
+    // And the seed matters: another seed jitters differently.
+    scene.render.seed = 1;
+    let other = render(&scene, &accel, &options(2)).unwrap().film;
+    assert_ne!(bits(&one), bits(&other));
+}
