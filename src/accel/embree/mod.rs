@@ -10,10 +10,12 @@ mod fpu;
 mod query;
 mod scene;
 mod sys;
+mod user;
 
 pub use device::{Device, HEADER_VERSION, Version};
 pub use fpu::enable_flush_to_zero;
 pub use scene::{BuildQuality, CommittedScene, SceneBuilder, SceneOptions};
+pub use user::{UserHit, UserPrimitive};
 
 #[cfg(test)]
 mod tests;

@@ -1,11 +1,15 @@
 //! Embree scenes: a builder that owns its geometry until `commit`, and the
 //! committed scene that answers queries from any number of threads.
 
+use std::any::Any;
+use std::ffi::c_void;
 use std::ptr::NonNull;
+use std::sync::Arc;
 
 use super::device::Device;
 use super::query::{self, Coherence};
 use super::sys;
+use super::user::{self, PanicSlot, UserData, UserPrimitive};
 use crate::error::{Error, Result};
 use crate::math::{Bounds, Hit, Ray, Vec3};
 
@@ -57,10 +61,17 @@ impl Drop for GeometryHandle {
     }
 }
 
+/// The primitives of user geometries, kept alive (and at a stable address) for
+/// as long as Embree's scene may call back into them.
+type UserStore = Vec<Box<dyn Any + Send + Sync>>;
+
 /// A scene being built. Not `Sync`: Embree calls on one object are not thread-safe.
 pub struct SceneBuilder {
-    // Released before the device: fields drop in declaration order.
+    // Fields drop in declaration order: Embree's scene is released before the
+    // user primitives it points into, and both before the device.
     scene: SceneHandle,
+    user_data: UserStore,
+    panics: Arc<PanicSlot>,
     device: Device,
 }
 
@@ -91,6 +102,8 @@ impl SceneBuilder {
         device.check()?;
         Ok(SceneBuilder {
             scene,
+            user_data: Vec::new(),
+            panics: Arc::default(),
             device: device.clone(),
         })
     }
@@ -160,23 +173,78 @@ impl SceneBuilder {
         self.device.check()
     }
 
+    /// Adds user primitives as geometry `geom_id`; primID i is `prims[i]`. The
+    /// scene takes ownership, so the primitives outlive every callback.
+    pub fn add_user<T: UserPrimitive>(&mut self, geom_id: u32, prims: Vec<T>) -> Result<()> {
+        if prims.is_empty() {
+            return Ok(());
+        }
+        let count = u32::try_from(prims.len())
+            .map_err(|_| Error::Input(format!("geometry {geom_id}: too many primitives")))?;
+        let data = Box::new(UserData {
+            prims: prims.into_boxed_slice(),
+            panics: Arc::clone(&self.panics),
+        });
+        let user_ptr = &*data as *const UserData<T> as *mut c_void;
+        // SAFETY: the device is valid; a null result is checked below.
+        let raw = unsafe {
+            sys::rtcNewGeometry(
+                self.device.raw(),
+                sys::RTCGeometryType_RTC_GEOMETRY_TYPE_USER,
+            )
+        };
+        let Some(raw) = NonNull::new(raw) else {
+            self.device.check()?;
+            return Err(Error::Embree("rtcNewGeometry returned no geometry".into()));
+        };
+        let geometry = GeometryHandle(raw);
+        let g = geometry.0.as_ptr();
+        // SAFETY: `g` is a new, unshared user geometry. The user pointer is the boxed
+        // UserData<T>, which `self.user_data` keeps alive, unmoved, until after Embree's
+        // scene is released; the callbacks are monomorphised for that same T.
+        unsafe {
+            sys::rtcSetGeometryUserPrimitiveCount(g, count);
+            sys::rtcSetGeometryUserData(g, user_ptr);
+            sys::rtcSetGeometryBoundsFunction(
+                g,
+                Some(user::bounds_callback::<T>),
+                std::ptr::null_mut(),
+            );
+            sys::rtcSetGeometryIntersectFunction(g, Some(user::intersect_callback::<T>));
+            sys::rtcSetGeometryOccludedFunction(g, Some(user::occluded_callback::<T>));
+            sys::rtcSetGeometryMask(g, u32::MAX);
+            sys::rtcCommitGeometry(g);
+            sys::rtcAttachGeometryByID(self.scene.0.as_ptr(), g, geom_id);
+        }
+        drop(geometry);
+        self.user_data.push(data);
+        self.device.check()
+    }
+
     /// Builds the BVH. Queries exist only on the result, so none can run on an
     /// uncommitted or half-edited scene.
     pub fn commit(self) -> Result<CommittedScene> {
         // SAFETY: the scene is valid and owned by `self`; no query can run during the build.
         unsafe { sys::rtcCommitScene(self.scene.0.as_ptr()) };
         self.device.check()?;
-        Ok(CommittedScene {
+        let committed = CommittedScene {
             scene: self.scene,
+            _user_data: self.user_data,
+            panics: self.panics,
             device: self.device,
-        })
+        };
+        // A panic in a bounds callback during the build.
+        committed.check()?;
+        Ok(committed)
     }
 }
 
 /// A committed, immutable scene. Queries take `&self` and may run on many threads.
 pub struct CommittedScene {
-    // Released before the device: fields drop in declaration order.
+    // Drop order as in SceneBuilder: Embree's scene, then the user primitives, then the device.
     scene: SceneHandle,
+    _user_data: UserStore,
+    panics: Arc<PanicSlot>,
     device: Device,
 }
 
@@ -290,8 +358,14 @@ impl CommittedScene {
         }
     }
 
-    /// Errors Embree reported since the last check (renders call this once at the end).
+    /// Errors Embree reported, and panics caught in user-geometry callbacks,
+    /// since the last check (renders call this once at the end).
     pub fn check(&self) -> Result<()> {
+        if let Some(panic) = self.panics.take() {
+            return Err(Error::Internal(format!(
+                "a user-geometry callback panicked: {panic}"
+            )));
+        }
         self.device.check()
     }
 

@@ -156,3 +156,166 @@ fn bounds_cover_the_geometry() {
     let b = triangle_scene().bounds();
     assert_eq!((b.min, b.max), (Vec3::ZERO, Vec3::new(1.0, 1.0, 0.0)));
 }
+
+/// A unit-radius sphere as user geometry, intersected in the test itself;
+/// `panic_below` makes rays with origin.x below it panic inside the callback.
+struct TestSphere {
+    center: Vec3,
+    panic_below: f32,
+}
+
+impl TestSphere {
+    fn roots(&self, ray: &Ray) -> Option<(f32, f32)> {
+        if ray.origin.x < self.panic_below {
+            panic!("test panic inside a callback");
+        }
+        let oc = ray.origin - self.center;
+        let (a, b, c) = (ray.dir.dot(ray.dir), oc.dot(ray.dir), oc.dot(oc) - 1.0);
+        let disc = b * b - a * c;
+        (disc >= 0.0).then(|| ((-b - disc.sqrt()) / a, (-b + disc.sqrt()) / a))
+    }
+}
+
+impl UserPrimitive for TestSphere {
+    fn bounds(&self) -> crate::math::Bounds {
+        crate::math::Bounds {
+            min: self.center - Vec3::ONE,
+            max: self.center + Vec3::ONE,
+        }
+    }
+
+    fn intersect(&self, ray: &Ray) -> Option<UserHit> {
+        let (t0, t1) = self.roots(ray)?;
+        let t = if t0 >= ray.tnear { t0 } else { t1 };
+        (t >= ray.tnear && t < ray.tfar).then(|| UserHit {
+            t,
+            ng: ray.at(t) - self.center,
+            u: 0.0,
+            v: 0.0,
+        })
+    }
+
+    fn occluded(&self, ray: &Ray) -> bool {
+        self.intersect(ray).is_some()
+    }
+}
+
+/// Two spheres (prim 0 at z = 0, prim 1 at z = −4) as geometry 1, behind the triangle (geometry 0)
+/// which sits at z = 0 … but over x, y ∈ [0, 1] only.
+fn mixed_scene(panic_below: f32) -> CommittedScene {
+    let device = Device::new().unwrap();
+    let mut builder = SceneBuilder::new(&device, SceneOptions::default()).unwrap();
+    builder
+        .add_triangles(
+            0,
+            &[
+                Vec3::new(0.0, 0.0, 3.0),
+                Vec3::new(1.0, 0.0, 3.0),
+                Vec3::new(0.0, 1.0, 3.0),
+            ],
+            &[[0, 1, 2]],
+        )
+        .unwrap();
+    let spheres = vec![
+        TestSphere {
+            center: Vec3::ZERO,
+            panic_below,
+        },
+        TestSphere {
+            center: Vec3::new(0.0, 0.0, -4.0),
+            panic_below,
+        },
+    ];
+    builder.add_user(1, spheres).unwrap();
+    builder.commit().unwrap()
+}
+
+#[test]
+fn user_geometry_hits_report_t_ids_and_normal() {
+    let scene = mixed_scene(f32::NEG_INFINITY);
+    // Down the axis from z = 10: the triangle at z = 3 is missed (x = -0.5), the sphere hit at z = 1.
+    let ray = Ray::new(Vec3::new(-0.5, 0.0, 10.0), -Vec3::Z);
+    let hit = scene.intersect(&ray);
+    assert_eq!((hit.geom_id, hit.prim_id), (1, 0));
+    let expected_t = 10.0 - (1.0f32 - 0.25).sqrt();
+    assert!((hit.t - expected_t).abs() < 1e-5, "{}", hit.t);
+    assert!((hit.ng - Vec3::new(-0.5, 0.0, 0.75f32.sqrt())).length() < 1e-5);
+    // Through the triangle first: the triangle wins.
+    let ray = Ray::new(Vec3::new(0.1, 0.1, 10.0), -Vec3::Z);
+    assert_eq!(scene.intersect(&ray).geom_id, 0);
+    // Starting between the spheres, looking down: the second sphere (prim 1).
+    let ray = Ray::new(Vec3::new(0.0, 0.0, -2.0), -Vec3::Z);
+    let hit = scene.intersect(&ray);
+    assert_eq!((hit.geom_id, hit.prim_id, hit.t), (1, 1, 1.0));
+    // tfar stops short of it.
+    let short = Ray { tfar: 0.5, ..ray };
+    assert_eq!(scene.intersect(&short), Hit::MISS);
+    assert!(scene.occluded(&ray) && !scene.occluded(&short));
+    scene.check().unwrap();
+}
+
+#[test]
+fn user_geometry_batches_agree_with_single_rays() {
+    let scene = mixed_scene(f32::NEG_INFINITY);
+    let rays: Vec<Ray> = (0..2000)
+        .map(|i| {
+            let x = (i % 50) as f32 / 20.0 - 1.25;
+            let y = (i / 50) as f32 / 16.0 - 1.25;
+            Ray::new(Vec3::new(x, y, 10.0), -Vec3::Z)
+        })
+        .collect();
+    let mut hits = vec![Hit::MISS; rays.len()];
+    for coherent in [true, false] {
+        scene.intersect_batch(&rays, &mut hits, coherent).unwrap();
+        let mut counts = [0usize; 3];
+        for (ray, hit) in rays.iter().zip(&hits) {
+            assert_eq!(*hit, scene.intersect(ray));
+            counts[(hit.geom_id.wrapping_add(1)).min(2) as usize] += 1;
+        }
+        assert!(
+            counts.iter().all(|&c| c > 50),
+            "misses, triangle and sphere hits: {counts:?}"
+        );
+    }
+}
+
+#[test]
+fn canary_survives_a_user_geometry_hit() {
+    #[repr(C)]
+    struct Guarded {
+        record: sys::RTCRayHit,
+        canary: [u32; 8],
+    }
+    let scene = mixed_scene(f32::NEG_INFINITY);
+    let mut guarded = Guarded {
+        record: query::rayhit_record(&Ray::new(Vec3::new(-0.5, 0.0, 10.0), -Vec3::Z)),
+        canary: [0xDEAD_BEEF; 8],
+    };
+    scene.intersect_raw(&mut guarded.record);
+    assert_eq!(
+        guarded.record.hit.geomID, 1,
+        "the guarded ray must hit the sphere"
+    );
+    assert_eq!(guarded.canary, [0xDEAD_BEEF; 8]);
+}
+
+#[test]
+fn a_panicking_callback_is_a_miss_and_an_error_not_an_abort() {
+    let scene = mixed_scene(0.0);
+    let ray = Ray::new(Vec3::new(-0.5, 0.0, 10.0), -Vec3::Z);
+    assert_eq!(scene.intersect(&ray), Hit::MISS);
+    assert!(!scene.occluded(&ray));
+    let err = scene.check().unwrap_err();
+    assert!(
+        matches!(err, Error::Internal(_)) && err.to_string().contains("test panic"),
+        "{err}"
+    );
+    // Reported once; rays that do not panic still work.
+    scene.check().unwrap();
+    assert!(
+        scene
+            .intersect(&Ray::new(Vec3::new(0.5, 0.0, 10.0), -Vec3::Z))
+            .is_hit()
+    );
+    scene.check().unwrap();
+}
