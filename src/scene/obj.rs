@@ -190,7 +190,8 @@ pub fn load_obj(path: &Path) -> Result<ObjFile> {
     };
     for (number, line) in text.lines().enumerate() {
         r.line = number + 1;
-        let line = line.trim();
+        // `#` starts a comment, also after a statement.
+        let line = line.split('#').next().unwrap_or("").trim();
         let Some(keyword) = line.split_whitespace().next() else {
             continue;
         };

@@ -36,8 +36,8 @@ usemtl red
 f 1 2 3 4
 usemtl shiny
 f 2/1 5/1 3/1
-o second
-f -1 -2 -3 -4 -5
+o second # comments may follow a statement
+f -1 -2 -3 -4 -5 # here too
 ";
 
 const MTL: &str = "\
