@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 
 use serde::Deserialize;
 
-use super::{Camera, RenderSettings, Scene, headlight, load_obj, scene_name, suggest};
+use super::{Camera, RenderSettings, Scene, headlight, load_obj, locate, scene_name, suggest};
 use crate::error::{Error, Result};
 use crate::lights::Light;
 use crate::math::{Mat4, Vec3};
@@ -125,16 +125,18 @@ struct DirectionalFile {
     irradiance: [f32; 3],
 }
 
-/// Collects the problems of one scene file, each named by its key.
+/// Reports the problems of one scene file, each named by its line and key.
 struct Check<'a> {
     path: &'a Path,
+    text: &'a str,
 }
 
 impl Check<'_> {
     fn error(&self, key: &str, message: impl std::fmt::Display) -> Error {
+        let line = locate::line_of(self.text, key).map_or(String::new(), |l| format!("line {l}, "));
         Error::Scene {
             path: self.path.to_owned(),
-            message: format!("{key}: {message}"),
+            message: format!("{line}{key}: {message}"),
         }
     }
 
@@ -265,7 +267,7 @@ pub(super) fn load(path: &Path) -> Result<Scene> {
         path: path.to_owned(),
         message: suggest::with_suggestion(&e.to_string()),
     })?;
-    let check = Check { path };
+    let check = Check { path, text: &text };
     let defaults = RenderSettings::default();
     let render = RenderSettings {
         spp: file.render.spp.unwrap_or(defaults.spp),

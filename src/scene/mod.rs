@@ -2,6 +2,7 @@
 
 mod camera;
 mod file;
+mod locate;
 mod obj;
 mod suggest;
 

@@ -225,10 +225,10 @@ fn toml_errors_name_line_and_suggest() {
             TOML.replace("type = \"directional\"", "type = \"directonal\""),
             vec!["did you mean `directional`?"],
         ),
-        (TOML.replace("spp = 3", "spp = 0"), vec!["render.spp"]),
+        (TOML.replace("spp = 3", "spp = 0"), vec!["line 12, render.spp"]),
         (
             TOML.replace("fov = 30", "fov = 180"),
-            vec!["camera.fov", "(0, 180)"],
+            vec!["line 7, camera.fov", "(0, 180)"],
         ),
         (
             TOML.replace("width = 32", "width = 0"),
