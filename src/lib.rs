@@ -8,6 +8,7 @@ pub mod geometry;
 pub mod io;
 pub mod lights;
 pub mod math;
+pub mod poly;
 pub mod render;
 pub mod report;
 pub mod sampling;

@@ -1,0 +1,15 @@
+//! Polynomials: univariate ones in f64 with Sturm sequences, root isolation
+//! and refinement, closed forms, an exact rational path for ill-conditioned
+//! inputs; trivariate ones parsed from expressions, with a ray substituted.
+
+/// The highest degree sturmray handles anywhere: it sizes the fixed Sturm
+/// storage (no allocation per ray) and bounds the expression parser.
+pub const MAX_DEGREE: usize = 16;
+
+pub mod closed;
+pub mod exact;
+pub mod expr;
+pub mod solve;
+pub mod sturm;
+pub mod trivariate;
+pub mod univariate;

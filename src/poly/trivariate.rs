@@ -1,0 +1,971 @@
+//! Trivariate polynomials F(x, y, z) in f64: the implicit form of algebraic
+//! surfaces. The renderer substitutes each ray into F to get the univariate
+//! Q(t) whose roots are hits, and evaluates the gradient for normals.
+//!
+//! Every polynomial here has total degree at most [`MAX_DEGREE`], so the
+//! per-ray work can live in fixed-size stack arrays, and the arithmetic used
+//! while expanding an expression can accumulate in one dense cube of
+//! (MAX_DEGREE + 1)³ coefficients.
+
+use std::fmt;
+
+use crate::poly::MAX_DEGREE;
+
+/// Entries per axis in the dense accumulator: exponents 0..=MAX_DEGREE.
+const SIDE: usize = MAX_DEGREE + 1;
+/// Size of the dense accumulator; most of the cube lies above MAX_DEGREE
+/// and stays zero, but a cube makes indexing a multiply-add.
+const CUBE: usize = SIDE * SIDE * SIDE;
+
+/// A polynomial in x, y, z with f64 coefficients.
+///
+/// Monomials are kept sorted in descending lexicographic order of their
+/// exponents (all powers of x first, highest first; within one power of x,
+/// by y, then z), merged, with zero coefficients dropped. That order is the
+/// nesting [`Trivariate::substitute_ray`] walks, and it makes equality of
+/// polynomials plain equality of the term lists.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Trivariate {
+    terms: Vec<([u8; 3], f64)>,
+    degree: usize,
+}
+
+fn total(e: [u8; 3]) -> usize {
+    usize::from(e[0]) + usize::from(e[1]) + usize::from(e[2])
+}
+
+/// Position in the dense cube; descending index is descending lexicographic
+/// order, so scanning the cube backwards yields sorted terms.
+fn cube_index(e: [u8; 3]) -> usize {
+    (usize::from(e[0]) * SIDE + usize::from(e[1])) * SIDE + usize::from(e[2])
+}
+
+impl Trivariate {
+    /// The zero polynomial (degree 0, no terms).
+    pub fn zero() -> Trivariate {
+        Trivariate {
+            terms: Vec::new(),
+            degree: 0,
+        }
+    }
+
+    /// The constant polynomial `c`.
+    pub fn constant(c: f64) -> Trivariate {
+        Trivariate::from_terms([([0, 0, 0], c)])
+    }
+
+    /// The variable x (`axis` 0), y (1) or z (2).
+    ///
+    /// # Panics
+    /// If `axis` > 2.
+    pub fn variable(axis: usize) -> Trivariate {
+        let mut e = [0; 3];
+        e[axis] = 1;
+        Trivariate::from_terms([(e, 1.0)])
+    }
+
+    /// Builds a polynomial from monomials in any order; coefficients of equal
+    /// exponents are summed and zero results dropped.
+    ///
+    /// # Panics
+    /// If a monomial with a nonzero (merged) coefficient has total degree above
+    /// [`MAX_DEGREE`]: the per-ray storage is sized by that limit.
+    pub fn from_terms(terms: impl IntoIterator<Item = ([u8; 3], f64)>) -> Trivariate {
+        let mut sorted: Vec<([u8; 3], f64)> = terms.into_iter().collect();
+        sorted.sort_by_key(|&(e, _)| std::cmp::Reverse(e));
+        let mut merged: Vec<([u8; 3], f64)> = Vec::with_capacity(sorted.len());
+        for (e, c) in sorted {
+            match merged.last_mut() {
+                Some(last) if last.0 == e => last.1 += c,
+                _ => merged.push((e, c)),
+            }
+        }
+        merged.retain(|&(_, c)| c != 0.0);
+        let degree = merged.iter().map(|&(e, _)| total(e)).max().unwrap_or(0);
+        assert!(
+            degree <= MAX_DEGREE,
+            "a trivariate polynomial of degree {degree} exceeds MAX_DEGREE = {MAX_DEGREE}"
+        );
+        Trivariate {
+            terms: merged,
+            degree,
+        }
+    }
+
+    /// Collects the nonzero entries of a dense cube; the caller guarantees
+    /// that only entries of total degree <= MAX_DEGREE were written.
+    fn from_cube(cube: &[f64]) -> Trivariate {
+        let mut terms = Vec::new();
+        let mut degree = 0;
+        for i in (0..CUBE).rev() {
+            let c = cube[i];
+            if c != 0.0 {
+                let e = [
+                    (i / (SIDE * SIDE)) as u8,
+                    (i / SIDE % SIDE) as u8,
+                    (i % SIDE) as u8,
+                ];
+                degree = degree.max(total(e));
+                terms.push((e, c));
+            }
+        }
+        Trivariate { terms, degree }
+    }
+
+    /// The monomials: exponents of (x, y, z) and coefficient, sorted as the
+    /// type's documentation describes, no zero coefficients.
+    pub fn terms(&self) -> &[([u8; 3], f64)] {
+        &self.terms
+    }
+
+    /// Total degree; 0 for constants and for the zero polynomial.
+    pub fn degree(&self) -> usize {
+        self.degree
+    }
+
+    /// True for the zero polynomial.
+    pub fn is_zero(&self) -> bool {
+        self.terms.is_empty()
+    }
+
+    /// The value of a polynomial that does not depend on x, y or z, else
+    /// `None`.
+    pub fn constant_value(&self) -> Option<f64> {
+        match self.terms.as_slice() {
+            [] => Some(0.0),
+            [([0, 0, 0], c)] => Some(*c),
+            _ => None,
+        }
+    }
+
+    /// True when every coefficient is finite: expansion can overflow, and an
+    /// infinite coefficient would turn every Q(t) into NaN.
+    pub fn is_finite(&self) -> bool {
+        self.terms.iter().all(|(_, c)| c.is_finite())
+    }
+
+    /// F(p).
+    pub fn eval(&self, p: [f64; 3]) -> f64 {
+        let [px, py, pz] = p.map(|v| powers(v, self.degree));
+        self.terms
+            .iter()
+            .map(|&(e, c)| {
+                c * px[usize::from(e[0])] * py[usize::from(e[1])] * pz[usize::from(e[2])]
+            })
+            .sum()
+    }
+
+    /// The partial derivatives ∂F/∂x, ∂F/∂y, ∂F/∂z as polynomials.
+    pub fn gradient(&self) -> [Trivariate; 3] {
+        std::array::from_fn(|axis| {
+            Trivariate::from_terms(
+                self.terms
+                    .iter()
+                    .filter(|(e, _)| e[axis] > 0)
+                    .map(|&(e, c)| {
+                        let mut d = e;
+                        d[axis] -= 1;
+                        (d, c * f64::from(e[axis]))
+                    }),
+            )
+        })
+    }
+
+    /// ∇F(p), straight from the terms, so a normal costs no allocation and no
+    /// separate gradient polynomials need to be kept.
+    pub fn eval_gradient(&self, p: [f64; 3]) -> [f64; 3] {
+        let [px, py, pz] = p.map(|v| powers(v, self.degree));
+        let mut g = [0.0; 3];
+        for &(e, c) in &self.terms {
+            let [a, b, k] = e.map(usize::from);
+            if a > 0 {
+                g[0] += c * f64::from(e[0]) * px[a - 1] * py[b] * pz[k];
+            }
+            if b > 0 {
+                g[1] += c * f64::from(e[1]) * px[a] * py[b - 1] * pz[k];
+            }
+            if k > 0 {
+                g[2] += c * f64::from(e[2]) * px[a] * py[b] * pz[k - 1];
+            }
+        }
+        g
+    }
+
+    /// Q(t) = F(o + t d), lowest degree first, into `out[..=degree]`;
+    /// returns degree + 1. Leading coefficients may be zero (a ray parallel
+    /// to an asymptote, say); the caller trims them.
+    ///
+    /// The expansion is exact algebra, nested like Horner's rule over the
+    /// sorted terms: F = Σ_a X^a Σ_b Y^b Σ_c f_abc Z^c with X = o_x + t d_x
+    /// and so on, each inner sum built by repeated multiplication with a
+    /// linear factor. That needs three accumulators of MAX_DEGREE + 1
+    /// coefficients on the stack, no power tables to fill, and work that
+    /// follows the terms actually present. (A variant with per-axis tables
+    /// of binomial powers and convolutions measured no faster.)
+    ///
+    /// # Panics
+    /// If `out` is shorter than degree + 1.
+    pub fn substitute_ray(&self, o: [f64; 3], d: [f64; 3], out: &mut [f64]) -> usize {
+        let n = self.degree + 1;
+        assert!(
+            out.len() >= n,
+            "substitute_ray needs {n} output coefficients, got {}",
+            out.len()
+        );
+        let terms = self.terms.as_slice();
+        let (mut q, mut t, mut s) = (Acc::new(), Acc::new(), Acc::new());
+        let mut i = 0;
+        // Each group starts at its first exponent, so the first step
+        // multiplies an empty accumulator by a zeroth power.
+        let mut last_a = terms.first().map_or(0, |term| term.0[0]);
+        while i < terms.len() {
+            let a = terms[i].0[0];
+            t.len = 0;
+            let mut last_b = terms[i].0[1];
+            while i < terms.len() && terms[i].0[0] == a {
+                let b = terms[i].0[1];
+                s.len = 0;
+                let mut last_c = terms[i].0[2];
+                while i < terms.len() && terms[i].0[0] == a && terms[i].0[1] == b {
+                    let ([_, _, c], f) = terms[i];
+                    s.mul_linear_pow(o[2], d[2], last_c - c);
+                    s.add_constant(f);
+                    last_c = c;
+                    i += 1;
+                }
+                s.mul_linear_pow(o[2], d[2], last_c);
+                t.mul_linear_pow(o[1], d[1], last_b - b);
+                t.add(&s);
+                last_b = b;
+            }
+            t.mul_linear_pow(o[1], d[1], last_b);
+            q.mul_linear_pow(o[0], d[0], last_a - a);
+            q.add(&t);
+            last_a = a;
+        }
+        q.mul_linear_pow(o[0], d[0], last_a);
+        for (k, slot) in out[..n].iter_mut().enumerate() {
+            *slot = if k < q.len { q.c[k] } else { 0.0 };
+        }
+        n
+    }
+
+    /// F(M p + c) as a polynomial in p, expanded exactly: placing a surface
+    /// with an affine map once, instead of transforming every ray.
+    pub fn compose_affine(&self, m: [[f64; 3]; 3], c: [f64; 3]) -> Trivariate {
+        let mut max_exp = [0usize; 3];
+        for &(e, _) in &self.terms {
+            for axis in 0..3 {
+                max_exp[axis] = max_exp[axis].max(usize::from(e[axis]));
+            }
+        }
+        // Powers of the three linear forms (M p + c)_i; every product below
+        // has degree <= self.degree <= MAX_DEGREE, so the unchecked product
+        // is safe.
+        let powers: [Vec<Trivariate>; 3] = std::array::from_fn(|axis| {
+            let row = m[axis];
+            let form = Trivariate::from_terms([
+                ([1, 0, 0], row[0]),
+                ([0, 1, 0], row[1]),
+                ([0, 0, 1], row[2]),
+                ([0, 0, 0], c[axis]),
+            ]);
+            let mut list = vec![Trivariate::constant(1.0)];
+            for k in 1..=max_exp[axis] {
+                let next = list[k - 1].mul_unchecked(&form);
+                list.push(next);
+            }
+            list
+        });
+        let mut result = vec![0.0; CUBE];
+        let terms = self.terms.as_slice();
+        let mut i = 0;
+        while i < terms.len() {
+            let a = terms[i].0[0];
+            let mut t = Trivariate::zero();
+            while i < terms.len() && terms[i].0[0] == a {
+                let b = terms[i].0[1];
+                let mut s = vec![0.0; CUBE];
+                while i < terms.len() && terms[i].0[0] == a && terms[i].0[1] == b {
+                    let ([_, _, k], f) = terms[i];
+                    for &(e, g) in &powers[2][usize::from(k)].terms {
+                        s[cube_index(e)] += f * g;
+                    }
+                    i += 1;
+                }
+                let s = Trivariate::from_cube(&s);
+                t = t.add(&powers[1][usize::from(b)].mul_unchecked(&s));
+            }
+            powers[0][usize::from(a)].mul_into(&t, &mut result);
+        }
+        Trivariate::from_cube(&result)
+    }
+
+    /// self + other.
+    pub fn add(&self, other: &Trivariate) -> Trivariate {
+        self.merge(other, 1.0)
+    }
+
+    /// self − other.
+    pub fn sub(&self, other: &Trivariate) -> Trivariate {
+        self.merge(other, -1.0)
+    }
+
+    /// Merges two sorted term lists, `other` scaled by ±1 (exact).
+    fn merge(&self, other: &Trivariate, sign: f64) -> Trivariate {
+        let (a, b) = (&self.terms, &other.terms);
+        let mut terms = Vec::with_capacity(a.len() + b.len());
+        let (mut i, mut j) = (0, 0);
+        while i < a.len() || j < b.len() {
+            let order = match (a.get(i), b.get(j)) {
+                (Some(x), Some(y)) => y.0.cmp(&x.0),
+                (Some(_), None) => std::cmp::Ordering::Less,
+                _ => std::cmp::Ordering::Greater,
+            };
+            match order {
+                std::cmp::Ordering::Less => {
+                    terms.push(a[i]);
+                    i += 1;
+                }
+                std::cmp::Ordering::Greater => {
+                    terms.push((b[j].0, sign * b[j].1));
+                    j += 1;
+                }
+                std::cmp::Ordering::Equal => {
+                    let c = a[i].1 + sign * b[j].1;
+                    if c != 0.0 {
+                        terms.push((a[i].0, c));
+                    }
+                    i += 1;
+                    j += 1;
+                }
+            }
+        }
+        let degree = terms.iter().map(|&(e, _)| total(e)).max().unwrap_or(0);
+        Trivariate { terms, degree }
+    }
+
+    /// −self.
+    pub fn neg(&self) -> Trivariate {
+        self.scale(-1.0)
+    }
+
+    /// s · self.
+    pub fn scale(&self, s: f64) -> Trivariate {
+        Trivariate::from_sorted(self.terms.iter().map(|&(e, c)| (e, c * s)))
+    }
+
+    /// self / s, dividing each coefficient (one rounding each, where
+    /// multiplying by 1/s would round twice).
+    pub fn div_scalar(&self, s: f64) -> Trivariate {
+        Trivariate::from_sorted(self.terms.iter().map(|&(e, c)| (e, c / s)))
+    }
+
+    /// Rebuilds from terms already in order with distinct exponents, dropping
+    /// coefficients that became zero (underflow, or a zero factor).
+    fn from_sorted(terms: impl Iterator<Item = ([u8; 3], f64)>) -> Trivariate {
+        let terms: Vec<_> = terms.filter(|&(_, c)| c != 0.0).collect();
+        let degree = terms.iter().map(|&(e, _)| total(e)).max().unwrap_or(0);
+        Trivariate { terms, degree }
+    }
+
+    /// self · other, or `None` when the product's degree would exceed
+    /// [`MAX_DEGREE`]; checked before any work, so runaway products fail fast.
+    pub fn checked_mul(&self, other: &Trivariate) -> Option<Trivariate> {
+        (self.degree + other.degree <= MAX_DEGREE).then(|| self.mul_unchecked(other))
+    }
+
+    fn mul_unchecked(&self, other: &Trivariate) -> Trivariate {
+        let mut cube = vec![0.0; CUBE];
+        self.mul_into(other, &mut cube);
+        Trivariate::from_cube(&cube)
+    }
+
+    /// Adds self · other into a dense cube; degrees must sum to at most
+    /// MAX_DEGREE (every exponent then fits the cube).
+    fn mul_into(&self, other: &Trivariate, cube: &mut [f64]) {
+        debug_assert!(self.degree + other.degree <= MAX_DEGREE);
+        for &(e, c) in &self.terms {
+            let base = cube_index(e);
+            for &(f, g) in &other.terms {
+                cube[base + cube_index(f)] += c * g;
+            }
+        }
+    }
+
+    /// self^n by repeated squaring, or `None` when the degree would exceed
+    /// [`MAX_DEGREE`] (checked first, so `(x+y)^1000` costs nothing).
+    pub fn checked_pow(&self, n: u32) -> Option<Trivariate> {
+        if self.degree.checked_mul(n as usize)? > MAX_DEGREE {
+            return None;
+        }
+        let mut result = Trivariate::constant(1.0);
+        let mut base = self.clone();
+        let mut n = n;
+        while n > 0 {
+            if n & 1 == 1 {
+                result = result.mul_unchecked(&base);
+            }
+            n >>= 1;
+            if n > 0 {
+                base = base.mul_unchecked(&base);
+            }
+        }
+        Some(result)
+    }
+}
+
+/// v^0 ..= v^n in the first n + 1 entries.
+fn powers(v: f64, n: usize) -> [f64; SIDE] {
+    let mut p = [0.0; SIDE];
+    p[0] = 1.0;
+    for k in 1..=n {
+        p[k] = p[k - 1] * v;
+    }
+    p
+}
+
+/// A univariate polynomial in t on the stack: the accumulators of
+/// `substitute_ray`. `len` counts the coefficients in use; an empty one
+/// (len 0) stays empty when multiplied, which lets the Horner loop treat a
+/// group's first term like any other.
+struct Acc {
+    c: [f64; SIDE],
+    len: usize,
+}
+
+impl Acc {
+    fn new() -> Acc {
+        Acc {
+            c: [0.0; SIDE],
+            len: 0,
+        }
+    }
+
+    #[inline]
+    fn add_constant(&mut self, f: f64) {
+        if self.len == 0 {
+            self.c[0] = f;
+            self.len = 1;
+        } else {
+            self.c[0] += f;
+        }
+    }
+
+    #[inline]
+    fn add(&mut self, other: &Acc) {
+        for k in 0..other.len {
+            self.c[k] = if k < self.len {
+                self.c[k] + other.c[k]
+            } else {
+                other.c[k]
+            };
+        }
+        self.len = self.len.max(other.len);
+    }
+
+    /// Multiplies by (o + d t)^times. The formal degree grows by `times` even
+    /// when d = 0, which keeps the bookkeeping simple; it never passes the
+    /// polynomial's total degree.
+    #[inline]
+    fn mul_linear_pow(&mut self, o: f64, d: f64, times: u8) {
+        if self.len == 0 {
+            return;
+        }
+        for _ in 0..times {
+            let n = self.len;
+            // Upwards, with the old coefficient carried in a register: each
+            // load then reads one earlier store whole, where the downward
+            // form got vectorised into loads straddling two fresh stores,
+            // which stall store forwarding (the whole substitution measured
+            // about 1.7x slower that way).
+            let mut previous = 0.0;
+            for c in &mut self.c[..n] {
+                let current = *c;
+                *c = current * o + previous * d;
+                previous = current;
+            }
+            self.c[n] = previous * d;
+            self.len = n + 1;
+        }
+    }
+}
+
+/// Coefficients in a form the expression parser reads back exactly:
+/// Rust's shortest round-trip digits, in exponent form when very large or
+/// small.
+fn write_number(f: &mut fmt::Formatter<'_>, v: f64) -> fmt::Result {
+    let a = v.abs();
+    if a != 0.0 && !(1e-4..1e16).contains(&a) {
+        write!(f, "{v:e}")
+    } else {
+        write!(f, "{v}")
+    }
+}
+
+/// Prints as an expression `parse` accepts, e.g. `x^4 - 5*x^2 + 11.8`, so a
+/// polynomial can be shown to people and read back unchanged.
+impl fmt::Display for Trivariate {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.terms.is_empty() {
+            return f.write_str("0");
+        }
+        for (i, &(e, c)) in self.terms.iter().enumerate() {
+            let magnitude = if i == 0 {
+                if c < 0.0 {
+                    f.write_str("-")?;
+                }
+                c.abs()
+            } else {
+                f.write_str(if c < 0.0 { " - " } else { " + " })?;
+                c.abs()
+            };
+            let mut first = true;
+            if magnitude != 1.0 || e == [0, 0, 0] {
+                write_number(f, magnitude)?;
+                first = false;
+            }
+            for (axis, name) in ["x", "y", "z"].iter().enumerate() {
+                if e[axis] == 0 {
+                    continue;
+                }
+                if !first {
+                    f.write_str("*")?;
+                }
+                first = false;
+                f.write_str(name)?;
+                if e[axis] > 1 {
+                    write!(f, "^{}", e[axis])?;
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn torus_direct(p: [f64; 3], big_r: f64, r: f64) -> f64 {
+        let [x, y, z] = p;
+        let s = x * x + y * y + z * z + big_r * big_r - r * r;
+        s * s - 4.0 * big_r * big_r * (x * x + y * y)
+    }
+
+    /// The torus, expanded by hand:
+    /// (x²+y²+z²)² − 2(R²+r²)(x²+y²) + 2(R²−r²)z² + (R²−r²)².
+    fn torus(big_r: f64, r: f64) -> Trivariate {
+        let (r2, s2) = (big_r * big_r, r * r);
+        Trivariate::from_terms([
+            ([4, 0, 0], 1.0),
+            ([0, 4, 0], 1.0),
+            ([0, 0, 4], 1.0),
+            ([2, 2, 0], 2.0),
+            ([2, 0, 2], 2.0),
+            ([0, 2, 2], 2.0),
+            ([2, 0, 0], -2.0 * (r2 + s2)),
+            ([0, 2, 0], -2.0 * (r2 + s2)),
+            ([0, 0, 2], 2.0 * (r2 - s2)),
+            ([0, 0, 0], (r2 - s2) * (r2 - s2)),
+        ])
+    }
+
+    /// Σ |c| |x^a y^b z^c|: the scale against which rounding errors of an
+    /// evaluation are judged, so cancellation does not fail a test.
+    fn abs_scale(p: &Trivariate, q: [f64; 3]) -> f64 {
+        p.terms()
+            .iter()
+            .map(|&(e, c)| {
+                c.abs()
+                    * q[0].abs().powi(i32::from(e[0]))
+                    * q[1].abs().powi(i32::from(e[1]))
+                    * q[2].abs().powi(i32::from(e[2]))
+            })
+            .sum()
+    }
+
+    fn horner(q: &[f64], t: f64) -> f64 {
+        q.iter().rev().fold(0.0, |acc, &c| acc * t + c)
+    }
+
+    fn ray_point(o: [f64; 3], d: [f64; 3], t: f64) -> [f64; 3] {
+        [o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2]]
+    }
+
+    /// Checks Q(t) against F(o + t d) at several t, relative to the scale
+    /// of the terms involved.
+    fn check_ray(f: &Trivariate, direct: impl Fn([f64; 3]) -> f64, o: [f64; 3], d: [f64; 3]) {
+        let mut q = [f64::NAN; MAX_DEGREE + 1];
+        let n = f.substitute_ray(o, d, &mut q);
+        assert_eq!(n, f.degree() + 1);
+        for &t in &[-2.5, -1.0, -0.3, 0.0, 0.2, 0.7, 1.0, 1.9, 3.3] {
+            let p = ray_point(o, d, t);
+            let want = direct(p);
+            let got = horner(&q[..n], t);
+            // The expansion's rounding is bounded by F with every sign made
+            // positive, at |o| + |t||d|.
+            let bound = std::array::from_fn(|i| o[i].abs() + t.abs() * d[i].abs());
+            let scale = abs_scale(f, bound).max(1e-300);
+            assert!(
+                (got - want).abs() <= 1e-12 * scale,
+                "t = {t}: Q(t) = {got}, F(o + t d) = {want}, scale {scale}"
+            );
+        }
+    }
+
+    #[test]
+    fn from_terms_merges_sorts_and_drops_zeros() {
+        let p = Trivariate::from_terms([
+            ([0, 0, 1], 1.0),
+            ([2, 0, 0], 3.0),
+            ([0, 0, 1], 2.0),
+            ([1, 1, 0], 4.0),
+            ([1, 1, 0], -4.0),
+            ([5, 5, 5], 0.0),
+        ]);
+        assert_eq!(p.terms(), &[([2, 0, 0], 3.0), ([0, 0, 1], 3.0)]);
+        assert_eq!(p.degree(), 2);
+        assert!(Trivariate::from_terms([([1, 0, 0], 0.0)]).is_zero());
+        assert_eq!(Trivariate::zero().degree(), 0);
+    }
+
+    #[test]
+    #[should_panic(expected = "exceeds MAX_DEGREE")]
+    fn from_terms_refuses_degree_above_the_limit() {
+        Trivariate::from_terms([([6, 6, 5], 1.0)]);
+    }
+
+    #[test]
+    fn eval_matches_direct_evaluation() {
+        let f = torus(1.0, 0.25);
+        for p in [[0.3, -1.2, 0.1], [2.0, 0.5, -0.7], [0.0, 0.0, 0.0]] {
+            let want = torus_direct(p, 1.0, 0.25);
+            assert!((f.eval(p) - want).abs() <= 1e-13 * abs_scale(&f, p));
+        }
+        // The tube's centre circle at (R, 0, 0) + r along x lies on the surface.
+        assert!(f.eval([1.25, 0.0, 0.0]).abs() < 1e-14);
+    }
+
+    #[test]
+    fn substitute_ray_torus() {
+        let f = torus(1.0, 0.25);
+        let direct = |p| torus_direct(p, 1.0, 0.25);
+        check_ray(&f, direct, [-3.0, 0.1, 0.05], [1.0, 0.0, 0.0]);
+        check_ray(&f, direct, [0.3, -2.0, 1.5], [0.2, 0.9, -0.6]);
+        check_ray(&f, direct, [0.0, 0.0, 5.0], [0.0, 0.0, -1.0]);
+        // Along x through both tubes: roots at ±0.75 and ±1.25 (t shifted by 3).
+        let mut q = [0.0; 5];
+        f.substitute_ray([-3.0, 0.0, 0.0], [1.0, 0.0, 0.0], &mut q);
+        for root in [1.75, 2.25, 3.75, 4.25] {
+            assert!(
+                horner(&q, root).abs() < 1e-12,
+                "Q({root}) = {}",
+                horner(&q, root)
+            );
+        }
+    }
+
+    /// A degree-6 surface with mixed odd and even terms, evaluated directly.
+    fn sextic_direct(p: [f64; 3]) -> f64 {
+        let [x, y, z] = p;
+        (x * x + y * y - 1.0).powi(3) - x * x * y * y * y + 0.5 * z.powi(6) - 2.0 * x * y * z + 0.3
+    }
+
+    fn sextic() -> Trivariate {
+        // (x² + y² − 1)³ = x⁶ + 3x⁴y² + 3x²y⁴ + y⁶ − 3x⁴ − 6x²y² − 3y⁴ + 3x² + 3y² − 1
+        Trivariate::from_terms([
+            ([6, 0, 0], 1.0),
+            ([4, 2, 0], 3.0),
+            ([2, 4, 0], 3.0),
+            ([0, 6, 0], 1.0),
+            ([4, 0, 0], -3.0),
+            ([2, 2, 0], -6.0),
+            ([0, 4, 0], -3.0),
+            ([2, 0, 0], 3.0),
+            ([0, 2, 0], 3.0),
+            ([0, 0, 0], -1.0 + 0.3),
+            ([2, 3, 0], -1.0),
+            ([0, 0, 6], 0.5),
+            ([1, 1, 1], -2.0),
+        ])
+    }
+
+    #[test]
+    fn substitute_ray_degree_6() {
+        let f = sextic();
+        assert_eq!(f.degree(), 6);
+        check_ray(&f, sextic_direct, [0.4, -1.1, 0.3], [0.3, 0.8, -0.5]);
+        check_ray(&f, sextic_direct, [-2.0, 0.0, 1.0], [1.0, 0.1, -0.2]);
+    }
+
+    /// Every monomial of total degree <= 16 with a distinct coefficient:
+    /// the densest polynomial the renderer can meet.
+    fn dense16() -> Trivariate {
+        let mut terms = Vec::new();
+        for a in 0..=16u8 {
+            for b in 0..=16 - a {
+                for c in 0..=16 - a - b {
+                    let k = f64::from(a) * 0.37 + f64::from(b) * 1.13 - f64::from(c) * 0.71;
+                    terms.push(([a, b, c], k.sin() + 0.1));
+                }
+            }
+        }
+        Trivariate::from_terms(terms)
+    }
+
+    #[test]
+    fn substitute_ray_degree_16() {
+        // (x² + y² + z² − 1)⁸ against its direct evaluation.
+        let sphere = Trivariate::from_terms([
+            ([2, 0, 0], 1.0),
+            ([0, 2, 0], 1.0),
+            ([0, 0, 2], 1.0),
+            ([0, 0, 0], -1.0),
+        ]);
+        let f = sphere.checked_pow(8).unwrap();
+        assert_eq!(f.degree(), 16);
+        let direct = |p: [f64; 3]| (p[0] * p[0] + p[1] * p[1] + p[2] * p[2] - 1.0).powi(8);
+        check_ray(&f, direct, [0.2, -0.3, 0.1], [0.5, 0.6, -0.3]);
+        check_ray(&f, direct, [1.0, 1.0, 1.0], [-0.4, -0.2, -0.1]);
+
+        let dense = dense16();
+        assert_eq!(dense.terms().len(), 969);
+        let direct = |p: [f64; 3]| {
+            let mut sum = 0.0;
+            for &(e, c) in dense.terms() {
+                sum += c
+                    * p[0].powi(i32::from(e[0]))
+                    * p[1].powi(i32::from(e[1]))
+                    * p[2].powi(i32::from(e[2]));
+            }
+            sum
+        };
+        check_ray(&dense, direct, [0.1, 0.2, -0.3], [0.3, -0.4, 0.5]);
+        check_ray(&dense, direct, [0.5, -0.5, 0.2], [0.0, 0.0, 0.3]);
+    }
+
+    #[test]
+    fn substitute_ray_sparse_and_constant_pieces() {
+        // Gaps in every exponent and a bare constant exercise the Horner
+        // bookkeeping: x^16 + y^16 + z^16 + x^3 z^5 − 1.
+        let f = Trivariate::from_terms([
+            ([16, 0, 0], 1.0),
+            ([0, 16, 0], 1.0),
+            ([0, 0, 16], 1.0),
+            ([3, 0, 5], 1.0),
+            ([0, 0, 0], -1.0),
+        ]);
+        let direct = |p: [f64; 3]| {
+            p[0].powi(16) + p[1].powi(16) + p[2].powi(16) + p[0].powi(3) * p[2].powi(5) - 1.0
+        };
+        check_ray(&f, direct, [0.3, 0.2, -0.1], [0.2, 0.3, 0.25]);
+        // A ray with d = 0 along some axes: the leading coefficients vanish.
+        let mut q = [f64::NAN; 17];
+        assert_eq!(
+            f.substitute_ray([0.5, 0.0, 0.0], [0.0, 1.0, 0.0], &mut q),
+            17
+        );
+        assert_eq!(q[16], 1.0);
+        assert!(q[1..16].iter().all(|&c| c == 0.0));
+        assert_eq!(q[0], 0.5f64.powi(16) - 1.0);
+        // A constant: Q(t) is that constant.
+        let mut q = [f64::NAN; 3];
+        assert_eq!(
+            Trivariate::constant(2.5).substitute_ray([1.0; 3], [1.0; 3], &mut q),
+            1
+        );
+        assert_eq!(q[0], 2.5);
+        assert_eq!(
+            Trivariate::zero().substitute_ray([1.0; 3], [1.0; 3], &mut q),
+            1
+        );
+        assert_eq!(q[0], 0.0);
+    }
+
+    #[test]
+    fn goursat_ray_along_an_axis() {
+        // x⁴ − 5x² + 11.8 on the x axis (y = z = 0, plus y⁴ − 5y² etc. = 0).
+        let f = Trivariate::from_terms([
+            ([4, 0, 0], 1.0),
+            ([2, 0, 0], -5.0),
+            ([0, 4, 0], 1.0),
+            ([0, 2, 0], -5.0),
+            ([0, 0, 4], 1.0),
+            ([0, 0, 2], -5.0),
+            ([0, 0, 0], 11.8),
+        ]);
+        let mut q = [0.0; 5];
+        f.substitute_ray([0.0, 0.0, 0.0], [1.0, 0.0, 0.0], &mut q);
+        assert_eq!(q, [11.8, 0.0, -5.0, 0.0, 1.0]);
+    }
+
+    #[test]
+    fn gradient_matches_central_differences() {
+        for (f, direct) in [
+            (
+                torus(1.0, 0.3),
+                Box::new(|p| torus_direct(p, 1.0, 0.3)) as Box<dyn Fn([f64; 3]) -> f64>,
+            ),
+            (sextic(), Box::new(sextic_direct)),
+        ] {
+            let grad = f.gradient();
+            for p in [[0.3, -0.8, 0.2], [1.1, 0.4, -0.5], [-0.2, 0.1, 0.9]] {
+                let g = f.eval_gradient(p);
+                for axis in 0..3 {
+                    let h = 1e-5;
+                    let (mut lo, mut hi) = (p, p);
+                    lo[axis] -= h;
+                    hi[axis] += h;
+                    let fd = (direct(hi) - direct(lo)) / (2.0 * h);
+                    let scale = 1.0 + abs_scale(&f, p);
+                    assert!(
+                        (g[axis] - fd).abs() < 1e-7 * scale,
+                        "axis {axis} at {p:?}: {} vs {fd}",
+                        g[axis]
+                    );
+                    // The polynomial gradient agrees with the allocation-free one.
+                    assert!((grad[axis].eval(p) - g[axis]).abs() < 1e-13 * scale);
+                }
+            }
+        }
+        // d/dx of x³y²z = 3x²y²z.
+        let m = Trivariate::from_terms([([3, 2, 1], 2.0)]);
+        assert_eq!(m.gradient()[0].terms(), &[([2, 2, 1], 6.0)]);
+        assert_eq!(m.gradient()[1].terms(), &[([3, 1, 1], 4.0)]);
+        assert_eq!(m.gradient()[2].terms(), &[([3, 2, 0], 2.0)]);
+    }
+
+    #[test]
+    fn compose_affine_matches_direct_evaluation() {
+        let m = [[0.8, -0.6, 0.1], [0.6, 0.8, -0.2], [0.05, 0.3, 1.5]];
+        let c = [0.4, -1.2, 0.7];
+        let map = |p: [f64; 3]| -> [f64; 3] {
+            std::array::from_fn(|i| m[i][0] * p[0] + m[i][1] * p[1] + m[i][2] * p[2] + c[i])
+        };
+        for (f, direct) in [
+            (
+                torus(1.0, 0.25),
+                Box::new(|p| torus_direct(p, 1.0, 0.25)) as Box<dyn Fn([f64; 3]) -> f64>,
+            ),
+            (sextic(), Box::new(sextic_direct)),
+        ] {
+            let g = f.compose_affine(m, c);
+            assert_eq!(g.degree(), f.degree());
+            for p in [
+                [0.3, -0.8, 0.2],
+                [1.1, 0.4, -0.5],
+                [-0.2, 0.1, 0.9],
+                [0.0; 3],
+            ] {
+                let want = direct(map(p));
+                let scale = abs_scale(&g, p).max(abs_scale(&f, map(p)));
+                assert!((g.eval(p) - want).abs() <= 1e-12 * scale);
+            }
+        }
+        // The identity map changes nothing; a translation of x² is exact.
+        let id = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+        let f = sextic();
+        assert_eq!(f.compose_affine(id, [0.0; 3]), f);
+        let x2 = Trivariate::from_terms([([2, 0, 0], 1.0)]);
+        assert_eq!(
+            x2.compose_affine(id, [3.0, 0.0, 0.0]).terms(),
+            &[([2, 0, 0], 1.0), ([1, 0, 0], 6.0), ([0, 0, 0], 9.0)]
+        );
+        // Degree 16 too.
+        let dense = dense16();
+        let g = dense.compose_affine(m, c);
+        for p in [[0.1, -0.2, 0.05], [-0.3, 0.2, -0.1]] {
+            let q = map(p);
+            let scale = abs_scale(&g, p).max(abs_scale(&dense, q));
+            assert!((g.eval(p) - dense.eval(q)).abs() <= 1e-11 * scale);
+        }
+    }
+
+    #[test]
+    fn arithmetic_and_degree_limits() {
+        let x = Trivariate::variable(0);
+        let y = Trivariate::variable(1);
+        let s = x.add(&y);
+        // (x + y)² = x² + 2xy + y²
+        assert_eq!(
+            s.checked_pow(2).unwrap().terms(),
+            &[([2, 0, 0], 1.0), ([1, 1, 0], 2.0), ([0, 2, 0], 1.0)]
+        );
+        assert_eq!(s.sub(&x), y);
+        assert!(s.sub(&s).is_zero());
+        assert_eq!(s.checked_pow(0).unwrap(), Trivariate::constant(1.0));
+        assert!(s.checked_pow(17).is_none());
+        assert!(s.checked_pow(u32::MAX).is_none());
+        let x8 = x.checked_pow(8).unwrap();
+        assert!(x8.checked_mul(&x8).is_some());
+        assert!(x8.checked_mul(&x8.checked_mul(&x).unwrap()).is_none());
+        assert_eq!(s.scale(0.0), Trivariate::zero());
+        assert_eq!(
+            Trivariate::constant(3.0).div_scalar(2.0).constant_value(),
+            Some(1.5)
+        );
+        assert_eq!(x.constant_value(), None);
+    }
+
+    #[test]
+    fn display_reads_as_an_expression() {
+        let f = Trivariate::from_terms([
+            ([4, 0, 0], 1.0),
+            ([2, 0, 0], -5.0),
+            ([1, 1, 1], -1.0),
+            ([0, 0, 0], 11.8),
+        ]);
+        assert_eq!(f.to_string(), "x^4 - 5*x^2 - x*y*z + 11.8");
+        assert_eq!(Trivariate::constant(-2.0).to_string(), "-2");
+        assert_eq!(Trivariate::zero().to_string(), "0");
+        assert_eq!(
+            Trivariate::from_terms([([0, 1, 0], 1e-20)]).to_string(),
+            "1e-20*y"
+        );
+    }
+
+    fn arb_trivariate(max_terms: usize) -> impl Strategy<Value = Trivariate> {
+        let exps = (0u8..=8, 0u8..=4, 0u8..=4);
+        let coef = prop_oneof![-10.0..10.0f64, Just(1.0), Just(-1.0), -1e-9..1e-9f64];
+        prop::collection::vec((exps, coef), 1..max_terms).prop_map(|v| {
+            Trivariate::from_terms(v.into_iter().map(|((a, b, c), k)| ([a, b, c], k)))
+        })
+    }
+
+    proptest! {
+        #[test]
+        fn prop_substitute_ray_agrees_with_eval(
+            f in arb_trivariate(30),
+            o in prop::array::uniform3(-2.0..2.0f64),
+            d in prop::array::uniform3(-1.0..1.0f64),
+            t in -2.0..2.0f64,
+        ) {
+            let mut q = [0.0; MAX_DEGREE + 1];
+            let n = f.substitute_ray(o, d, &mut q);
+            let p = ray_point(o, d, t);
+            let bound = std::array::from_fn(|i| o[i].abs() + t.abs() * d[i].abs());
+            let scale = abs_scale(&f, bound).max(1e-300);
+            prop_assert!((horner(&q[..n], t) - f.eval(p)).abs() <= 1e-12 * scale);
+        }
+
+        #[test]
+        fn prop_compose_then_eval_is_eval_of_map(
+            f in arb_trivariate(12),
+            m in prop::array::uniform3(prop::array::uniform3(-1.5..1.5f64)),
+            c in prop::array::uniform3(-1.0..1.0f64),
+            p in prop::array::uniform3(-1.0..1.0f64),
+        ) {
+            let g = f.compose_affine(m, c);
+            let q: [f64; 3] = std::array::from_fn(|i| m[i][0] * p[0] + m[i][1] * p[1] + m[i][2] * p[2] + c[i]);
+            // Rounding is bounded by F with all signs made positive, at the
+            // point the map sends p to with all signs made positive.
+            let q_abs: [f64; 3] = std::array::from_fn(|i| {
+                (0..3).map(|j| m[i][j].abs() * p[j].abs()).sum::<f64>() + c[i].abs()
+            });
+            let scale = abs_scale(&f, q_abs).max(1e-300);
+            prop_assert!((g.eval(p) - f.eval(q)).abs() <= 1e-12 * scale);
+        }
+    }
+}

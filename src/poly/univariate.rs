@@ -1,0 +1,437 @@
+//! Univariate polynomials in f64 with fixed storage, so that the per-ray
+//! root finders never allocate.
+
+use crate::poly::MAX_DEGREE;
+
+/// Number of coefficient slots: a polynomial of degree `MAX_DEGREE` has one
+/// more coefficient than its degree.
+const SLOTS: usize = MAX_DEGREE + 1;
+
+/// A polynomial of degree at most [`MAX_DEGREE`], coefficients lowest degree
+/// first.
+///
+/// Invariant: the leading coefficient is nonzero unless the polynomial is a
+/// constant, and every slot above the degree holds `0.0`, so that the derived
+/// `PartialEq` compares polynomials, not leftovers.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Poly {
+    coeffs: [f64; SLOTS],
+    degree: usize,
+}
+
+impl Default for Poly {
+    fn default() -> Self {
+        Poly::ZERO
+    }
+}
+
+impl Poly {
+    pub const ZERO: Poly = Poly {
+        coeffs: [0.0; SLOTS],
+        degree: 0,
+    };
+
+    /// Builds a polynomial from coefficients, lowest degree first; exact zero
+    /// leading coefficients are dropped (use [`Poly::trimmed`] for
+    /// round-off-sized ones).
+    ///
+    /// # Panics
+    /// If `coeffs.len() > MAX_DEGREE + 1`: callers validate degrees at the
+    /// input boundary (the parser, the `roots` tool).
+    pub fn new(coeffs: &[f64]) -> Poly {
+        assert!(
+            coeffs.len() <= SLOTS,
+            "polynomial of degree {} exceeds MAX_DEGREE = {MAX_DEGREE}",
+            coeffs.len().saturating_sub(1)
+        );
+        let mut array = [0.0; SLOTS];
+        array[..coeffs.len()].copy_from_slice(coeffs);
+        Poly::from_array(array, coeffs.len().saturating_sub(1))
+    }
+
+    /// Builds from a full coefficient array whose slots above `degree` are
+    /// ignored; trims exact zero leading coefficients. For the arithmetic of
+    /// this module and the Sturm chain, which work on arrays in place.
+    pub(crate) fn from_array(mut coeffs: [f64; SLOTS], degree: usize) -> Poly {
+        let degree = degree.min(MAX_DEGREE);
+        coeffs[degree + 1..].fill(0.0);
+        let mut p = Poly { coeffs, degree };
+        p.trim_zeros();
+        p
+    }
+
+    /// The coefficients, lowest degree first; `degree() + 1` of them.
+    pub fn coeffs(&self) -> &[f64] {
+        &self.coeffs[..=self.degree]
+    }
+
+    pub fn degree(&self) -> usize {
+        self.degree
+    }
+
+    pub fn is_zero(&self) -> bool {
+        self.degree == 0 && self.coeffs[0] == 0.0
+    }
+
+    /// The leading coefficient (the constant term for a constant).
+    pub fn leading(&self) -> f64 {
+        self.coeffs[self.degree]
+    }
+
+    pub fn eval(&self, t: f64) -> f64 {
+        let c = self.coeffs();
+        let mut value = c[self.degree];
+        for &ci in c[..self.degree].iter().rev() {
+            value = value * t + ci;
+        }
+        value
+    }
+
+    /// Value and first derivative by one Horner pass: Newton needs both at
+    /// every step, and one pass halves the work.
+    pub fn eval_with_derivative(&self, t: f64) -> (f64, f64) {
+        let c = self.coeffs();
+        let mut value = c[self.degree];
+        let mut slope = 0.0;
+        for &ci in c[..self.degree].iter().rev() {
+            slope = slope * t + value;
+            value = value * t + ci;
+        }
+        (value, slope)
+    }
+
+    pub fn derivative(&self) -> Poly {
+        if self.degree == 0 {
+            return Poly::ZERO;
+        }
+        let mut out = [0.0; SLOTS];
+        for (i, slot) in out[..self.degree].iter_mut().enumerate() {
+            *slot = (i + 1) as f64 * self.coeffs[i + 1];
+        }
+        Poly::from_array(out, self.degree - 1)
+    }
+
+    /// Quotient and remainder of long division; the remainder's degree is
+    /// below the divisor's (its top slots are set to zero exactly rather than
+    /// left as round-off, since they cancel by construction).
+    ///
+    /// # Panics
+    /// If `divisor` is the zero polynomial, like integer division by zero.
+    pub fn div_rem(&self, divisor: &Poly) -> (Poly, Poly) {
+        assert!(!divisor.is_zero(), "polynomial division by zero");
+        let m = divisor.degree;
+        if self.degree < m {
+            return (Poly::ZERO, *self);
+        }
+        let mut rem = self.coeffs;
+        let mut quot = [0.0; SLOTS];
+        let lead = divisor.leading();
+        for k in (0..=self.degree - m).rev() {
+            let q = rem[k + m] / lead;
+            quot[k] = q;
+            rem[k + m] = 0.0;
+            for j in 0..m {
+                rem[k + j] -= q * divisor.coeffs[j];
+            }
+        }
+        let rem_degree = m.saturating_sub(1);
+        (
+            Poly::from_array(quot, self.degree - m),
+            Poly::from_array(rem, rem_degree),
+        )
+    }
+
+    /// Drops leading coefficients that are negligible relative to the largest
+    /// |coefficient| (|c| <= rel * max|c|): a ray nearly parallel to a
+    /// cylinder's axis makes the t^2 coefficient round-off noise, and keeping
+    /// it would put a spurious root near infinity and make every division by
+    /// the polynomial ill-conditioned.
+    pub fn trimmed(&self, rel: f64) -> Poly {
+        let limit = rel * self.max_abs_coeff();
+        let mut degree = self.degree;
+        while degree > 0 && self.coeffs[degree].abs() <= limit {
+            degree -= 1;
+        }
+        Poly::from_array(self.coeffs, degree)
+    }
+
+    /// NaN coefficients are ignored, as `f64::max` would; written as a plain
+    /// comparison because `f64::max`'s NaN handling costs several
+    /// instructions per coefficient, and this runs for every chain member.
+    pub fn max_abs_coeff(&self) -> f64 {
+        self.coeffs().iter().fold(0.0, |m, c| {
+            let a = c.abs();
+            if a > m { a } else { m }
+        })
+    }
+
+    pub fn scaled(&self, factor: f64) -> Poly {
+        let mut out = self.coeffs;
+        for c in &mut out[..=self.degree] {
+            *c *= factor;
+        }
+        Poly::from_array(out, self.degree)
+    }
+
+    /// Scaled by a power of two so the largest |coefficient| lands in
+    /// [1, 4). A power of two is positive (signs, hence Sturm counts, are
+    /// kept) and exact (no rounding is added). Coefficients left subnormal
+    /// are set to zero, so results do not depend on whether the thread
+    /// flushes subnormals (render threads do). Infinite or NaN coefficients
+    /// are left alone: there is no meaningful scale.
+    pub fn normalized(&self) -> Poly {
+        let mut out = *self;
+        out.normalize();
+        out
+    }
+
+    /// [`Poly::normalized`] in place; returns the factor applied (1 when
+    /// there was no finite scale), so error estimates can follow.
+    pub(crate) fn normalize(&mut self) -> f64 {
+        let max = self.max_abs_coeff();
+        if !max.is_finite() {
+            return 1.0;
+        }
+        if max < f64::MIN_POSITIVE {
+            *self = Poly::ZERO;
+            return 1.0;
+        }
+        let factor = pow2_reciprocal(max);
+        for c in &mut self.coeffs[..=self.degree] {
+            let scaled = *c * factor;
+            *c = if scaled.abs() < f64::MIN_POSITIVE {
+                0.0
+            } else {
+                scaled
+            };
+        }
+        self.trim_zeros();
+        factor
+    }
+
+    /// Drops exact zero leading coefficients (restores the invariant after
+    /// arithmetic in place).
+    fn trim_zeros(&mut self) {
+        while self.degree > 0 && self.coeffs[self.degree] == 0.0 {
+            self.coeffs[self.degree] = 0.0;
+            self.degree -= 1;
+        }
+    }
+
+    /// Negated in place: the Sturm chain's next member is minus a remainder.
+    pub(crate) fn negate(&mut self) {
+        for c in &mut self.coeffs[..=self.degree] {
+            *c = -*c;
+        }
+    }
+}
+
+/// In-place arithmetic for the Sturm chain, which writes each member once
+/// into fixed storage: returning 144-byte polynomials by value and copying
+/// them into place costs more than the arithmetic at low degree. Each
+/// keeps the invariant (zeros above the degree) whatever the slot held.
+impl Poly {
+    /// Overwrites `self` with the first `degree + 1` coefficients of `p`
+    /// (`p` truncated to that degree, exact zero leading ones trimmed).
+    pub(crate) fn set_truncated(&mut self, p: &Poly, degree: usize) {
+        let degree = degree.min(p.degree);
+        self.coeffs[degree + 1..=self.degree.max(degree)].fill(0.0);
+        self.coeffs[..=degree].copy_from_slice(&p.coeffs[..=degree]);
+        self.degree = degree;
+        self.trim_zeros();
+    }
+
+    /// Overwrites `self` with p'.
+    pub(crate) fn set_derivative(&mut self, p: &Poly) {
+        let old = self.degree;
+        let degree = p.degree.saturating_sub(1);
+        for i in 0..=degree {
+            self.coeffs[i] = (i + 1) as f64 * p.coeffs[i + 1];
+        }
+        self.coeffs[degree + 1..=old.max(degree)].fill(0.0);
+        self.degree = degree;
+        self.trim_zeros();
+    }
+
+    /// Overwrites `self` with rem(a, d) for deg a >= deg d > 0, of degree
+    /// deg d - 1 before trimming; returns the largest |quotient
+    /// coefficient|, which bounds how much the division amplified errors.
+    pub(crate) fn set_remainder(&mut self, a: &Poly, d: &Poly) -> f64 {
+        let (n, m) = (a.degree, d.degree);
+        debug_assert!(n >= m && m > 0);
+        let mut r = a.coeffs;
+        let lead = d.leading();
+        let mut qmax: f64 = 0.0;
+        for k in (0..=n - m).rev() {
+            let q = r[k + m] / lead;
+            qmax = qmax.max(q.abs());
+            for (rj, dj) in r[k..k + m].iter_mut().zip(&d.coeffs[..m]) {
+                *rj -= q * dj;
+            }
+        }
+        let old = self.degree;
+        self.coeffs[..m].copy_from_slice(&r[..m]);
+        self.coeffs[m..=old.max(m - 1)].fill(0.0);
+        self.degree = m - 1;
+        self.trim_zeros();
+        qmax
+    }
+
+    /// Drops leading coefficients with |c| <= `noise`; the zero polynomial
+    /// if every coefficient is that small.
+    pub(crate) fn drop_noise(&mut self, noise: f64) {
+        while self.degree > 0 && self.coeffs[self.degree].abs() <= noise {
+            self.coeffs[self.degree] = 0.0;
+            self.degree -= 1;
+        }
+        if self.degree == 0 && self.coeffs[0].abs() <= noise {
+            self.coeffs[0] = 0.0;
+        }
+    }
+}
+
+/// 2^-e where 2^e <= x < 2^(e+1) for a positive normal `x`, with e capped at
+/// 1022 so the result is never subnormal (which FTZ/DAZ would zero).
+pub(crate) fn pow2_reciprocal(x: f64) -> f64 {
+    let biased = ((x.to_bits() >> 52) & 0x7ff) as i64; // 1..=2046 for normals
+    let e = (biased - 1023).min(1022);
+    f64::from_bits(((1023 - e) as u64) << 52)
+}
+
+/// `lead` times the product of (t - r) over `roots`, expanded in f64: the
+/// tests' independent reference, since the roots are known by construction.
+#[cfg(test)]
+pub(crate) fn from_roots(lead: f64, roots: &[f64]) -> Poly {
+    let mut c = vec![lead];
+    for &r in roots {
+        let mut next = vec![0.0; c.len() + 1];
+        for (i, &ci) in c.iter().enumerate() {
+            next[i + 1] += ci;
+            next[i] -= r * ci;
+        }
+        c = next;
+    }
+    Poly::new(&c)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn new_trims_exact_zero_leading_coefficients() {
+        let p = Poly::new(&[1.0, 2.0, 0.0, -0.0]);
+        assert_eq!(p.degree(), 1);
+        assert_eq!(p.coeffs(), &[1.0, 2.0]);
+        assert_eq!(Poly::new(&[]), Poly::ZERO);
+        assert_eq!(Poly::new(&[0.0, 0.0]), Poly::ZERO);
+        assert!(Poly::ZERO.is_zero());
+        assert_eq!(Poly::ZERO.coeffs(), &[0.0]);
+        assert!(!Poly::new(&[3.0]).is_zero());
+    }
+
+    #[test]
+    #[should_panic(expected = "exceeds MAX_DEGREE")]
+    fn new_panics_above_max_degree() {
+        Poly::new(&[1.0; MAX_DEGREE + 2]);
+    }
+
+    #[test]
+    fn max_degree_is_accepted() {
+        let p = Poly::new(&[1.0; MAX_DEGREE + 1]);
+        assert_eq!(p.degree(), MAX_DEGREE);
+        assert_eq!(p.eval(1.0), (MAX_DEGREE + 1) as f64);
+    }
+
+    #[test]
+    fn eval_and_derivative_agree_with_hand_values() {
+        // 2t^3 - 3t + 1: p(2) = 11, p'(t) = 6t^2 - 3, p'(2) = 21.
+        let p = Poly::new(&[1.0, -3.0, 0.0, 2.0]);
+        assert_eq!(p.eval(2.0), 11.0);
+        assert_eq!(p.eval_with_derivative(2.0), (11.0, 21.0));
+        assert_eq!(p.derivative(), Poly::new(&[-3.0, 0.0, 6.0]));
+        assert_eq!(Poly::new(&[5.0]).derivative(), Poly::ZERO);
+        assert_eq!(Poly::new(&[5.0]).eval_with_derivative(7.0), (5.0, 0.0));
+    }
+
+    #[test]
+    fn div_rem_reconstructs_the_dividend() {
+        // (t^3 - 2t^2 - 4) / (t - 3) = t^2 + t + 3, remainder 5.
+        let p = Poly::new(&[-4.0, 0.0, -2.0, 1.0]);
+        let (q, r) = p.div_rem(&Poly::new(&[-3.0, 1.0]));
+        assert_eq!(q, Poly::new(&[3.0, 1.0, 1.0]));
+        assert_eq!(r, Poly::new(&[5.0]));
+        // Exact division leaves the zero polynomial.
+        let (q, r) = Poly::new(&[-1.0, 0.0, 1.0]).div_rem(&Poly::new(&[1.0, 1.0]));
+        assert_eq!(q, Poly::new(&[-1.0, 1.0]));
+        assert!(r.is_zero());
+        // A divisor of higher degree leaves the dividend as remainder.
+        let (q, r) = Poly::new(&[1.0, 1.0]).div_rem(&p);
+        assert!(q.is_zero());
+        assert_eq!(r, Poly::new(&[1.0, 1.0]));
+    }
+
+    #[test]
+    #[should_panic(expected = "division by zero")]
+    fn div_rem_by_zero_panics() {
+        Poly::new(&[1.0, 1.0]).div_rem(&Poly::ZERO);
+    }
+
+    #[test]
+    fn trimmed_drops_round_off_leading_terms() {
+        let p = Poly::new(&[2.0, -1.0, 1e-17, -3e-18]);
+        assert_eq!(p.trimmed(1e-14), Poly::new(&[2.0, -1.0]));
+        assert_eq!(p.trimmed(0.0), p);
+        assert_eq!(Poly::new(&[1e-20, 0.0]).trimmed(1e-14).degree(), 0);
+    }
+
+    #[test]
+    fn scaling_and_normalisation_keep_signs() {
+        let p = Poly::new(&[-3.0, 0.5, 6.0]);
+        assert_eq!(p.max_abs_coeff(), 6.0);
+        assert_eq!(p.scaled(2.0), Poly::new(&[-6.0, 1.0, 12.0]));
+        assert!(p.scaled(0.0).is_zero());
+        let n = Poly::new(&[-3e-200, 1e-201, -6e-200]).normalized();
+        assert!(n.max_abs_coeff() >= 1.0 && n.max_abs_coeff() < 4.0);
+        assert!(n.coeffs()[0] < 0.0 && n.coeffs()[1] > 0.0 && n.coeffs()[2] < 0.0);
+        assert_eq!(Poly::new(&[1e-310, 1e-320]).normalized(), Poly::ZERO);
+        let big = Poly::new(&[f64::MAX, -f64::MAX]).normalized();
+        assert!(big.max_abs_coeff() >= 1.0 && big.max_abs_coeff() < 4.0);
+    }
+
+    #[test]
+    fn in_place_arithmetic_matches_and_clears_stale_slots() {
+        let p = Poly::new(&[-4.0, 0.0, -2.0, 1.0]);
+        let d = Poly::new(&[-3.0, 1.0]);
+        // Slots that held a higher-degree polynomial must end up zero.
+        let mut slot = Poly::new(&[9.0; MAX_DEGREE + 1]);
+        let qmax = slot.set_remainder(&p, &d);
+        assert_eq!(slot, p.div_rem(&d).1);
+        assert_eq!(qmax, 3.0);
+        slot = Poly::new(&[9.0; MAX_DEGREE + 1]);
+        slot.set_derivative(&p);
+        assert_eq!(slot, p.derivative());
+        slot = Poly::new(&[9.0; MAX_DEGREE + 1]);
+        slot.set_truncated(&p, 2);
+        assert_eq!(slot, Poly::new(&[-4.0, 0.0, -2.0]));
+        slot.set_truncated(&p, 1);
+        assert_eq!(slot, Poly::new(&[-4.0]), "exact zero leading terms trimmed");
+        let mut noisy = Poly::new(&[1.0, 2.0, 1e-17, -1e-17]);
+        noisy.drop_noise(1e-16);
+        assert_eq!(noisy, Poly::new(&[1.0, 2.0]));
+        noisy.drop_noise(5.0);
+        assert!(noisy.is_zero());
+        let mut q = Poly::new(&[1.0, -3.0]);
+        q.negate();
+        assert_eq!(q, Poly::new(&[-1.0, 3.0]));
+    }
+
+    #[test]
+    fn pow2_reciprocal_is_exact_and_normal() {
+        assert_eq!(pow2_reciprocal(1.0), 1.0);
+        assert_eq!(pow2_reciprocal(3.0), 0.5);
+        assert_eq!(pow2_reciprocal(0.3), 4.0);
+        assert!(pow2_reciprocal(f64::MAX).is_normal());
+        assert!(pow2_reciprocal(f64::MIN_POSITIVE).is_normal());
+    }
+}
