@@ -1,6 +1,7 @@
 //! Acceleration structures: the BVH a scene is traced through. Every backend
 //! answers the same queries for the same scene.
 
+mod analytic;
 #[allow(unsafe_code)]
 pub mod embree;
 
@@ -21,7 +22,8 @@ pub enum Accel {
 }
 
 impl Accel {
-    /// Builds the BVH of every mesh; mesh i becomes geometry i.
+    /// Builds the BVH of every mesh and shape: mesh i becomes geometry i, the
+    /// shapes one more geometry after them (see `Scene::shapes_geom_id`).
     pub fn build(scene: &Scene, backend: Backend, threads: Option<usize>) -> Result<Accel> {
         match backend {
             Backend::Embree => {
@@ -32,6 +34,7 @@ impl Accel {
                 for (id, mesh) in scene.meshes.iter().enumerate() {
                     builder.add_triangles(id as u32, &mesh.positions, &mesh.triangles)?;
                 }
+                builder.add_user(scene.shapes_geom_id(), scene.shapes.clone())?;
                 Ok(Accel::Embree(builder.commit()?))
             }
         }

@@ -1,6 +1,8 @@
 //! Shapes: triangle meshes (and, with the analytic-surface work, spheres,
 //! quadrics, tori and algebraic surfaces).
 
+mod analytic;
 mod mesh;
 
+pub use analytic::{Box3, Quadric, Shape, ShapeHit, Surface};
 pub use mesh::Mesh;

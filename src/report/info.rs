@@ -34,7 +34,7 @@ pub fn describe(scene: &Scene, accel: &Accel) -> String {
         r.spp, r.max_depth, r.seed
     );
     let _ = writeln!(s, "background {}", v(scene.background));
-    let _ = writeln!(s, "objects    {}", scene.meshes.len());
+    let _ = writeln!(s, "meshes     {}", scene.meshes.len());
     for (id, mesh) in scene.meshes.iter().enumerate() {
         let mut names: Vec<&str> = mesh
             .materials
@@ -54,6 +54,22 @@ pub fn describe(scene: &Scene, accel: &Accel) -> String {
         );
     }
     let _ = writeln!(s, "triangles  {}", scene.triangle_count());
+    if !scene.shapes.is_empty() {
+        let _ = writeln!(
+            s,
+            "shapes     {} (geometry {}, prim_id = the index below)",
+            scene.shapes.len(),
+            scene.shapes_geom_id()
+        );
+        for (i, shape) in scene.shapes.iter().enumerate() {
+            let material = &scene.materials[shape.material as usize].name;
+            let _ = writeln!(
+                s,
+                "  {i:>3} {:<40} material {material}",
+                shape.surface.describe()
+            );
+        }
+    }
     let bounds = scene.bounds();
     if !bounds.is_empty() {
         let _ = writeln!(s, "bounds     {} to {}", v(bounds.min), v(bounds.max));

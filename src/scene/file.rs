@@ -2,20 +2,28 @@
 //! keys, so a typo is an error that names the line and suggests the key meant.
 
 use std::collections::BTreeMap;
+
+use glam::{DAffine3, DMat4, DVec3};
 use std::path::{Path, PathBuf};
 
 use serde::Deserialize;
 
+use super::shapes::{self, ShapeFile, ShapeKind};
 use super::{Camera, RenderSettings, Scene, headlight, load_obj, locate, scene_name, suggest};
 use crate::error::{Error, Result};
+use crate::geometry::{Box3, Shape};
 use crate::lights::Light;
-use crate::math::{Mat4, Vec3};
+use crate::math::Vec3;
+use crate::poly::solve::{Method, Solver};
 use crate::shading::{Material, MaterialKind};
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct SceneFile {
     background: Option<[f32; 3]>,
+    /// Names usable in `expr` of algebraic objects.
+    #[serde(default)]
+    constants: BTreeMap<String, f64>,
     camera: Option<CameraFile>,
     #[serde(default)]
     render: RenderFile,
@@ -49,6 +57,9 @@ struct RenderFile {
     spp: Option<u32>,
     max_depth: Option<u32>,
     seed: Option<u64>,
+    /// The root finder for analytic surfaces, by its stable name.
+    method: Option<String>,
+    tolerance: Option<f64>,
 }
 
 #[derive(Deserialize)]
@@ -74,9 +85,40 @@ struct MaterialFile {
 }
 
 #[derive(Deserialize)]
-#[serde(tag = "type", rename_all = "lowercase")]
+#[serde(tag = "type", rename_all = "snake_case")]
 enum ObjectFile {
     Mesh(MeshFile),
+    Sphere(ShapeFile),
+    Quadric(ShapeFile),
+    Ellipsoid(ShapeFile),
+    Cylinder(ShapeFile),
+    Cone(ShapeFile),
+    Hyperboloid1(ShapeFile),
+    Hyperboloid2(ShapeFile),
+    Paraboloid(ShapeFile),
+    HyperbolicParaboloid(ShapeFile),
+    Torus(ShapeFile),
+    Algebraic(ShapeFile),
+}
+
+impl ObjectFile {
+    fn shape(&self) -> Option<(ShapeKind, &ShapeFile)> {
+        use ObjectFile::*;
+        Some(match self {
+            Mesh(_) => return None,
+            Sphere(f) => (ShapeKind::Sphere, f),
+            Quadric(f) => (ShapeKind::Quadric, f),
+            Ellipsoid(f) => (ShapeKind::Ellipsoid, f),
+            Cylinder(f) => (ShapeKind::Cylinder, f),
+            Cone(f) => (ShapeKind::Cone, f),
+            Hyperboloid1(f) => (ShapeKind::Hyperboloid1, f),
+            Hyperboloid2(f) => (ShapeKind::Hyperboloid2, f),
+            Paraboloid(f) => (ShapeKind::Paraboloid, f),
+            HyperbolicParaboloid(f) => (ShapeKind::HyperbolicParaboloid, f),
+            Torus(f) => (ShapeKind::Torus, f),
+            Algebraic(f) => (ShapeKind::Algebraic, f),
+        })
+    }
 }
 
 #[derive(Deserialize)]
@@ -90,18 +132,18 @@ struct MeshFile {
 
 #[derive(Deserialize, Default)]
 #[serde(deny_unknown_fields)]
-struct TransformFile {
-    translate: Option<[f32; 3]>,
+pub(super) struct TransformFile {
+    translate: Option<[f64; 3]>,
     /// Degrees about x, then y, then z.
-    rotate: Option<[f32; 3]>,
+    rotate: Option<[f64; 3]>,
     scale: Option<ScaleFile>,
 }
 
 #[derive(Deserialize)]
 #[serde(untagged)]
 enum ScaleFile {
-    Uniform(f32),
-    Axes([f32; 3]),
+    Uniform(f64),
+    Axes([f64; 3]),
 }
 
 #[derive(Deserialize)]
@@ -239,25 +281,79 @@ impl Check<'_> {
         })
     }
 
-    fn transform(&self, index: usize, t: &TransformFile) -> Result<Mat4> {
+    fn transform(&self, index: usize, t: &TransformFile) -> Result<DAffine3> {
         let key = |field: &str| format!("objects[{index}].transform.{field}");
-        let translate = self.finite(&key("translate"), t.translate.unwrap_or([0.0; 3]))?;
-        let rotate = self.finite(&key("rotate"), t.rotate.unwrap_or([0.0; 3]))?;
-        let scale = match t.scale {
-            None => Vec3::ONE,
-            Some(ScaleFile::Uniform(s)) => Vec3::splat(s),
-            Some(ScaleFile::Axes(s)) => Vec3::from(s),
+        let vector = |field: &str, v: Option<[f64; 3]>| {
+            let v = DVec3::from(v.unwrap_or([0.0; 3]));
+            if v.is_finite() && v.abs().max_element() < 1e18 {
+                Ok(v)
+            } else {
+                Err(self.error(&key(field), format!("expected finite numbers, found {v}")))
+            }
         };
-        if !scale.is_finite() || scale.abs().min_element() < 1e-12 {
+        let translate = vector("translate", t.translate)?;
+        let rotate = vector("rotate", t.rotate)?;
+        let scale = match t.scale {
+            None => DVec3::ONE,
+            Some(ScaleFile::Uniform(s)) => DVec3::splat(s),
+            Some(ScaleFile::Axes(s)) => DVec3::from(s),
+        };
+        if !scale.is_finite()
+            || scale.abs().min_element() < 1e-12
+            || scale.abs().max_element() > 1e12
+        {
             return Err(self.error(
                 &key("scale"),
-                format!("expected finite, nonzero factors, found {scale}"),
+                format!("expected finite factors between 1e-12 and 1e12 in size, found {scale}"),
             ));
         }
-        let r = rotate * (std::f32::consts::PI / 180.0);
+        let r = rotate * (std::f64::consts::PI / 180.0);
         let rotation =
-            Mat4::from_rotation_z(r.z) * Mat4::from_rotation_y(r.y) * Mat4::from_rotation_x(r.x);
-        Ok(Mat4::from_translation(translate) * rotation * Mat4::from_scale(scale))
+            DMat4::from_rotation_z(r.z) * DMat4::from_rotation_y(r.y) * DMat4::from_rotation_x(r.x);
+        Ok(DAffine3::from_mat4(
+            DMat4::from_translation(translate) * rotation * DMat4::from_scale(scale),
+        ))
+    }
+
+    fn material_index(
+        &self,
+        index: usize,
+        name: &Option<String>,
+        materials: &BTreeMap<String, MaterialFile>,
+    ) -> Result<Option<u32>> {
+        let Some(name) = name else {
+            return Ok(None);
+        };
+        match materials.keys().position(|k| k == name) {
+            Some(i) => Ok(Some(i as u32)),
+            None => {
+                let hint = suggest::closest(name, materials.keys().map(String::as_str))
+                    .map_or(String::new(), |c| format!("; did you mean `{c}`?"));
+                Err(self.error(
+                    &format!("objects[{index}].material"),
+                    format!("no material named `{name}` in [materials]{hint}"),
+                ))
+            }
+        }
+    }
+
+    fn solver(&self, render: &RenderFile) -> Result<Solver> {
+        let mut solver = Solver::default();
+        if let Some(name) = &render.method {
+            solver.method = name
+                .parse::<Method>()
+                .map_err(|e| self.error("render.method", e))?;
+        }
+        if let Some(tolerance) = render.tolerance {
+            if !(tolerance > 0.0 && tolerance < 1.0) {
+                return Err(self.error(
+                    "render.tolerance",
+                    format!("expected a number in (0, 1), found {tolerance}"),
+                ));
+            }
+            solver.tolerance = tolerance;
+        }
+        Ok(solver)
     }
 }
 
@@ -284,34 +380,55 @@ pub(super) fn load(path: &Path) -> Result<Scene> {
         background: check.colour("background", file.background.unwrap_or([0.0; 3]))?,
         materials: Vec::new(),
         meshes: Vec::new(),
+        shapes: Vec::new(),
         lights: Vec::new(),
     };
     for (name, m) in &file.materials {
         scene.materials.push(check.material(name, m)?);
     }
     let dir = path.parent().unwrap_or(Path::new("."));
+    let constants: Vec<(&str, f64)> = file
+        .constants
+        .iter()
+        .map(|(k, v)| (k.as_str(), *v))
+        .collect();
+    let solver = check.solver(&file.render)?;
     for (index, object) in file.objects.iter().enumerate() {
-        let ObjectFile::Mesh(mesh) = object;
-        let material =
-            match &mesh.material {
-                None => None,
-                Some(name) => Some(file.materials.keys().position(|k| k == name).ok_or_else(
-                    || {
-                        let hint =
-                            suggest::closest(name, file.materials.keys().map(String::as_str))
-                                .map_or(String::new(), |c| format!("; did you mean `{c}`?"));
-                        check.error(
-                            &format!("objects[{index}].material"),
-                            format!("no material named `{name}` in [materials]{hint}"),
-                        )
-                    },
-                )? as u32),
+        if let Some((kind, shape)) = object.shape() {
+            let material = match check.material_index(index, &shape.material, &file.materials)? {
+                Some(m) => m,
+                None => scene.default_material(),
             };
+            let key = format!("objects[{index}]");
+            let (surface, default_clip) =
+                shapes::surface(kind, shape, &constants).map_err(|(field, message)| {
+                    let key = if field.is_empty() {
+                        key.clone()
+                    } else {
+                        format!("{key}.{field}")
+                    };
+                    check.error(&key, message)
+                })?;
+            let clip = shape.clip.as_ref().map(|c| Box3 {
+                min: DVec3::from(c.min),
+                max: DVec3::from(c.max),
+            });
+            let to_world = check.transform(index, &shape.transform)?;
+            let shape = Shape::new(surface, to_world, clip.or(default_clip), material, solver)
+                .map_err(|e| check.error(&key, e))?;
+            scene.shapes.push(shape);
+            continue;
+        }
+        let ObjectFile::Mesh(mesh) = object else {
+            unreachable!("every other type is a shape")
+        };
+        let material = check.material_index(index, &mesh.material, &file.materials)?;
         let transform = check.transform(index, &mesh.transform)?;
         let first = scene.meshes.len();
         scene.add_obj(load_obj(&dir.join(&mesh.file))?, material);
+        let matrix = DMat4::from(transform).as_mat4();
         for m in &mut scene.meshes[first..] {
-            m.transform(&transform);
+            m.transform(&matrix);
         }
     }
     for (index, light) in file.lights.iter().enumerate() {

@@ -2,17 +2,20 @@
 
 mod camera;
 mod file;
+mod interaction;
 mod locate;
 mod obj;
+mod shapes;
 mod suggest;
 
 use std::path::Path;
 
 pub use camera::{Camera, CameraFrame};
+pub use interaction::Interaction;
 pub use obj::{ObjFile, load_obj};
 
 use crate::error::{Error, Result};
-use crate::geometry::Mesh;
+use crate::geometry::{Mesh, Shape};
 use crate::lights::Light;
 use crate::math::{Bounds, INVALID_ID, Vec3};
 use crate::shading::Material;
@@ -45,6 +48,9 @@ pub struct Scene {
     pub materials: Vec<Material>,
     /// Geometry i of the scene is mesh i: its `geom_id` in hits.
     pub meshes: Vec<Mesh>,
+    /// Analytic shapes: together one more geometry, `geom_id` = the number of
+    /// meshes, and `prim_id` the shape's index here.
+    pub shapes: Vec<Shape>,
     pub lights: Vec<Light>,
 }
 
@@ -71,6 +77,7 @@ impl Scene {
             background: Vec3::splat(0.05),
             materials: Vec::new(),
             meshes: Vec::new(),
+            shapes: Vec::new(),
             lights: Vec::new(),
         };
         scene.add_obj(load_obj(path)?, None);
@@ -105,7 +112,7 @@ impl Scene {
     }
 
     /// The index of the grey default material, added on first use.
-    fn default_material(&mut self) -> u32 {
+    pub(crate) fn default_material(&mut self) -> u32 {
         let grey = Material::default_grey();
         match self.materials.iter().position(|m| *m == grey) {
             Some(i) => i as u32,
@@ -117,9 +124,14 @@ impl Scene {
     }
 
     pub fn bounds(&self) -> Bounds {
-        self.meshes
-            .iter()
-            .fold(Bounds::EMPTY, |b, m| b.union(m.bounds()))
+        let meshes = self.meshes.iter().map(Mesh::bounds);
+        let shapes = self.shapes.iter().map(Shape::bounds);
+        meshes.chain(shapes).fold(Bounds::EMPTY, Bounds::union)
+    }
+
+    /// The geometry id of the analytic shapes (one Embree geometry holds them all).
+    pub fn shapes_geom_id(&self) -> u32 {
+        self.meshes.len() as u32
     }
 
     pub fn triangle_count(&self) -> usize {

@@ -225,7 +225,10 @@ fn toml_errors_name_line_and_suggest() {
             TOML.replace("type = \"directional\"", "type = \"directonal\""),
             vec!["did you mean `directional`?"],
         ),
-        (TOML.replace("spp = 3", "spp = 0"), vec!["line 12, render.spp"]),
+        (
+            TOML.replace("spp = 3", "spp = 0"),
+            vec!["line 12, render.spp"],
+        ),
         (
             TOML.replace("fov = 30", "fov = 180"),
             vec!["line 7, camera.fov", "(0, 180)"],
@@ -258,4 +261,75 @@ fn toml_errors_name_line_and_suggest() {
     }
     let err = Scene::load(&write(&dir, "scene.txt", "")).unwrap_err();
     assert!(message(err).contains("expected a scene file ending in .toml or .obj"));
+}
+
+const SHAPES: &str = r#"
+[constants]
+R = 1.0
+
+[[objects]]
+type = "torus"
+major = 1.0
+minor = 0.25
+
+[[objects]]
+type = "algebraic"
+expr = "x^2 + y^2 + z^2 - R^2"
+clip = { min = [-2, -2, -2], max = [2, 2, 2] }
+transform = { translate = [3, 0, 0] }
+"#;
+
+#[test]
+fn analytic_objects_load_as_one_geometry_after_the_meshes() {
+    let dir = scratch("shapes");
+    let scene = Scene::load(&write(&dir, "s.toml", SHAPES)).unwrap();
+    assert_eq!(scene.shapes.len(), 2);
+    assert_eq!(
+        scene.shapes_geom_id(),
+        0,
+        "no meshes: the shapes are geometry 0"
+    );
+    // Framed automatically: the bounds hold both shapes.
+    let b = scene.bounds();
+    assert!(b.min.x <= -1.25 && b.max.x >= 5.0, "{b:?}");
+}
+
+#[test]
+fn analytic_object_errors_name_line_key_and_column() {
+    let dir = scratch("shapeerr");
+    let cases = [
+        (
+            SHAPES.replace("x^2 + y^2", "x^2 + * y^2"),
+            vec!["line 12, objects[1].expr: column 7"],
+        ),
+        (
+            SHAPES.replace("minor = 0.25", "minor = -0.25"),
+            vec!["objects[0]", "minor", "> 0"],
+        ),
+        (
+            SHAPES.replace("minor = 0.25", "minor = 0.25\nradius = 2"),
+            vec!["`radius` does not apply"],
+        ),
+        (
+            SHAPES.replace("clip = { min = [-2, -2, -2], max = [2, 2, 2] }\n", ""),
+            vec!["needs a clip box"],
+        ),
+        (SHAPES.replace("R^2", "Q^2"), vec!["unknown name 'Q'"]),
+        (
+            SHAPES.replace("\"torus\"", "\"torsu\""),
+            vec!["did you mean `torus`?"],
+        ),
+        (
+            SHAPES.replace("major = 1.0", "majr = 1.0"),
+            vec!["did you mean `major`?"],
+        ),
+    ];
+    for (text, expected) in cases {
+        let err = Scene::load(&write(&dir, "bad.toml", &text)).unwrap_err();
+        assert!(err.is_bad_input(), "{err}");
+        let msg = message(err);
+        for part in expected {
+            assert!(msg.contains(part), "expected {part:?} in: {msg}");
+        }
+    }
 }

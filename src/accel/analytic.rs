@@ -1,0 +1,34 @@
+//! Analytic shapes as Embree user primitives: f32 world rays in, f64 object
+//! space math in `geometry`, f32 hits out.
+
+use glam::DVec3;
+
+use super::embree::{UserHit, UserPrimitive};
+use crate::geometry::Shape;
+use crate::math::{Bounds, Ray};
+
+fn f64_ray(ray: &Ray) -> (DVec3, DVec3) {
+    (ray.origin.as_dvec3(), ray.dir.as_dvec3())
+}
+
+impl UserPrimitive for Shape {
+    fn bounds(&self) -> Bounds {
+        Shape::bounds(self)
+    }
+
+    fn intersect(&self, ray: &Ray) -> Option<UserHit> {
+        let (o, d) = f64_ray(ray);
+        let hit = Shape::intersect(self, o, d, f64::from(ray.tnear), f64::from(ray.tfar))?;
+        Some(UserHit {
+            t: hit.t as f32,
+            ng: hit.normal.normalize_or_zero().as_vec3(),
+            u: 0.0,
+            v: 0.0,
+        })
+    }
+
+    fn occluded(&self, ray: &Ray) -> bool {
+        let (o, d) = f64_ray(ray);
+        Shape::occluded(self, o, d, f64::from(ray.tnear), f64::from(ray.tfar))
+    }
+}

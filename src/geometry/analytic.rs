@@ -1,0 +1,490 @@
+//! Analytic surfaces: spheres, quadrics, tori and algebraic surfaces, hit by
+//! finding the roots of Q(t) = F(o + t·d) in f64, in object space.
+//!
+//! Every shape follows the same steps: take the world ray into object space
+//! (an affine map keeps t), clip t to the ray's interval inside the shape's
+//! box, move the origin to the entry point so Q's coefficients stay small
+//! (POV-Ray's torus fix), solve for the nearest root there, and map the
+//! gradient back to a world normal.
+
+use glam::{DAffine3, DMat3, DVec3};
+
+use crate::math::{Bounds, Vec3};
+use crate::poly::MAX_DEGREE;
+use crate::poly::closed::quadratic;
+use crate::poly::solve::Solver;
+use crate::poly::trivariate::Trivariate;
+use crate::poly::univariate::Poly;
+
+/// A general quadric xᵀA x + b·x + c = 0 with symmetric A.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Quadric {
+    pub a: DMat3,
+    pub b: DVec3,
+    pub c: f64,
+}
+
+impl Quadric {
+    fn eval(&self, p: DVec3) -> f64 {
+        p.dot(self.a * p) + self.b.dot(p) + self.c
+    }
+
+    fn gradient(&self, p: DVec3) -> DVec3 {
+        2.0 * (self.a * p) + self.b
+    }
+}
+
+/// The surface in its own object space.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Surface {
+    Sphere {
+        radius: f64,
+    },
+    Quadric(Quadric),
+    /// Around the z axis: major radius R of the tube's centre circle, minor radius r of the tube.
+    Torus {
+        major: f64,
+        minor: f64,
+    },
+    Algebraic(Box<Trivariate>),
+}
+
+impl Surface {
+    /// A one-line summary for `sturmray info`.
+    pub fn describe(&self) -> String {
+        match self {
+            Surface::Sphere { radius } => format!("sphere r={radius}"),
+            Surface::Quadric(_) => "quadric (degree 2)".into(),
+            Surface::Torus { major, minor } => format!("torus R={major} r={minor} (degree 4)"),
+            Surface::Algebraic(f) => format!(
+                "algebraic, degree {}, {} terms",
+                f.degree(),
+                f.terms().len()
+            ),
+        }
+    }
+
+    fn gradient(&self, p: DVec3) -> DVec3 {
+        match self {
+            Surface::Sphere { .. } => p,
+            Surface::Quadric(q) => q.gradient(p),
+            Surface::Torus { major, minor } => torus_gradient(*major, *minor, p),
+            Surface::Algebraic(f) => DVec3::from(f.eval_gradient(p.to_array())),
+        }
+    }
+
+    /// Q(s) = F(start + s·d).
+    fn along(&self, start: DVec3, d: DVec3) -> Poly {
+        match self {
+            Surface::Sphere { radius } => Poly::new(&[
+                start.length_squared() - radius * radius,
+                2.0 * start.dot(d),
+                d.length_squared(),
+            ]),
+            Surface::Quadric(q) => {
+                let ad = q.a * d;
+                Poly::new(&[q.eval(start), 2.0 * start.dot(ad) + q.b.dot(d), d.dot(ad)])
+            }
+            Surface::Torus { major, minor } => torus_polynomial(*major, *minor, start, d),
+            Surface::Algebraic(f) => {
+                let mut coeffs = [0.0; MAX_DEGREE + 1];
+                let n = f.substitute_ray(start.to_array(), d.to_array(), &mut coeffs);
+                Poly::new(&coeffs[..n])
+            }
+        }
+    }
+
+    /// F evaluated with every term made positive: the scale of the rounding
+    /// error in F's value at p (its terms cancel on the surface).
+    fn magnitude(&self, p: DVec3) -> f64 {
+        let a = p.abs();
+        match self {
+            Surface::Sphere { radius } => a.length_squared() + radius * radius,
+            Surface::Quadric(q) => {
+                let abs_a =
+                    glam::DMat3::from_cols(q.a.x_axis.abs(), q.a.y_axis.abs(), q.a.z_axis.abs());
+                a.dot(abs_a * a) + q.b.abs().dot(a) + q.c.abs()
+            }
+            Surface::Torus { major, minor } => {
+                let s = a.length_squared() + major * major + minor * minor;
+                s * s + 4.0 * major * major * (a.x * a.x + a.y * a.y)
+            }
+            Surface::Algebraic(f) => f
+                .terms()
+                .iter()
+                .map(|&([i, j, k], c)| {
+                    c.abs() * a.x.powi(i.into()) * a.y.powi(j.into()) * a.z.powi(k.into())
+                })
+                .sum(),
+        }
+    }
+}
+
+/// An axis-aligned box in f64.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Box3 {
+    pub min: DVec3,
+    pub max: DVec3,
+}
+
+impl Box3 {
+    pub fn cube(half: f64) -> Box3 {
+        Box3 {
+            min: DVec3::splat(-half),
+            max: DVec3::splat(half),
+        }
+    }
+
+    pub fn intersection(&self, other: &Box3) -> Box3 {
+        Box3 {
+            min: self.min.max(other.min),
+            max: self.max.min(other.max),
+        }
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.min.cmpgt(self.max).any()
+    }
+
+    /// The ray's parameter interval inside the box (slab test), or None.
+    fn clip_ray(&self, o: DVec3, d: DVec3, tmin: f64, tmax: f64) -> Option<(f64, f64)> {
+        let (mut lo, mut hi) = (tmin, tmax);
+        for axis in 0..3 {
+            if d[axis] == 0.0 {
+                if o[axis] < self.min[axis] || o[axis] > self.max[axis] {
+                    return None;
+                }
+                continue;
+            }
+            let inv = 1.0 / d[axis];
+            let (a, b) = (
+                (self.min[axis] - o[axis]) * inv,
+                (self.max[axis] - o[axis]) * inv,
+            );
+            lo = lo.max(a.min(b));
+            hi = hi.min(a.max(b));
+        }
+        (lo <= hi).then_some((lo, hi))
+    }
+}
+
+/// A hit on an analytic shape: the ray parameter and the world-space normal
+/// (unnormalised, from the gradient).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShapeHit {
+    pub t: f64,
+    pub normal: DVec3,
+}
+
+/// An analytic surface placed in the world.
+#[derive(Clone, Debug)]
+pub struct Shape {
+    pub surface: Surface,
+    /// Index into the scene's materials.
+    pub material: u32,
+    to_object: DAffine3,
+    /// (M⁻¹)ᵀ: takes object-space gradients to world-space normals.
+    normal_to_world: DMat3,
+    /// Where the surface is searched, in object space: its own bounds clipped by the user's box.
+    object_box: Box3,
+    world_bounds: Bounds,
+    solver: Solver,
+}
+
+/// The roots found for one ray, in the ray's own parameter.
+struct Found {
+    t: f64,
+    object_point: DVec3,
+}
+
+impl Shape {
+    /// `to_world` places the surface; `clip` (object space) bounds it. Unbounded
+    /// surfaces (quadrics other than spheres and ellipsoids, algebraic ones) need a
+    /// clip box: the caller supplies one.
+    pub fn new(
+        surface: Surface,
+        to_world: DAffine3,
+        clip: Option<Box3>,
+        material: u32,
+        solver: Solver,
+    ) -> Result<Shape, String> {
+        if to_world.matrix3.determinant().abs() < 1e-300 || !to_world.is_finite() {
+            return Err("the transform is singular or not finite".into());
+        }
+        let natural = match &surface {
+            Surface::Sphere { radius } => Some(Box3::cube(*radius)),
+            Surface::Torus { major, minor } => Some(Box3 {
+                min: DVec3::new(-(major + minor), -(major + minor), -minor),
+                max: DVec3::new(major + minor, major + minor, *minor),
+            }),
+            Surface::Quadric(_) | Surface::Algebraic(_) => None,
+        };
+        // Pad natural bounds a little, so no surface point lies exactly on the box
+        // where the search interval starts.
+        let natural = natural.map(|b| {
+            let pad = 1e-9 * (b.max - b.min).max_element();
+            Box3 {
+                min: b.min - pad,
+                max: b.max + pad,
+            }
+        });
+        let object_box = match (natural, clip) {
+            (Some(n), Some(c)) => n.intersection(&c),
+            (Some(b), None) | (None, Some(b)) => b,
+            (None, None) => return Err("an unbounded surface needs a clip box".into()),
+        };
+        if object_box.is_empty() {
+            return Err("the clip box leaves nothing of the surface".into());
+        }
+        let to_object = to_world.inverse();
+        Ok(Shape {
+            world_bounds: world_bounds(&object_box, &to_world),
+            normal_to_world: to_object.matrix3.transpose(),
+            surface,
+            material,
+            to_object,
+            object_box,
+            solver,
+        })
+    }
+
+    /// World-space bounds, rounded outwards to f32.
+    pub fn bounds(&self) -> Bounds {
+        self.world_bounds
+    }
+
+    /// The nearest hit with t in (tmin, tmax) of the world ray o + t·d.
+    pub fn intersect(&self, o: DVec3, d: DVec3, tmin: f64, tmax: f64) -> Option<ShapeHit> {
+        let found = self.search(o, d, tmin, tmax, false)?;
+        Some(ShapeHit {
+            t: found.t,
+            normal: self.normal_to_world * self.surface.gradient(found.object_point),
+        })
+    }
+
+    /// A bound on the error in t of a hit of the world ray o + t·d at `t`:
+    /// the root's uncertainty (see `Surface::uncertainty`) plus the solver's tolerance.
+    pub fn hit_error(&self, o: DVec3, d: DVec3, t: f64) -> f64 {
+        let (o, d) = (
+            self.to_object.transform_point3(o),
+            self.to_object.transform_vector3(d),
+        );
+        let length = d.length();
+        let d = d / length;
+        let distance = t * length;
+        let refine = self.solver.tolerance * distance.abs().max(1.0);
+        let uncertainty = self.surface.uncertainty(o + distance * d, d);
+        (2.0 * uncertainty.min(1.0) + refine) / length
+    }
+
+    /// Whether the world ray o + t·d crosses the surface for some t in (tmin, tmax).
+    pub fn occluded(&self, o: DVec3, d: DVec3, tmin: f64, tmax: f64) -> bool {
+        self.search(o, d, tmin, tmax, true).is_some()
+    }
+
+    fn search(&self, o: DVec3, d: DVec3, tmin: f64, tmax: f64, shadow: bool) -> Option<Found> {
+        let (o, d) = (
+            self.to_object.transform_point3(o),
+            self.to_object.transform_vector3(d),
+        );
+        // Search in object-space distance, not in t: a shape scaled by 1e-6 would
+        // otherwise give Q(t) coefficients spanning 1e24 to 1, and tolerances would
+        // mean nothing in the object's own units. t = distance / |d|.
+        let length = d.length();
+        if !(length > 0.0 && length.is_finite()) {
+            return None;
+        }
+        let d = d / length;
+        let (t0, t1) = self
+            .object_box
+            .clip_ray(o, d, tmin * length, tmax * length)?;
+        // Move the origin to where the ray enters the box: Q's coefficients then
+        // describe the surface near the ray's start, not far away from it.
+        let start = o + t0 * d;
+        // The search runs over s in (0, t1 - t0): the start is either the ray's own
+        // origin (tmin, excluded) or the box entry, where no surface point lies.
+        let hi = t1 - t0;
+        let q = self.surface.along(start, d).trimmed(1e-14);
+        let quadratic = matches!(self.surface, Surface::Sphere { .. } | Surface::Quadric(_));
+        // Shadow rays: a Sturm count of zero settles most of them without refining.
+        if shadow && !quadratic && !self.solver.any(&q, 0.0, hi) {
+            return None;
+        }
+        // Accept only roots where the ray crosses the surface (see `polish`); step
+        // past touching and phantom roots and search on.
+        let mut from = 0.0;
+        for _ in 0..MAX_TOUCHES {
+            let s = if quadratic {
+                nearest_quadratic(q.coeffs(), from, hi)
+            } else {
+                self.solver.nearest(&q, from, hi)
+            }?;
+            match self.polish(&q, start, d, s, from) {
+                Ok(s) => {
+                    return Some(Found {
+                        t: (t0 + s) / length,
+                        object_point: start + s * d,
+                    });
+                }
+                Err(next) => from = next,
+            }
+        }
+        None
+    }
+
+    /// Re-solves around a root s of Q (formed at `start`) with Q formed at the
+    /// root itself, whose rounding is far smaller: far from `start`, Q's value
+    /// carries errors of ε Σ|c_k||s|^k, which near a triple-like root leave s
+    /// off by 1e-4, and f64 Sturm counts there may see roots that are not.
+    ///
+    /// Only a sign change of the local Q is accepted: the ray crosses the
+    /// surface there. A tangent touch, or a pair of roots that rounding made out
+    /// of a complex pair (near the heart surface's rim, where F's gradient
+    /// vanishes), has none. Returns the refined root, or where to search on.
+    fn polish(&self, q: &Poly, start: DVec3, d: DVec3, s: f64, from: f64) -> Result<f64, f64> {
+        const SAMPLES: u32 = 32;
+        let floor = self.solver.tolerance * s.abs().max(1.0);
+        let p = start + s * d;
+        let local = self.surface.along(p, d);
+        // Values within the local rounding noise have no sign to trust: a change
+        // counts only between samples that both rise above it.
+        let local_noise =
+            f64::EPSILON * (4 * local.coeffs().len()) as f64 * self.surface.magnitude(p);
+        // How far the coarse root may be from the true one: Q's evaluation error at
+        // s (or the local one, if larger), turned into distance by the local Taylor
+        // coefficients. Four times that reaches past the noise on both sides.
+        let coarse = q.coeffs();
+        let noise =
+            (f64::EPSILON * (4 * coarse.len()) as f64 * abs_eval(coarse, s)).max(local_noise);
+        let window = 4.0 * root_uncertainty(local.coeffs(), noise).max(floor);
+        let lo = (-window).max(from - s);
+        let step = (window - lo) / f64::from(SAMPLES);
+        let mut last: Option<(f64, f64)> = None;
+        for i in 0..=SAMPLES {
+            let b = lo + step * f64::from(i);
+            let fb = local.eval(b);
+            if fb.abs() <= local_noise {
+                continue;
+            }
+            if let Some((a, fa)) = last
+                && (fa < 0.0) != (fb < 0.0)
+            {
+                return Ok(s + bisect(&local, a, fa, b, floor));
+            }
+            last = Some((b, fb));
+        }
+        Err(s + window)
+    }
+}
+
+/// Halves [a, b], across which q changes sign, down to `width`.
+fn bisect(q: &Poly, mut a: f64, fa: f64, mut b: f64, width: f64) -> f64 {
+    for _ in 0..80 {
+        if b - a <= width {
+            break;
+        }
+        let m = 0.5 * (a + b);
+        if (q.eval(m) < 0.0) == (fa < 0.0) {
+            a = m;
+        } else {
+            b = m;
+        }
+    }
+    0.5 * (a + b)
+}
+
+/// Σ |c_k| |x|^k: the scale of the rounding error in evaluating the polynomial at x.
+fn abs_eval(c: &[f64], x: f64) -> f64 {
+    c.iter().rev().fold(0.0, |acc, ck| acc * x.abs() + ck.abs())
+}
+
+/// How far a root moves when the polynomial's value is perturbed by `noise`, from
+/// its Taylor coefficients c at the root: min over k ≥ 1 of (noise / |c_k|)^(1/k).
+fn root_uncertainty(c: &[f64], noise: f64) -> f64 {
+    c.iter()
+        .enumerate()
+        .skip(1)
+        .filter(|(_, ck)| **ck != 0.0)
+        .map(|(k, ck)| (noise / ck.abs()).powf(1.0 / k as f64))
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// How many touching roots one search steps past before giving up on the ray.
+const MAX_TOUCHES: usize = 8;
+
+impl Surface {
+    /// How far a root at p of F(p + h·d) may be from the true one: rounding
+    /// perturbs the value by about `noise`, which moves a root by about
+    /// min over k ≥ 1 of (noise / |c_k|)^(1/k) for the Taylor coefficients c_k at p:
+    /// noise / |Q'| for a simple root, but its square or cube root where the ray
+    /// grazes the surface or F's gradient vanishes.
+    fn uncertainty(&self, p: DVec3, d: DVec3) -> f64 {
+        let q = self.along(p, d);
+        let c = q.coeffs();
+        let noise = f64::EPSILON * (4 * c.len()) as f64 * self.magnitude(p);
+        root_uncertainty(c, noise)
+    }
+}
+
+/// The smallest root of c0 + c1 s + c2 s² in (from, hi), by the stable formula.
+fn nearest_quadratic(c: &[f64], from: f64, hi: f64) -> Option<f64> {
+    let coeff = |k: usize| c.get(k).copied().unwrap_or(0.0);
+    let mut roots = [0.0; 4];
+    let n = quadratic(coeff(0), coeff(1), coeff(2), &mut roots);
+    roots[..n].iter().copied().find(|&s| s > from && s < hi)
+}
+
+/// Q(s) for the torus (x²+y²+z²+R²−r²)² − 4R²(x²+y²) along start + s·d.
+fn torus_polynomial(major: f64, minor: f64, o: DVec3, d: DVec3) -> Poly {
+    let r2 = major * major;
+    let k = r2 - minor * minor;
+    // |p|² + R² − r² = a s² + b s + c
+    let (a, b, c) = (d.length_squared(), 2.0 * o.dot(d), o.length_squared() + k);
+    // x² + y² = e s² + f s + g
+    let (e, f, g) = (
+        d.x * d.x + d.y * d.y,
+        2.0 * (o.x * d.x + o.y * d.y),
+        o.x * o.x + o.y * o.y,
+    );
+    let four_r2 = 4.0 * r2;
+    Poly::new(&[
+        c * c - four_r2 * g,
+        2.0 * b * c - four_r2 * f,
+        b * b + 2.0 * a * c - four_r2 * e,
+        2.0 * a * b,
+        a * a,
+    ])
+}
+
+fn torus_gradient(major: f64, minor: f64, p: DVec3) -> DVec3 {
+    let s = p.length_squared() + major * major - minor * minor;
+    let r = 4.0 * s * p;
+    DVec3::new(
+        r.x - 8.0 * major * major * p.x,
+        r.y - 8.0 * major * major * p.y,
+        r.z,
+    )
+}
+
+/// The world bounds of an object box: its 8 corners mapped, rounded outwards to f32.
+fn world_bounds(b: &Box3, to_world: &DAffine3) -> Bounds {
+    let mut lo = DVec3::splat(f64::INFINITY);
+    let mut hi = DVec3::splat(f64::NEG_INFINITY);
+    for i in 0..8 {
+        let corner = DVec3::new(
+            if i & 1 == 0 { b.min.x } else { b.max.x },
+            if i & 2 == 0 { b.min.y } else { b.max.y },
+            if i & 4 == 0 { b.min.z } else { b.max.z },
+        );
+        let p = to_world.transform_point3(corner);
+        lo = lo.min(p);
+        hi = hi.max(p);
+    }
+    // f64 → f32 rounds to nearest; one more step outwards keeps the box conservative.
+    let down = |x: f64| (x as f32).next_down();
+    let up = |x: f64| (x as f32).next_up();
+    Bounds {
+        min: Vec3::new(down(lo.x), down(lo.y), down(lo.z)),
+        max: Vec3::new(up(hi.x), up(hi.y), up(hi.z)),
+    }
+}

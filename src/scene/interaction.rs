@@ -1,0 +1,59 @@
+//! The shading point of a hit: where it is, how far it may be off, which way
+//! the surface faces and what it is made of.
+
+use super::Scene;
+use crate::math::{Hit, Ray, Vec3, gamma};
+
+pub struct Interaction {
+    pub p: Vec3,
+    /// A bound on the error of `p`, per axis, for offsetting spawned rays.
+    pub error: Vec3,
+    /// Unit geometric normal, facing the side the ray came from.
+    pub n: Vec3,
+    pub material: u32,
+}
+
+impl Scene {
+    /// The shading point of `hit`, which must be a hit of `ray` in this scene.
+    pub fn interaction(&self, ray: &Ray, hit: &Hit) -> Interaction {
+        let (p, error, material) = if hit.geom_id == self.shapes_geom_id() {
+            let shape = &self.shapes[hit.prim_id as usize];
+            let p = ray.at(hit.t);
+            // The root's own uncertainty (see `Shape::hit_error`), then t and o + t·d
+            // rounded to f32.
+            let root = shape.hit_error(ray.origin.as_dvec3(), ray.dir.as_dvec3(), f64::from(hit.t));
+            let t_error = root as f32 + hit.t.abs() * f32::EPSILON;
+            let error =
+                t_error * ray.dir.abs() + gamma(3) * (ray.origin.abs() + (hit.t * ray.dir).abs());
+            (p, error, shape.material)
+        } else {
+            let mesh = &self.meshes[hit.geom_id as usize];
+            let [p0, p1, p2] =
+                mesh.triangles[hit.prim_id as usize].map(|i| mesh.positions[i as usize]);
+            // From barycentrics the point is accurate to the triangle's own scale,
+            // unlike o + t·d, whose error grows with the distance travelled.
+            let (b1, b2) = (hit.u, hit.v);
+            let b0 = 1.0 - b1 - b2;
+            let p = b0 * p0 + b1 * p1 + b2 * p2;
+            // pbrt bounds each axis by that axis's own terms, which is zero on an axis
+            // plane such as x = 0. Embree's triangle test mixes the axes (it works
+            // relative to the ray origin), so the bound uses the largest axis for all
+            // three: the origin then always leaves the plane by more than Embree's own
+            // rounding.
+            let error = Vec3::splat(
+                gamma(7) * ((b0 * p0).abs() + (b1 * p1).abs() + (b2 * p2).abs()).max_element(),
+            );
+            (p, error, mesh.materials[hit.prim_id as usize])
+        };
+        let mut n = hit.ng.normalize_or_zero();
+        if n.dot(ray.dir) > 0.0 {
+            n = -n;
+        }
+        Interaction {
+            p,
+            error,
+            n,
+            material,
+        }
+    }
+}
