@@ -71,6 +71,13 @@ enum Command {
         #[arg(long, value_enum, default_value = "embree")]
         backend: BackendArg,
     },
+    /// Find polynomial roots: JSON lines {"coeffs": [c0, c1, ...], "interval": [a, b],
+    /// "method": "..."} on stdin, one JSON line out per line.
+    Roots {
+        /// Also print the Sturm sequence and its sign table at a and b.
+        #[arg(long)]
+        sturm: bool,
+    },
     /// Measure Mrays/s of camera, incoherent and shadow rays, on one thread and on all.
     Bench {
         /// Fewer rays and repetitions: a run of seconds.
@@ -200,6 +207,18 @@ fn run(command: Command) -> anyhow::Result<()> {
             let hits = sturmray::render::trace_all(&accel, &rays, None)?;
             prepare_output(&out)?;
             io::npy::write_hits(&out, &hits)?;
+            Ok(())
+        }
+        Command::Roots { sturm } => {
+            let any_bad = sturmray::report::roots::run(
+                std::io::stdin().lock(),
+                std::io::stdout().lock(),
+                sturm,
+            )?;
+            if any_bad {
+                let message = "some lines were not understood (see their error lines)";
+                return Err(Error::Input(message.into()).into());
+            }
             Ok(())
         }
         Command::Bench {

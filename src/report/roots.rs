@@ -1,0 +1,196 @@
+//! `sturmray roots`: JSON lines in, one JSON line out per line, for people
+//! debugging a surface's polynomial and as a test harness.
+//!
+//! In: `{"coeffs": [c0, c1, ...], "interval": [a, b], "method": "...",
+//! "tolerance": 1e-12}`, lowest degree first; `interval` defaults to one that
+//! holds every real root (Cauchy's bound), `method` to the renderer's default.
+//! Out: `{"roots": [...], "count": n}` (distinct roots in (a, b],
+//! increasing; `count` is the Sturm count), plus the Sturm sequence and its
+//! sign table with `--sturm`. A bad line gives `{"error": "...", "line": n}`.
+
+use std::io::{BufRead, Write};
+
+use serde::Deserialize;
+use serde_json::{Value, json};
+
+use crate::error::{Error, Result};
+use crate::poly::MAX_DEGREE;
+use crate::poly::exact;
+use crate::poly::solve::{Method, Solver};
+use crate::poly::sturm::SturmSequence;
+use crate::poly::univariate::Poly;
+
+/// The method name of the exact rational path (not a renderer method: it allocates).
+const EXACT: &str = "exact";
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Query {
+    coeffs: Vec<f64>,
+    interval: Option<[f64; 2]>,
+    method: Option<String>,
+    tolerance: Option<f64>,
+}
+
+/// Cauchy's bound: every real root lies in [-B, B], B = 1 + max |c_i / c_n|.
+fn cauchy_bound(p: &Poly) -> f64 {
+    let c = p.coeffs();
+    let lead = c[c.len() - 1].abs();
+    1.0 + c[..c.len() - 1]
+        .iter()
+        .fold(0.0f64, |m, x| m.max(x.abs() / lead))
+}
+
+fn signs(sturm: &SturmSequence, t: f64) -> Vec<i32> {
+    sturm
+        .members()
+        .iter()
+        .map(|m| {
+            let v = m.eval(t);
+            if v > 0.0 {
+                1
+            } else if v < 0.0 {
+                -1
+            } else {
+                0
+            }
+        })
+        .collect()
+}
+
+/// Answers one line; Err is the message of an error line.
+fn answer(line: &str, with_sturm: bool) -> Result<Value, String> {
+    let q: Query = serde_json::from_str(line).map_err(|e| e.to_string())?;
+    if q.coeffs.is_empty() || q.coeffs.len() > MAX_DEGREE + 1 {
+        return Err(format!(
+            "coeffs: expected 1 to {} numbers (degree <= {MAX_DEGREE}), found {}",
+            MAX_DEGREE + 1,
+            q.coeffs.len()
+        ));
+    }
+    if q.coeffs.iter().any(|c| !c.is_finite()) {
+        return Err("coeffs: every coefficient must be finite".into());
+    }
+    let p = Poly::new(&q.coeffs);
+    if p.degree() == 0 {
+        return Err(if p.is_zero() {
+            "the polynomial is identically zero"
+        } else {
+            "the polynomial is a nonzero constant: it has no roots"
+        }
+        .into());
+    }
+    let [a, b] = q.interval.unwrap_or_else(|| {
+        let bound = cauchy_bound(&p);
+        [-bound, bound]
+    });
+    if !(a.is_finite() && b.is_finite() && a < b) {
+        return Err(format!("interval: expected finite a < b, found [{a}, {b}]"));
+    }
+    let mut solver = Solver::default();
+    if let Some(t) = q.tolerance {
+        if !(t > 0.0 && t < 1.0) {
+            return Err(format!("tolerance: expected a number in (0, 1), found {t}"));
+        }
+        solver.tolerance = t;
+    }
+    let sturm = SturmSequence::new(&p);
+    let roots: Vec<f64> = match q.method.as_deref() {
+        Some(EXACT) => {
+            exact::exact_roots(&q.coeffs, a, b, solver.tolerance).ok_or("coeffs: not finite")?
+        }
+        name => {
+            if let Some(name) = name {
+                solver.method = name
+                    .parse::<Method>()
+                    .map_err(|e| format!("{e}, {EXACT}"))?;
+            }
+            let mut out = [0.0; MAX_DEGREE];
+            let n = solver.roots(&p, a, b, &mut out);
+            out[..n].to_vec()
+        }
+    };
+    let mut reply = json!({ "roots": roots, "count": sturm.count(a, b) });
+    if with_sturm {
+        let sequence: Vec<&[f64]> = sturm.members().iter().map(Poly::coeffs).collect();
+        reply["sturm"] = json!({
+            "sequence": sequence,
+            "signs_a": signs(&sturm, a),
+            "signs_b": signs(&sturm, b),
+            "variations_a": sturm.sign_variations(a),
+            "variations_b": sturm.sign_variations(b),
+        });
+    }
+    Ok(reply)
+}
+
+/// Answers every line of `input`; returns whether any line was bad.
+pub fn run(input: impl BufRead, mut output: impl Write, with_sturm: bool) -> Result<bool> {
+    let mut any_bad = false;
+    let write_error = |e: std::io::Error| Error::Input(format!("cannot write the answers: {e}"));
+    for (index, line) in input.lines().enumerate() {
+        let line =
+            line.map_err(|e| Error::Input(format!("cannot read line {}: {e}", index + 1)))?;
+        if line.trim().is_empty() {
+            continue;
+        }
+        let reply = answer(&line, with_sturm).unwrap_or_else(|message| {
+            any_bad = true;
+            json!({ "error": message, "line": index + 1 })
+        });
+        writeln!(output, "{reply}").map_err(write_error)?;
+    }
+    Ok(any_bad)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn ask(lines: &str, sturm: bool) -> (Vec<Value>, bool) {
+        let mut out = Vec::new();
+        let bad = run(lines.as_bytes(), &mut out, sturm).unwrap();
+        let replies = String::from_utf8(out)
+            .unwrap()
+            .lines()
+            .map(|l| serde_json::from_str(l).unwrap())
+            .collect();
+        (replies, bad)
+    }
+
+    #[test]
+    fn roots_counts_and_bad_lines() {
+        let input = r#"{"coeffs": [-1, 0, 1], "interval": [-2, 2]}
+{"coeffs": [0, -1, 0, 1], "interval": [-2, 2], "method": "sturm-bisect"}
+not json
+{"coeffs": [1, -3, 3, -1], "interval": [0, 2], "method": "exact"}
+{"coeffs": [1, 2], "interval": [3, 1]}
+{"coeffs": [-1, 0, 1], "method": "newton-magic"}
+{"coeffs": [2]}
+{"coeffs": [-1, 0, 1]}
+"#;
+        let (r, bad) = ask(input, false);
+        assert!(bad);
+        assert_eq!(r[0], json!({"roots": [-1.0, 1.0], "count": 2}));
+        assert_eq!(r[1]["count"], 3);
+        assert_eq!(r[2]["line"], 3);
+        // (1 - t)^3: one distinct root, exactly 1, in (0, 2].
+        assert_eq!(r[3], json!({"roots": [1.0], "count": 1}));
+        assert!(r[4]["error"].as_str().unwrap().contains("interval"));
+        assert!(r[5]["error"].as_str().unwrap().contains("sturm-newton"));
+        assert!(r[6]["error"].as_str().unwrap().contains("no roots"));
+        assert_eq!(r[7]["count"], 2, "default interval holds every root");
+    }
+
+    #[test]
+    fn sturm_table_of_t4_minus_t2() {
+        let (r, _) = ask(r#"{"coeffs": [0, 0, -1, 0, 1], "interval": [-2, 2]}"#, true);
+        let s = &r[0]["sturm"];
+        assert_eq!(
+            (s["variations_a"].as_u64(), s["variations_b"].as_u64()),
+            (Some(3), Some(0))
+        );
+        assert_eq!(r[0]["count"], 3);
+        assert_eq!(s["signs_a"][0], 1);
+    }
+}
