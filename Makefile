@@ -9,7 +9,11 @@ PYTHON := $(VENV)/bin/python
 DEV_BIN := target/debug/sturmray
 RELEASE_BIN := target/release/sturmray
 
-.PHONY: setup render test test-rust test-python lint bench scenes clean
+# Embree 4 on a machine whose packages give Embree 3: see tools/assemble_embree4.sh.
+EMBREE4_DIR := $(CURDIR)/embree4
+EMBREE4_TARGET := target/embree4
+
+.PHONY: setup render test test-rust test-python lint bench scenes clean embree4 test-embree4
 
 setup: $(VENV)/.installed
 	@missing=""; for p in $(APT_PACKAGES); do \
@@ -48,6 +52,17 @@ test-python:
 	cargo build
 	STURMRAY_BIN=$(DEV_BIN) $(PYTHON) -m pytest tests -q
 
+embree4:
+	tools/assemble_embree4.sh $(EMBREE4_DIR)
+
+# The whole Rust suite and the Python cross-checks, built against Embree 4 in a
+# target folder of their own (the binary finds the library through its rpath).
+test-embree4: setup embree4
+	EMBREE_DIR=$(EMBREE4_DIR) cargo test --target-dir $(EMBREE4_TARGET)
+	EMBREE_DIR=$(EMBREE4_DIR) cargo build --target-dir $(EMBREE4_TARGET)
+	$(EMBREE4_TARGET)/debug/sturmray info scenes/knot.toml | grep -q "^backend    Embree 4\."
+	STURMRAY_BIN=$(EMBREE4_TARGET)/debug/sturmray $(PYTHON) -m pytest tests -q
+
 bench: setup
 	cargo build --release
 	$(RELEASE_BIN) bench --json out/bench.json
@@ -58,4 +73,4 @@ scenes:
 
 clean:
 	cargo clean
-	rm -rf out
+	rm -rf out $(EMBREE4_DIR)

@@ -319,3 +319,32 @@ fn a_panicking_callback_is_a_miss_and_an_error_not_an_abort() {
     );
     scene.check().unwrap();
 }
+
+#[test]
+fn the_library_writes_the_hit_record_exactly_where_the_bindings_put_it() {
+    // Fill the instance fields with a pattern; on a triangle hit Embree overwrites
+    // them from the query context (all invalid). The last field the library writes
+    // must be the last field of the bindings' RTCHit, and nothing after the record.
+    #[repr(C)]
+    struct Guarded {
+        record: sys::RTCRayHit,
+        canary: [u32; 8],
+    }
+    const PATTERN: u32 = 0x1234_5678;
+    let scene = triangle_scene();
+    let mut guarded = Guarded {
+        record: query::rayhit_record(&down_at(0.25, 0.25)),
+        canary: [PATTERN; 8],
+    };
+    guarded.record.hit.instID = [PATTERN; LEVELS];
+    #[cfg(embree_inst_prim_id)]
+    {
+        guarded.record.hit.instPrimID = [PATTERN; LEVELS];
+    }
+    scene.intersect_raw(&mut guarded.record);
+    assert_eq!(guarded.record.hit.geomID, 0);
+    assert_eq!(guarded.record.hit.instID, [sys::RTC_INVALID_GEOMETRY_ID; LEVELS]);
+    #[cfg(embree_inst_prim_id)]
+    assert_eq!(guarded.record.hit.instPrimID, [sys::RTC_INVALID_GEOMETRY_ID; LEVELS]);
+    assert_eq!(guarded.canary, [PATTERN; 8], "the library wrote past the record");
+}
