@@ -57,6 +57,10 @@ enum Command {
         /// Write ray counts and time as JSON.
         #[arg(long)]
         stats: Option<PathBuf>,
+        /// Spawn every kind of ray, whatever the scene calls for (to measure what
+        /// the render plan saves).
+        #[arg(long)]
+        all_effects: bool,
     },
     /// Print the Embree version in use, the objects, triangle count, lights and settings.
     Info { scene: PathBuf },
@@ -139,6 +143,7 @@ fn run(command: Command) -> anyhow::Result<()> {
             backend,
             threads,
             stats,
+            all_effects,
         } => {
             let scene = Scene::load(&scene)?;
             let output = output.unwrap_or_else(|| PathBuf::from(format!("out/{}.exr", scene.name)));
@@ -149,6 +154,7 @@ fn run(command: Command) -> anyhow::Result<()> {
                 threads,
                 spp,
                 progress: true,
+                all_effects,
             };
             let result = render(&scene, &accel, &options)?;
             let layers = result.film.layers();

@@ -1,14 +1,17 @@
 //! Rendering: the tile loop over rayon, camera sampling, and statistics.
 
-mod local;
+mod plan;
 mod stats;
+mod whitted;
 
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Instant;
 
 use rayon::prelude::*;
 
+pub use plan::Plan;
 pub use stats::RayStats;
+pub use whitted::Whitted;
 
 use crate::accel::Accel;
 use crate::accel::embree::enable_flush_to_zero;
@@ -27,6 +30,8 @@ pub struct RenderOptions {
     pub spp: Option<u32>,
     /// Shows a progress bar (with rays/s) on a terminal.
     pub progress: bool,
+    /// Turns every effect on, whatever the scene calls for (to measure what the plan saves).
+    pub all_effects: bool,
 }
 
 pub struct RenderOutput {
@@ -56,6 +61,12 @@ pub fn render(scene: &Scene, accel: &Accel, options: &RenderOptions) -> Result<R
         return Err(Error::Input("--spp must be at least 1".into()));
     }
     let frame = scene.camera.frame();
+    let plan = if options.all_effects {
+        Plan::everything(scene.render.max_depth)
+    } else {
+        Plan::for_scene(scene)
+    };
+    let integrator = Whitted { scene, accel, plan };
     let tiles: Vec<(usize, usize)> = (0..height.div_ceil(TILE))
         .flat_map(|ty| (0..width.div_ceil(TILE)).map(move |tx| (tx * TILE, ty * TILE)))
         .collect();
@@ -84,7 +95,7 @@ pub fn render(scene: &Scene, accel: &Accel, options: &RenderOptions) -> Result<R
                             };
                             let ray = frame.ray(x as f32 + jx, y as f32 + jy);
                             stats.camera += 1;
-                            pixel.add(&local::shade(scene, accel, &ray, &mut stats));
+                            pixel.add(&integrator.sample(&ray, &mut stats));
                         }
                         pixels.push(pixel);
                     }

@@ -5,6 +5,7 @@ use std::fmt::Write;
 use crate::accel::Accel;
 use crate::lights::Light;
 use crate::math::Vec3;
+use crate::render::Plan;
 use crate::scene::Scene;
 
 fn v(x: Vec3) -> String {
@@ -34,6 +35,7 @@ pub fn describe(scene: &Scene, accel: &Accel) -> String {
         r.spp, r.max_depth, r.seed
     );
     let _ = writeln!(s, "background {}", v(scene.background));
+    let _ = writeln!(s, "plan       {}", Plan::for_scene(scene));
     let _ = writeln!(s, "meshes     {}", scene.meshes.len());
     for (id, mesh) in scene.meshes.iter().enumerate() {
         let mut names: Vec<&str> = mesh

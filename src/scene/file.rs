@@ -57,6 +57,7 @@ struct RenderFile {
     spp: Option<u32>,
     max_depth: Option<u32>,
     seed: Option<u64>,
+    min_weight: Option<f32>,
     /// The root finder for analytic surfaces, by its stable name.
     method: Option<String>,
     tolerance: Option<f64>,
@@ -369,7 +370,14 @@ pub(super) fn load(path: &Path) -> Result<Scene> {
         spp: file.render.spp.unwrap_or(defaults.spp),
         max_depth: file.render.max_depth.unwrap_or(defaults.max_depth),
         seed: file.render.seed.unwrap_or(defaults.seed),
+        min_weight: file.render.min_weight.unwrap_or(defaults.min_weight),
     };
+    if !(render.min_weight >= 0.0 && render.min_weight < 1.0) {
+        return Err(check.error(
+            "render.min_weight",
+            format!("expected a number in [0, 1), found {}", render.min_weight),
+        ));
+    }
     if render.spp == 0 {
         return Err(check.error("render.spp", "expected at least 1 sample per pixel"));
     }

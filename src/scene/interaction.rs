@@ -10,6 +10,9 @@ pub struct Interaction {
     pub error: Vec3,
     /// Unit geometric normal, facing the side the ray came from.
     pub n: Vec3,
+    /// Whether the ray hit the side the surface's own normal points to (the
+    /// outside of a closed analytic shape, the counter-clockwise side of a triangle).
+    pub front: bool,
     pub material: u32,
 }
 
@@ -45,11 +48,11 @@ impl Scene {
             );
             (p, error, mesh.materials[hit.prim_id as usize])
         };
-        let mut n = hit.ng.normalize_or_zero();
-        if n.dot(ray.dir) > 0.0 {
-            n = -n;
-        }
+        let outward = hit.ng.normalize_or_zero();
+        let front = outward.dot(ray.dir) <= 0.0;
+        let n = if front { outward } else { -outward };
         Interaction {
+            front,
             p,
             error,
             n,

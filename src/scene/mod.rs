@@ -24,8 +24,11 @@ use crate::shading::Material;
 #[derive(Clone, Debug, PartialEq)]
 pub struct RenderSettings {
     pub spp: u32,
+    /// How many specular bounces the ray tree follows.
     pub max_depth: u32,
     pub seed: u64,
+    /// A branch of the ray tree whose weight falls below this ends (adaptive depth).
+    pub min_weight: f32,
 }
 
 impl Default for RenderSettings {
@@ -34,6 +37,7 @@ impl Default for RenderSettings {
             spp: 4,
             max_depth: 5,
             seed: 0,
+            min_weight: 1e-3,
         }
     }
 }

@@ -197,7 +197,8 @@ fn toml_scene_settings_and_transforms() {
         RenderSettings {
             spp: 3,
             max_depth: 5,
-            seed: 9
+            seed: 9,
+            min_weight: 1e-3,
         }
     );
     assert_eq!(scene.background, Vec3::new(0.1, 0.2, 0.3));

@@ -85,6 +85,15 @@ impl Material {
         }
     }
 
+    /// What a mirror reflects: its specular colour (MTL's Ks) if it has one, else its albedo.
+    pub fn reflectance(&self) -> Vec3 {
+        if self.specular.max_element() > 0.0 {
+            self.specular
+        } else {
+            self.albedo
+        }
+    }
+
     /// The local reflection model (cosine not included): Lambert plus, for
     /// plastic, a normalised Blinn-Phong lobe, for unit vectors n, wo (towards
     /// the viewer) and wi (towards the light).

@@ -1,0 +1,85 @@
+//! The render plan: which rays and passes a scene calls for. A diffuse scene
+//! spawns no reflection or refraction rays, a scene without lights no shadow
+//! rays; `sturmray info` prints the plan and `--stats` counts prove it.
+
+use std::fmt;
+
+use crate::scene::Scene;
+use crate::shading::MaterialKind;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Plan {
+    /// Shadow rays towards lights, from surfaces that shade locally.
+    pub shadow: bool,
+    /// Specular reflection rays, from mirrors and dielectrics.
+    pub reflection: bool,
+    /// Refraction rays, through dielectrics.
+    pub refraction: bool,
+    /// The depth limit of the ray tree.
+    pub max_depth: u32,
+    /// Every effect forced on: reflection and refraction rays from every surface,
+    /// as a renderer without a plan would trace them. They add nothing to the
+    /// image; they only cost time.
+    pub forced: bool,
+}
+
+impl Plan {
+    /// The effects the scene calls for: only materials some geometry uses count.
+    pub fn for_scene(scene: &Scene) -> Plan {
+        let mut used = vec![false; scene.materials.len()];
+        let meshes = scene
+            .meshes
+            .iter()
+            .flat_map(|m| m.materials.iter().copied());
+        for m in meshes.chain(scene.shapes.iter().map(|s| s.material)) {
+            used[m as usize] = true;
+        }
+        let uses = |kinds: &[MaterialKind]| {
+            scene
+                .materials
+                .iter()
+                .zip(&used)
+                .any(|(m, &u)| u && kinds.contains(&m.kind))
+        };
+        let local = uses(&[MaterialKind::Diffuse, MaterialKind::Plastic]);
+        let deep = scene.render.max_depth > 0;
+        Plan {
+            shadow: local && !scene.lights.is_empty(),
+            reflection: deep && uses(&[MaterialKind::Mirror, MaterialKind::Dielectric]),
+            refraction: deep && uses(&[MaterialKind::Dielectric]),
+            max_depth: scene.render.max_depth,
+            forced: false,
+        }
+    }
+
+    /// Every effect on, whatever the scene needs: for measuring what the plan saves.
+    pub fn everything(max_depth: u32) -> Plan {
+        Plan {
+            shadow: true,
+            reflection: true,
+            refraction: true,
+            max_depth,
+            forced: true,
+        }
+    }
+}
+
+impl fmt::Display for Plan {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let on = |b: bool| if b { "yes" } else { "no" };
+        write!(
+            f,
+            "whitted (depth {}{}): shadow rays {}, reflection rays {}, refraction rays {}, \
+             diffuse bounces no, photon pass no",
+            self.max_depth,
+            if self.forced {
+                ", every effect forced"
+            } else {
+                ""
+            },
+            on(self.shadow),
+            on(self.reflection),
+            on(self.refraction)
+        )
+    }
+}

@@ -1,0 +1,151 @@
+//! The ray tree and its plan: only the effects a scene calls for spawn rays,
+//! and the specular branches give the radiance closed forms predict.
+
+mod common;
+
+use common::{SQUARE, scratch, write};
+use sturmray::accel::{Accel, Backend};
+use sturmray::math::Vec3;
+use sturmray::render::{Plan, RayStats, RenderOptions, render};
+use sturmray::scene::Scene;
+
+/// A diffuse square lit straight down, seen from above, with `extra` objects
+/// and materials appended.
+fn scene(name: &str, extra: &str, light: bool) -> Scene {
+    let dir = scratch(name);
+    write(&dir, "square.obj", SQUARE);
+    let light = if light {
+        "[[lights]]\ntype = \"directional\"\ndirection = [0, 0, -1]\nirradiance = [2, 2, 2]\n"
+    } else {
+        ""
+    };
+    let text = format!(
+        r#"background = [0.25, 0.5, 0.75]
+[camera]
+eye = [0, 0, 4]
+look_at = [0, 0, 0]
+fov = 40
+width = 24
+height = 24
+[render]
+spp = 1
+max_depth = 8
+[materials.paint]
+type = "diffuse"
+albedo = [0.5, 0.5, 0.5]
+[materials.chrome]
+type = "mirror"
+albedo = [0.9, 0.8, 0.7]
+[materials.glass]
+type = "dielectric"
+ior = 1.5
+[[objects]]
+type = "mesh"
+file = "square.obj"
+material = "paint"
+{extra}
+{light}"#
+    );
+    Scene::load(&write(&dir, "s.toml", &text)).unwrap()
+}
+
+fn stats(scene: &Scene, all_effects: bool) -> (RayStats, Vec<[f32; 3]>) {
+    let accel = Accel::build(scene, Backend::Embree, None).unwrap();
+    let options = RenderOptions {
+        threads: Some(2),
+        all_effects,
+        ..RenderOptions::default()
+    };
+    let out = render(scene, &accel, &options).unwrap();
+    (out.stats, out.film.layers().beauty)
+}
+
+const MIRROR_SPHERE: &str = "[[objects]]\ntype = \"sphere\"\nradius = 0.5\nmaterial = \"chrome\"\ntransform = { translate = [0, 0, 1] }\n";
+const GLASS_SPHERE: &str = "[[objects]]\ntype = \"sphere\"\nradius = 0.5\nmaterial = \"glass\"\ntransform = { translate = [0, 0, 1] }\n";
+
+#[test]
+fn a_diffuse_scene_spawns_no_specular_rays() {
+    let s = scene("diffuse", "", true);
+    let plan = Plan::for_scene(&s);
+    assert!(
+        plan.shadow && !plan.reflection && !plan.refraction,
+        "{plan}"
+    );
+    let (st, _) = stats(&s, false);
+    assert!(st.shadow > 0);
+    assert_eq!(
+        (st.reflection, st.refraction, st.diffuse, st.photon),
+        (0, 0, 0, 0)
+    );
+}
+
+#[test]
+fn no_lights_no_shadow_rays() {
+    let s = scene("dark", MIRROR_SPHERE, false);
+    assert!(!Plan::for_scene(&s).shadow);
+    let (st, _) = stats(&s, false);
+    assert_eq!(st.shadow, 0);
+    assert!(st.reflection > 0);
+}
+
+#[test]
+fn mirrors_reflect_and_only_glass_refracts() {
+    let (mirror, _) = stats(&scene("mirror", MIRROR_SPHERE, true), false);
+    assert!(mirror.reflection > 0);
+    assert_eq!(mirror.refraction, 0);
+    let (glass, _) = stats(&scene("glass", GLASS_SPHERE, true), false);
+    assert!(glass.reflection > 0 && glass.refraction > 0);
+}
+
+#[test]
+fn an_unused_material_calls_for_nothing() {
+    // The file defines chrome and glass, but nothing uses them.
+    let plan = Plan::for_scene(&scene("unused", "", true));
+    assert!(!plan.reflection && !plan.refraction);
+}
+
+#[test]
+fn forcing_every_effect_costs_rays_but_changes_no_pixel() {
+    let s = scene("forced", "", true);
+    let (planned, image) = stats(&s, false);
+    let (forced, forced_image) = stats(&s, true);
+    assert!(forced.reflection > 0 && forced.refraction > 0);
+    assert_eq!(planned.camera, forced.camera);
+    assert_eq!(image, forced_image);
+}
+
+#[test]
+fn a_mirror_shows_what_it_faces_times_its_reflectance() {
+    // A mirror square facing up at z = 0, seen from above: the camera sees the
+    // background reflected, scaled by the mirror's reflectance, and nothing else.
+    let s = scene("mirrorplane", "", false);
+    let mut s = s;
+    let chrome = s.materials.iter().position(|m| m.name == "chrome").unwrap() as u32;
+    for m in &mut s.meshes[0].materials {
+        *m = chrome;
+    }
+    let (st, image) = stats(&s, false);
+    let centre = Vec3::from(image[12 * 24 + 12]);
+    let expected = Vec3::new(0.9, 0.8, 0.7) * Vec3::new(0.25, 0.5, 0.75);
+    assert!((centre - expected).abs().max_element() < 1e-6, "{centre}");
+    assert!(st.reflection > 0);
+}
+
+#[test]
+fn a_glass_sphere_in_a_uniform_environment_disappears() {
+    // No lights, a uniform background: every branch of the tree ends in the
+    // background, and Fresnel's reflected and refracted weights sum to one, so the
+    // sphere has the background's radiance, less what the depth limit cuts off.
+    let mut s = scene("furnace", GLASS_SPHERE, false);
+    s.meshes.clear();
+    s.render.max_depth = 40;
+    s.render.min_weight = 0.0;
+    let (_, image) = stats(&s, false);
+    let background = Vec3::new(0.25, 0.5, 0.75);
+    for p in image {
+        let rel = ((Vec3::from(p) - background) / background)
+            .abs()
+            .max_element();
+        assert!(rel < 2e-3, "{p:?}");
+    }
+}
