@@ -83,12 +83,13 @@ impl Whitted<'_> {
                     radiance +=
                         f * self.spawn(it, dir, depth, weight * f, Branch::Reflection, stats);
                 }
-                if self.plan.refraction && f < 1.0 {
-                    if let Some(dir) = fresnel::refract(wo, outward, material.ior) {
-                        let t = 1.0 - f;
-                        radiance +=
-                            t * self.spawn(it, dir, depth, weight * t, Branch::Refraction, stats);
-                    }
+                if self.plan.refraction
+                    && f < 1.0
+                    && let Some(dir) = fresnel::refract(wo, outward, material.ior)
+                {
+                    let t = 1.0 - f;
+                    radiance +=
+                        t * self.spawn(it, dir, depth, weight * t, Branch::Refraction, stats);
                 }
             }
             MaterialKind::Diffuse | MaterialKind::Plastic | MaterialKind::Emissive => {
