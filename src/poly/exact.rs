@@ -9,12 +9,17 @@
 //! computed exactly, its Sturm chain is exact, and so are the counts.
 //!
 //! How the numbers stay small:
-//! - Inside, every polynomial is an *integer* polynomial divided by its
-//!   content (primitive), never a vector of reduced fractions: no gcd per
-//!   arithmetic operation. The Sturm chain is a primitive pseudo-remainder
-//!   sequence, each member's sign fixed so it is a *positive* multiple of the
-//!   true Sturm remainder (DESIGN.md: never normalise by a factor that may be
-//!   negative).
+//! - Inside, every polynomial is an *integer* polynomial (the input scaled by
+//!   a power of two and divided by its content), never a vector of reduced
+//!   fractions: no gcd per arithmetic operation.
+//! - gcds and the Sturm chain come from the subresultant pseudo-remainder
+//!   sequence, whose exact divisions bound coefficient growth without taking
+//!   any integer gcd (a primitive PRS needs one per member, and with
+//!   coefficients spanning 1e±144 those took seconds). Each member's sign is
+//!   tracked so it is a *positive* multiple of the true Sturm remainder
+//!   (DESIGN.md: never normalise by a factor that may be negative). For a
+//!   square-free input, the sequence that proves gcd(p, p′) = 1 is itself
+//!   the Sturm chain, so it is built once.
 //! - Evaluation points are dyadic, m·2^e: midpoints of dyadic endpoints stay
 //!   dyadic, and the sign of p(m/2^k) is the sign of the homogeneous integer
 //!   sum Σ cᵢ·mⁱ·2^(k(n−i)), so isolating and refining never take a gcd.
@@ -172,7 +177,7 @@ impl ExactSturm {
             return ExactSturm { chain: Vec::new() };
         }
         ExactSturm {
-            chain: sturm_chain(square_free_ipoly(&p)),
+            chain: square_free_and_chain(&p).1,
         }
     }
 
@@ -210,11 +215,13 @@ impl ExactSturm {
 ///
 /// Each is the correctly rounded f64 of the root, or the f64 of the midpoint
 /// of a bracket of width ≤ `tolerance`·max(1, |root|) (exact comparison),
-/// whichever is reached first; pass 0 for correctly rounded roots. A root
-/// that is a rational number (like 1 in (x−1)³, or 1/3) is found exactly when
-/// it is the simplest rational in its bracket, which the bracket reaches long
-/// before the tolerance for small denominators; it is then returned as its
-/// correctly rounded f64.
+/// whichever is reached first; pass 0 for correctly rounded roots. A
+/// tolerance looser than 2^-30 (≈ 9.3e-10) is tightened to 2^-30: refining is
+/// cheap here, and it makes the exactness below hold for any tolerance. A
+/// root that is a rational number (like 1 in (x−1)³, or 1/3) is found
+/// exactly when it is the simplest rational in its bracket — always for
+/// denominators up to 2^15 in [−1, 1] and integers up to 2^30 — and is then
+/// returned as its correctly rounded f64.
 ///
 /// Endpoints may be infinite (clipped to an exact root bound). Distinct roots
 /// closer together than f64 resolution come out as one f64 repeated once per
@@ -240,8 +247,8 @@ pub fn exact_count(coeffs: &[f64], a: f64, b: f64) -> Option<usize> {
     let Some((lo, hi)) = input.interval else {
         return Some(0);
     };
-    let chain = sturm_chain(input.square_free);
-    Some(count_variations_dyadic(&chain, &lo).saturating_sub(count_variations_dyadic(&chain, &hi)))
+    let chain = &input.chain;
+    Some(count_variations_dyadic(chain, &lo).saturating_sub(count_variations_dyadic(chain, &hi)))
 }
 
 /// Each distinct real root in (a, b] with its multiplicity, increasing, for
@@ -255,13 +262,21 @@ pub fn exact_roots_with_multiplicity(
     b: f64,
     tolerance: f64,
 ) -> Option<Vec<(f64, u32)>> {
-    let solved = Solved::new(coeffs, a, b, tolerance)?;
-    let factors: Vec<(Vec<IPoly>, u32)> = square_free_factors(&solved.poly)
-        .into_iter()
-        .map(|(f, k)| (sturm_chain(f), k))
-        .collect();
+    let Solved { input, groups } = Solved::new(coeffs, a, b, tolerance)?;
+    if groups.is_empty() {
+        return Some(Vec::new());
+    }
+    let factors: Vec<(Vec<IPoly>, u32)> = if input.square_free.len() == input.poly.len() {
+        // Already square-free: one factor, whose chain is at hand.
+        vec![(input.chain, 1)]
+    } else {
+        square_free_factors(&input.poly)
+            .into_iter()
+            .map(|(f, k)| (sturm_chain(f), k))
+            .collect()
+    };
     let mut out = Vec::new();
-    for g in &solved.groups {
+    for g in &groups {
         let mut found = 0;
         for (chain, k) in &factors {
             let v_lo = count_variations_dyadic(chain, &g.lo);
@@ -286,10 +301,12 @@ pub fn exact_roots_with_multiplicity(
 // ---------------------------------------------------------------------------
 
 /// The shared front end: the input as a primitive integer polynomial, its
-/// square-free part and the interval clipped to an exact root bound.
+/// square-free part with that part's Sturm chain, and the interval clipped to
+/// an exact root bound.
 struct Input {
     poly: IPoly,
     square_free: IPoly,
+    chain: Vec<IPoly>,
     /// (lo, hi] with lo < hi, or None when no root can lie in the interval.
     interval: Option<(Dyadic, Dyadic)>,
 }
@@ -303,12 +320,13 @@ impl Input {
         if poly.len() <= 1 {
             // Zero or a nonzero constant: no isolated roots.
             return Some(Input {
+                chain: sturm_chain(poly.clone()),
                 poly: poly.clone(),
                 square_free: poly,
                 interval: None,
             });
         }
-        let square_free = square_free_ipoly(&poly);
+        let (square_free, chain) = square_free_and_chain(&poly);
         // Every root lies strictly inside (−B, B), so (a, b] ∩ (−B, B] has the
         // same roots and finite, dyadic ends.
         let bound = Dyadic::pow2(upper_root_exp(&square_free));
@@ -327,6 +345,7 @@ impl Input {
         Some(Input {
             poly,
             square_free,
+            chain,
             interval,
         })
     }
@@ -348,7 +367,7 @@ enum Point {
 }
 
 struct Solved {
-    poly: IPoly,
+    input: Input,
     groups: Vec<Group>,
 }
 
@@ -357,52 +376,47 @@ impl Solved {
         if tolerance.is_nan() {
             return None;
         }
-        let input = Input::new(coeffs, a, b)?;
-        let groups = match input.interval {
+        let mut input = Input::new(coeffs, a, b)?;
+        let groups = match input.interval.take() {
             None => Vec::new(),
             Some((lo, hi)) => {
-                let tol = if tolerance == f64::INFINITY {
-                    Tolerance::Any
-                } else {
-                    Tolerance::Relative(Dyadic::from_f64(tolerance.max(0.0)))
-                };
-                isolate(&input.square_free, lo, hi, &tol)
+                let loosest = Dyadic::pow2(LOOSEST_TOLERANCE_EXP);
+                let tol = Tolerance(Dyadic::from_f64(tolerance.max(0.0)).min(loosest));
+                isolate(&input.square_free, &input.chain, lo, hi, &tol)
             }
         };
-        Some(Solved {
-            poly: input.poly,
-            groups,
-        })
+        Some(Solved { input, groups })
     }
 }
 
-enum Tolerance {
-    /// Stop as soon as a root is isolated.
-    Any,
-    /// Stop when width <= tol · max(1, |x|) for every x in the bracket.
-    Relative(Dyadic),
-}
+/// Tolerances looser than 2^-30 are tightened to it. Refinement is cheap
+/// here (one evaluation of q per halving), and a bracket of width ≤ 2^-30
+/// around a root in [−1, 1] holds at most one rational with denominator
+/// ≤ 2^15 (two such differ by ≥ 2^-30), so the simplest-rational test then
+/// finds every such rational root exactly (integers up to |x| < 2^30). A
+/// loose tolerance like 0.1 would otherwise stop with a bracket holding
+/// both 11 and 12 and return its midpoint instead of the root 12.
+const LOOSEST_TOLERANCE_EXP: i64 = -30;
+
+/// Stop refining when width <= tol · max(1, |x|) for every x in the bracket
+/// (0: never, refine to f64 resolution).
+struct Tolerance(Dyadic);
 
 impl Tolerance {
     fn met(&self, lo: &Dyadic, hi: &Dyadic) -> bool {
-        match self {
-            Tolerance::Any => true,
-            Tolerance::Relative(tol) => {
-                if tol.is_zero() {
-                    return false;
-                }
-                let width = hi.sub(lo);
-                // The smallest |x| over the bracket, at least 1.
-                let straddles = lo.signum() < 0 && hi.signum() > 0;
-                let one = Dyadic::pow2(0);
-                let scale = if straddles {
-                    one
-                } else {
-                    lo.abs().min(hi.abs()).max(one)
-                };
-                width <= tol.mul(&scale)
-            }
+        if self.0.is_zero() {
+            return false;
         }
+        let width = hi.sub(lo);
+        // The smallest |x| over the bracket, at least 1.
+        let straddles = lo.signum() < 0 && hi.signum() > 0;
+        let one = Dyadic::pow2(0);
+        let scale = if straddles {
+            one
+        } else {
+            lo.abs().min(hi.abs()).max(one)
+        };
+        width <= self.0.mul(&scale)
     }
 }
 
@@ -414,13 +428,13 @@ const MAX_REFINE_STEPS: usize = 4096;
 /// exact root (one extra evaluation every so many steps).
 const RATIONAL_TRY_EVERY: usize = 8;
 
-/// Isolates the roots of the square-free q in (lo, hi] by exact Sturm counts
-/// and refines each; groups come out in increasing order.
-fn isolate(q: &IPoly, lo: Dyadic, hi: Dyadic, tol: &Tolerance) -> Vec<Group> {
-    let chain = sturm_chain(q.clone());
+/// Isolates the roots of the square-free q (Sturm chain `chain`) in (lo, hi]
+/// by exact Sturm counts and refines each; groups come out in increasing
+/// order.
+fn isolate(q: &IPoly, chain: &[IPoly], lo: Dyadic, hi: Dyadic, tol: &Tolerance) -> Vec<Group> {
     let min_exp = lower_root_exp(q);
-    let v_lo = count_variations_dyadic(&chain, &lo);
-    let v_hi = count_variations_dyadic(&chain, &hi);
+    let v_lo = count_variations_dyadic(chain, &lo);
+    let v_hi = count_variations_dyadic(chain, &hi);
     let mut out = Vec::new();
     // Depth-first, left half first, so groups come out sorted.
     let mut stack = vec![(lo, hi, v_lo, v_hi)];
@@ -437,7 +451,7 @@ fn isolate(q: &IPoly, lo: Dyadic, hi: Dyadic, tol: &Tolerance) -> Vec<Group> {
                     value,
                 }),
                 Cut::At { at, .. } => {
-                    let v_at = count_variations_dyadic(&chain, &at);
+                    let v_at = count_variations_dyadic(chain, &at);
                     stack.push((at.clone(), hi, v_at, v_hi));
                     stack.push((lo, at, v_lo, v_at));
                 }
@@ -976,8 +990,13 @@ fn subresultant_prs(a: IPoly, b: IPoly) -> (Vec<IPoly>, Vec<i32>) {
             }
         }
         let d = &g * h.pow(delta);
+        // Exact (checked on the leading coefficient only: a full check would
+        // double the cost of the dominant step in debug builds).
+        debug_assert!(
+            (&r[r.len() - 1] % &d).is_zero(),
+            "subresultant division is exact"
+        );
         for c in &mut r {
-            debug_assert!((&*c % &d).is_zero(), "subresultant division is exact");
             *c /= &d;
         }
         let lc_negative = lc_b.is_negative() && delta.is_multiple_of(2); // sign(lc)^(δ+1) < 0
@@ -1033,6 +1052,29 @@ fn square_free_ipoly(p: &[BigInt]) -> IPoly {
     primitive(div_exact(p, &g))
 }
 
+/// The square-free part of a primitive p (deg >= 1) and its Sturm chain.
+/// When p is already square-free (the usual case) the subresultant sequence
+/// of (p, p′) that proves it is also p's Sturm chain, so it is computed once.
+fn square_free_and_chain(p: &IPoly) -> (IPoly, Vec<IPoly>) {
+    if p.len() <= 2 {
+        let q = primitive(p.clone());
+        return (q.clone(), sturm_chain(q));
+    }
+    let d = primitive(derivative_int(p));
+    let (members, eps) = subresultant_prs(p.clone(), d);
+    if members.last().is_some_and(|g| g.len() == 1) {
+        return (p.clone(), chain_from_prs(members, eps));
+    }
+    let mut g = primitive(members.into_iter().last().unwrap_or_default());
+    if g.last().is_some_and(Signed::is_negative) {
+        for c in &mut g {
+            *c = -&*c;
+        }
+    }
+    let q = primitive(div_exact(p, &g));
+    (q.clone(), sturm_chain(q))
+}
+
 /// The square-free factorisation p = c·∏ fₖᵏ as (fₖ, k) for non-constant fₖ,
 /// by repeated gcds: gₖ = gcd(gₖ₋₁, gₖ₋₁′) = ∏ fⱼ^max(j−k, 0), hₖ = gₖ₋₁/gₖ =
 /// ∏_{j≥k} fⱼ and fₖ = hₖ / hₖ₊₁. Every division is exact.
@@ -1072,6 +1114,11 @@ fn sturm_chain(q: IPoly) -> Vec<IPoly> {
     }
     let d = primitive(derivative_int(&q));
     let (members, eps) = subresultant_prs(q, d);
+    chain_from_prs(members, eps)
+}
+
+/// Applies the Sturm signs to a subresultant sequence and shrinks each member.
+fn chain_from_prs(members: Vec<IPoly>, eps: Vec<i32>) -> Vec<IPoly> {
     members
         .into_iter()
         .zip(eps)
@@ -1389,6 +1436,25 @@ mod tests {
     }
 
     #[test]
+    fn loose_tolerance_still_finds_rational_roots_exactly() {
+        // Found by proptest: with tolerance 0.1 taken literally, refinement
+        // of the root 12 in (5.5, 23] stopped at (10.97, 12.06], where the
+        // simplest rational is 11, and returned the midpoint 11.515625.
+        assert_eq!(exact_roots(&[-12.0, 1.0], 5.5, 23.0, 0.1), Some(vec![12.0]));
+        assert_eq!(
+            exact_roots(&[-12.0, 1.0], 5.5, 23.0, f64::INFINITY),
+            Some(vec![12.0])
+        );
+        // 3/7 and 1000, a small denominator and a large integer:
+        // (7x − 3)(x − 1000) = 7x² − 7003x + 3000.
+        let c = [3000.0, -7003.0, 7.0];
+        assert_eq!(
+            exact_roots(&c, 0.0, 2000.0, 0.5),
+            Some(vec![3.0 / 7.0, 1000.0])
+        );
+    }
+
+    #[test]
     fn irrational_roots_to_tolerance_and_correctly_rounded() {
         // x² − 2
         let c = [-2.0, 0.0, 1.0];
@@ -1539,7 +1605,7 @@ mod tests {
             len2 in 0i64..=40,
             scale_exp in -60i32..=60,
             negate in any::<bool>(),
-            tol in prop::sample::select(vec![0.0, 1e-12, 1e-6, 0.1]),
+            tol in prop::sample::select(vec![0.0, 1e-12, 1e-6, 0.1, 1.0]),
         ) {
             // Half-integer endpoints, so they sometimes sit on a root.
             let (a, b) = (a2 as f64 / 2.0, (a2 + len2) as f64 / 2.0);

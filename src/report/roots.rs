@@ -95,8 +95,11 @@ fn answer(line: &str, with_sturm: bool) -> Result<Value, String> {
         solver.tolerance = t;
     }
     let sturm = SturmSequence::new(&p);
+    let mut count = sturm.count(a, b);
     let roots: Vec<f64> = match q.method.as_deref() {
         Some(EXACT) => {
+            // The exact count: f64 Sturm counts can blur multiple and clustered roots.
+            count = exact::exact_count(&q.coeffs, a, b).ok_or("coeffs: not finite")?;
             exact::exact_roots(&q.coeffs, a, b, solver.tolerance).ok_or("coeffs: not finite")?
         }
         name => {
@@ -110,7 +113,7 @@ fn answer(line: &str, with_sturm: bool) -> Result<Value, String> {
             out[..n].to_vec()
         }
     };
-    let mut reply = json!({ "roots": roots, "count": sturm.count(a, b) });
+    let mut reply = json!({ "roots": roots, "count": count });
     if with_sturm {
         let sequence: Vec<&[f64]> = sturm.members().iter().map(Poly::coeffs).collect();
         reply["sturm"] = json!({
