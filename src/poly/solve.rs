@@ -6,8 +6,12 @@
 //! no wider than `tolerance * max(1, |t|)`, with |t| the smaller magnitude of
 //! the bracket's ends (so the bound holds for the root itself): relative for
 //! large roots, absolute near zero, where relative accuracy would cost
-//! without end for a root at t = 0. A reported root is within that width of
-//! a true root of the (f64) polynomial. Roots of a cluster narrower than it
+//! without end for a root at t = 0. A reported simple root is within that
+//! width of a true root of the (f64) polynomial. A multiple root is refined
+//! on the square-free part p / gcd(p, p'), whose coefficients carry the
+//! chain's round-off: exact for exactly representable cases such as
+//! (t - 1)^3, typically 1e-10 off otherwise (the exact rational path is the
+//! reference for those). Roots of a cluster narrower than the tolerance
 //! cannot be told apart and are reported once.
 //!
 //! Nothing here allocates: Sturm chains and interval stacks are fixed arrays
@@ -690,12 +694,30 @@ fn closer_to_zero(lo: f64, flo: f64, hi: f64, fhi: f64) -> f64 {
 /// hits against the open interval.
 fn strictly_inside(t: f64, a: f64, b: f64) -> f64 {
     if t <= a {
-        a.next_up().min(midpoint(a, b))
+        above(a).min(midpoint(a, b))
     } else if t >= b {
-        b.next_down().max(midpoint(a, b))
+        below(b).max(midpoint(a, b))
     } else {
         t
     }
+}
+
+/// The next f64 above `x`, skipping subnormals: a thread with DAZ set reads
+/// them as zero, so "just above 0" must be the smallest normal. Only
+/// comparisons with normal numbers decide, so both modes agree.
+fn above(x: f64) -> f64 {
+    let near_zero = (-f64::MIN_POSITIVE..f64::MIN_POSITIVE).contains(&x);
+    if !near_zero {
+        x.next_up()
+    } else if x < 0.0 {
+        0.0
+    } else {
+        f64::MIN_POSITIVE
+    }
+}
+
+fn below(x: f64) -> f64 {
+    -above(-x)
 }
 
 #[cfg(test)]
@@ -1102,6 +1124,17 @@ mod tests {
     }
 
     #[test]
+    fn nudges_inside_skip_subnormals() {
+        assert_eq!(above(0.0), f64::MIN_POSITIVE);
+        assert_eq!(above(-f64::MIN_POSITIVE), 0.0);
+        assert_eq!(above(1.0), 1.0 + f64::EPSILON);
+        assert_eq!(below(0.0), -f64::MIN_POSITIVE);
+        assert_eq!(strictly_inside(0.0, 0.0, 1.0), f64::MIN_POSITIVE);
+        assert_eq!(strictly_inside(1.0, 0.0, 1.0), 1.0 - f64::EPSILON / 2.0);
+        assert_eq!(strictly_inside(0.5, 0.0, 1.0), 0.5);
+    }
+
+    #[test]
     fn method_names_round_trip() {
         for m in Method::ALL {
             assert_eq!(m.name().parse::<Method>(), Ok(*m));
@@ -1128,24 +1161,70 @@ mod tests {
             .prop_map(|(e, neg)| if neg { -(10f64.powi(e)) } else { 10f64.powi(e) })
     }
 
+    /// Distinct quarter-integer roots in [-3, 3] with multiplicities 1 to
+    /// 3, at most degree 8: with a power-of-two leading coefficient the
+    /// expanded coefficients need under 40 bits, so the f64 polynomial has
+    /// exactly these multiple roots.
+    fn exact_multiple_roots() -> impl Strategy<Value = (Vec<f64>, Vec<f64>)> {
+        prop::collection::btree_map(-12i32..=12, 1usize..=3, 1..=4).prop_filter_map(
+            "degree above 8",
+            |m| {
+                let distinct: Vec<f64> = m.keys().map(|&k| f64::from(k) / 4.0).collect();
+                let all: Vec<f64> = m
+                    .iter()
+                    .flat_map(|(&k, &n)| std::iter::repeat_n(f64::from(k) / 4.0, n))
+                    .collect();
+                (all.len() <= 8).then_some((all, distinct))
+            },
+        )
+    }
+
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(512))]
 
         #[test]
-        fn roots_finds_constructed_roots(roots in separated_roots(), lead in leading(), m in 0usize..4) {
+        fn roots_finds_constructed_roots(
+            roots in separated_roots(), lead in leading(), m in 0usize..4,
+        ) {
             let p = from_roots(lead, &roots);
             let s = solver(Method::ALL[m]);
             let got = roots_of(&s, &p, -5.0, 5.0);
             prop_assert_eq!(got.len(), SturmSequence::new(&p).count(-5.0, 5.0));
             prop_assert_eq!(got.len(), roots.len());
             for (g, w) in got.iter().zip(&roots) {
-                prop_assert!((g - w).abs() <= 1e-7 * w.abs().max(1.0), "got {:?}, want {:?}", got, roots);
+                prop_assert!(
+                    (g - w).abs() <= 1e-7 * w.abs().max(1.0), "got {:?}, want {:?}", got, roots
+                );
             }
         }
 
         #[test]
+        fn multiple_roots_are_found_once(
+            (all, distinct) in exact_multiple_roots(), e in -40i32..40, m in 0usize..3,
+        ) {
+            let p = from_roots(2f64.powi(e), &all);
+            let s = solver(STURM[m]);
+            let got = roots_of(&s, &p, -4.0, 4.0);
+            prop_assert_eq!(SturmSequence::new(&p).count(-4.0, 4.0), distinct.len());
+            prop_assert_eq!(got.len(), distinct.len(), "got {:?}, want {:?}", got, distinct);
+            // Not to 1e-12: the roots are those of the square-free part,
+            // whose coefficients carry the round-off of the chain that found
+            // gcd(p, p') (the exact path is the reference for these).
+            for (g, w) in got.iter().zip(&distinct) {
+                prop_assert!((g - w).abs() <= 1e-7 * w.abs().max(1.0), "got {:?}", got);
+            }
+            let near = s.nearest(&p, -4.0, 4.0);
+            prop_assert!(near.is_some_and(|t| (t - distinct[0]).abs() <= 1e-7));
+            prop_assert!(s.any(&p, -4.0, 4.0));
+        }
+
+        #[test]
         fn nearest_and_any_agree_with_the_construction(
-            roots in separated_roots(), lead in leading(), m in 0usize..4, a in -4.5f64..4.5, len in 0.01f64..9.0,
+            roots in separated_roots(),
+            lead in leading(),
+            m in 0usize..4,
+            a in -4.5f64..4.5,
+            len in 0.01f64..9.0,
         ) {
             let b = a + len;
             prop_assume!(roots.iter().all(|r| (r - a).abs() > 1e-6 && (r - b).abs() > 1e-6));
@@ -1161,7 +1240,9 @@ mod tests {
             let warm = s.nearest_from(&p, a, b, roots[roots.len() - 1] + 0.01);
             prop_assert_eq!(warm.is_some(), want.is_some());
             if let (Some(g), Some(w)) = (warm, want) {
-                prop_assert!((g - w).abs() <= 1e-7 * w.abs().max(1.0), "warm got {}, want {}", g, w);
+                prop_assert!(
+                    (g - w).abs() <= 1e-7 * w.abs().max(1.0), "warm got {}, want {}", g, w
+                );
             }
         }
     }

@@ -254,17 +254,16 @@ impl Poly {
     }
 
     /// Overwrites `self` with rem(a, d) for deg a >= deg d > 0, of degree
-    /// deg d - 1 before trimming; returns the largest |quotient
-    /// coefficient|, which bounds how much the division amplified errors.
-    pub(crate) fn set_remainder(&mut self, a: &Poly, d: &Poly) -> f64 {
+    /// deg d - 1 before trimming, and `quotient` with the quotient's
+    /// coefficients (lowest first), from which the caller bounds the error.
+    pub(crate) fn set_remainder(&mut self, a: &Poly, d: &Poly, quotient: &mut [f64; SLOTS]) {
         let (n, m) = (a.degree, d.degree);
         debug_assert!(n >= m && m > 0);
         let mut r = a.coeffs;
         let lead = d.leading();
-        let mut qmax: f64 = 0.0;
         for k in (0..=n - m).rev() {
             let q = r[k + m] / lead;
-            qmax = qmax.max(q.abs());
+            quotient[k] = q;
             for (rj, dj) in r[k..k + m].iter_mut().zip(&d.coeffs[..m]) {
                 *rj -= q * dj;
             }
@@ -274,7 +273,6 @@ impl Poly {
         self.coeffs[m..=old.max(m - 1)].fill(0.0);
         self.degree = m - 1;
         self.trim_zeros();
-        qmax
     }
 
     /// Drops leading coefficients with |c| <= `noise`; the zero polynomial
@@ -405,9 +403,11 @@ mod tests {
         let d = Poly::new(&[-3.0, 1.0]);
         // Slots that held a higher-degree polynomial must end up zero.
         let mut slot = Poly::new(&[9.0; MAX_DEGREE + 1]);
-        let qmax = slot.set_remainder(&p, &d);
-        assert_eq!(slot, p.div_rem(&d).1);
-        assert_eq!(qmax, 3.0);
+        let mut quotient = [0.0; SLOTS];
+        slot.set_remainder(&p, &d, &mut quotient);
+        let (q, r) = p.div_rem(&d);
+        assert_eq!(slot, r);
+        assert_eq!(&quotient[..3], q.coeffs());
         slot = Poly::new(&[9.0; MAX_DEGREE + 1]);
         slot.set_derivative(&p);
         assert_eq!(slot, p.derivative());

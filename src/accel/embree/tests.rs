@@ -343,8 +343,17 @@ fn the_library_writes_the_hit_record_exactly_where_the_bindings_put_it() {
     }
     scene.intersect_raw(&mut guarded.record);
     assert_eq!(guarded.record.hit.geomID, 0);
-    assert_eq!(guarded.record.hit.instID, [sys::RTC_INVALID_GEOMETRY_ID; LEVELS]);
+    assert_eq!(
+        guarded.record.hit.instID,
+        [sys::RTC_INVALID_GEOMETRY_ID; LEVELS]
+    );
     #[cfg(embree_inst_prim_id)]
-    assert_eq!(guarded.record.hit.instPrimID, [sys::RTC_INVALID_GEOMETRY_ID; LEVELS]);
-    assert_eq!(guarded.canary, [PATTERN; 8], "the library wrote past the record");
+    assert_eq!(
+        guarded.record.hit.instPrimID,
+        [sys::RTC_INVALID_GEOMETRY_ID; LEVELS]
+    );
+    assert_eq!(
+        guarded.canary, [PATTERN; 8],
+        "the library wrote past the record"
+    );
 }
