@@ -10,7 +10,7 @@ use clap::{Parser, Subcommand, ValueEnum};
 use sturmray::accel::{Accel, Backend};
 use sturmray::error::Error;
 use sturmray::io;
-use sturmray::render::{RenderOptions, render};
+use sturmray::render::{RayKind, RenderOptions, render};
 use sturmray::report::bench;
 use sturmray::scene::Scene;
 
@@ -64,6 +64,20 @@ enum Command {
     },
     /// Print the Embree version in use, the objects, triangle count, lights and settings.
     Info { scene: PathBuf },
+    /// Print the ray tree of one pixel sample: each ray's kind, what it hit, t,
+    /// the material, its weight and the radiance it brings back.
+    Explain {
+        scene: PathBuf,
+        /// The pixel, from the top-left corner.
+        #[arg(long, value_parser = parse_pixel)]
+        pixel: (usize, usize),
+        /// Which of the pixel's samples (0 = the first).
+        #[arg(long, default_value_t = 0)]
+        sample: u32,
+        /// As `render --all-effects`.
+        #[arg(long)]
+        all_effects: bool,
+    },
     /// Trace rays from a .npy file and write the hits as a structured .npy.
     Trace {
         scene: PathBuf,
@@ -94,6 +108,22 @@ enum Command {
         #[arg(long = "scene")]
         scenes: Vec<PathBuf>,
     },
+}
+
+fn parse_pixel(text: &str) -> Result<(usize, usize), String> {
+    let (x, y) = text
+        .split_once(',')
+        .ok_or_else(|| format!("expected X,Y, found {text:?}"))?;
+    let number = |s: &str| {
+        s.trim()
+            .parse::<usize>()
+            .map_err(|_| format!("expected X,Y with whole numbers, found {text:?}"))
+    };
+    Ok((number(x)?, number(y)?))
+}
+
+fn triple(v: [f32; 3]) -> String {
+    format!("[{:.4}, {:.4}, {:.4}]", v[0], v[1], v[2])
 }
 
 fn main() -> ExitCode {
@@ -199,6 +229,40 @@ fn run(command: Command) -> anyhow::Result<()> {
             let scene = Scene::load(&path)?;
             let accel = Accel::build(&scene, Backend::Embree, None)?;
             print!("{}", sturmray::report::info::describe(&scene, &accel));
+            Ok(())
+        }
+        Command::Explain {
+            scene,
+            pixel,
+            sample,
+            all_effects,
+        } => {
+            let scene = Scene::load(&scene)?;
+            let accel = Accel::build(&scene, Backend::Embree, None)?;
+            let (result, tree) =
+                sturmray::render::explain(&scene, &accel, pixel, sample, all_effects)?;
+            println!(
+                "pixel {},{} sample {sample}: radiance {}",
+                pixel.0,
+                pixel.1,
+                triple(result.radiance.to_array())
+            );
+            for node in tree {
+                // Shadow rays belong to the hit they leave from: one level deeper.
+                let level = node.depth as usize + usize::from(node.kind == RayKind::Shadow);
+                let kind = format!("{:?}", node.kind).to_lowercase();
+                println!(
+                    "{:indent$}{kind:<10} t={:<10.6} {} {} weight {} radiance {}",
+                    "",
+                    node.t,
+                    node.hit,
+                    node.material
+                        .map_or(String::new(), |m| format!("material {m}")),
+                    triple(node.weight),
+                    triple(node.radiance),
+                    indent = 2 * level
+                );
+            }
             Ok(())
         }
         Command::Trace {

@@ -124,3 +124,46 @@ fn bad_input_exits_with_2_and_names_the_problem() {
         assert!(!err.contains("panicked"), "{args:?}: {err}");
     }
 }
+
+#[test]
+fn explain_prints_the_ray_tree_of_one_sample() {
+    let dir = scratch("explain");
+    write(&dir, "square.obj", SQUARE);
+    write(&dir, "s.toml", &plane_scene(""));
+    // The centre pixel sees the lit square: a camera ray and its shadow ray.
+    let out = sturmray(&dir, &["explain", "s.toml", "--pixel", "16,12"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = String::from_utf8(out.stdout).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    assert!(
+        lines[0].starts_with("pixel 16,12 sample 0: radiance"),
+        "{text}"
+    );
+    assert!(
+        lines[1].starts_with("camera") && lines[1].contains("material paint"),
+        "{text}"
+    );
+    assert!(
+        lines[2].trim_start().starts_with("shadow") && lines[2].contains("visible"),
+        "{text}"
+    );
+    for (args, expected) in [
+        (
+            &["explain", "s.toml", "--pixel", "99,0"][..],
+            "outside the 32x24 image",
+        ),
+        (
+            &["explain", "s.toml", "--pixel", "1,1", "--sample", "3"],
+            "samples per pixel",
+        ),
+        (&["explain", "s.toml", "--pixel", "1;1"], "expected X,Y"),
+    ] {
+        let out = sturmray(&dir, args);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        assert!(
+            stderr(&out).contains(expected),
+            "{args:?}: {}",
+            stderr(&out)
+        );
+    }
+}

@@ -95,6 +95,10 @@ fn mirrors_reflect_and_only_glass_refracts() {
     assert_eq!(mirror.refraction, 0);
     let (glass, _) = stats(&scene("glass", GLASS_SPHERE, true), false);
     assert!(glass.reflection > 0 && glass.refraction > 0);
+    // By depth: camera rays and their shadow rays at 0, the tree below them deeper,
+    // and every ray counted once.
+    assert!(glass.by_depth[0] >= glass.camera && glass.by_depth[1] > 0 && glass.by_depth[2] > 0);
+    assert_eq!(glass.by_depth.iter().sum::<u64>(), glass.total());
 }
 
 #[test]

@@ -1,7 +1,7 @@
 //! Rendering: the tile loop over rayon, camera sampling, and statistics.
 
 mod plan;
-mod stats;
+mod tally;
 mod whitted;
 
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -10,16 +10,16 @@ use std::time::Instant;
 use rayon::prelude::*;
 
 pub use plan::Plan;
-pub use stats::RayStats;
+pub use tally::{Node, RayKind, RayStats, Tally};
 pub use whitted::Whitted;
 
 use crate::accel::Accel;
 use crate::accel::embree::enable_flush_to_zero;
 use crate::error::{Error, Result};
-use crate::film::{Film, Pixel};
+use crate::film::{Film, Pixel, Sample};
 use crate::math::{Hit, Ray};
 use crate::sampling::Rng;
-use crate::scene::Scene;
+use crate::scene::{CameraFrame, Scene};
 
 /// How to run a render; the scene says what to render.
 #[derive(Clone, Debug, Default)]
@@ -61,12 +61,11 @@ pub fn render(scene: &Scene, accel: &Accel, options: &RenderOptions) -> Result<R
         return Err(Error::Input("--spp must be at least 1".into()));
     }
     let frame = scene.camera.frame();
-    let plan = if options.all_effects {
-        Plan::everything(scene.render.max_depth)
-    } else {
-        Plan::for_scene(scene)
+    let integrator = Whitted {
+        scene,
+        accel,
+        plan: plan(scene, options.all_effects),
     };
-    let integrator = Whitted { scene, accel, plan };
     let tiles: Vec<(usize, usize)> = (0..height.div_ceil(TILE))
         .flat_map(|ty| (0..width.div_ceil(TILE)).map(move |tx| (tx * TILE, ty * TILE)))
         .collect();
@@ -80,26 +79,18 @@ pub fn render(scene: &Scene, accel: &Accel, options: &RenderOptions) -> Result<R
             .map(|&(x0, y0)| {
                 let (x1, y1) = ((x0 + TILE).min(width), (y0 + TILE).min(height));
                 let mut pixels = Vec::with_capacity((x1 - x0) * (y1 - y0));
-                let mut stats = RayStats::default();
+                let mut tally = Tally::default();
                 for y in y0..y1 {
                     for x in x0..x1 {
                         let mut pixel = Pixel::default();
-                        let index = (y * width + x) as u64;
                         for k in 0..spp {
-                            let mut rng = Rng::for_sample(scene.render.seed, index, k);
-                            // Pixel centres for one sample, jittered within the pixel for more.
-                            let (jx, jy) = if spp == 1 {
-                                (0.5, 0.5)
-                            } else {
-                                (rng.next_f32(), rng.next_f32())
-                            };
-                            let ray = frame.ray(x as f32 + jx, y as f32 + jy);
-                            stats.camera += 1;
-                            pixel.add(&integrator.sample(&ray, &mut stats));
+                            let ray = camera_ray(scene, &frame, (x, y), k, spp);
+                            pixel.add(&integrator.sample(&ray, &mut tally));
                         }
                         pixels.push(pixel);
                     }
                 }
+                let stats = tally.stats;
                 let done = rays_done.fetch_add(stats.total(), Ordering::Relaxed) + stats.total();
                 if let Some(bar) = &progress {
                     bar.inc(pixels.len() as u64);
@@ -129,6 +120,71 @@ pub fn render(scene: &Scene, accel: &Accel, options: &RenderOptions) -> Result<R
         stats,
         seconds: start.elapsed().as_secs_f64(),
     })
+}
+
+fn plan(scene: &Scene, all_effects: bool) -> Plan {
+    if all_effects {
+        Plan::everything(scene.render.max_depth)
+    } else {
+        Plan::for_scene(scene)
+    }
+}
+
+/// Camera ray `k` of `spp` through pixel (x, y): through the pixel's centre
+/// for one sample, jittered within the pixel for more, seeded by (seed,
+/// pixel, k) so it is the same whoever renders it.
+fn camera_ray(scene: &Scene, frame: &CameraFrame, (x, y): (usize, usize), k: u32, spp: u32) -> Ray {
+    let index = (y * scene.camera.width as usize + x) as u64;
+    let mut rng = Rng::for_sample(scene.render.seed, index, k);
+    let (jx, jy) = if spp == 1 {
+        (0.5, 0.5)
+    } else {
+        (rng.next_f32(), rng.next_f32())
+    };
+    frame.ray(x as f32 + jx, y as f32 + jy)
+}
+
+/// The ray tree of one pixel sample, for `sturmray explain`.
+pub fn explain(
+    scene: &Scene,
+    accel: &Accel,
+    pixel: (usize, usize),
+    sample: u32,
+    all_effects: bool,
+) -> Result<(Sample, Vec<Node>)> {
+    let (w, h) = (scene.camera.width as usize, scene.camera.height as usize);
+    if pixel.0 >= w || pixel.1 >= h {
+        return Err(Error::Input(format!(
+            "--pixel {},{} is outside the {w}x{h} image",
+            pixel.0, pixel.1
+        )));
+    }
+    if sample >= scene.render.spp {
+        return Err(Error::Input(format!(
+            "--sample {sample}: the scene takes {} samples per pixel (0 to {})",
+            scene.render.spp,
+            scene.render.spp - 1
+        )));
+    }
+    let integrator = Whitted {
+        scene,
+        accel,
+        plan: plan(scene, all_effects),
+    };
+    let ray = camera_ray(
+        scene,
+        &scene.camera.frame(),
+        pixel,
+        sample,
+        scene.render.spp,
+    );
+    let mut tally = Tally {
+        tree: Some(Vec::new()),
+        ..Tally::default()
+    };
+    let result = integrator.sample(&ray, &mut tally);
+    accel.check()?;
+    Ok((result, tally.tree.unwrap_or_default()))
 }
 
 /// A progress bar on stderr when it is a terminal; none otherwise.

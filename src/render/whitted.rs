@@ -3,19 +3,13 @@
 //! and dielectrics, down to a depth limit or until a branch's weight is too
 //! small to matter. Which of these rays exist at all is the plan's decision.
 
-use super::{Plan, RayStats};
+use super::Plan;
+use super::tally::{Node, RayKind, Tally};
 use crate::accel::Accel;
 use crate::film::Sample;
-use crate::math::{Ray, Vec3, offset};
+use crate::math::{Hit, Ray, Vec3, offset};
 use crate::scene::{Interaction, Scene};
 use crate::shading::{Material, MaterialKind};
-
-/// The kinds of secondary ray the tree spawns, for the statistics.
-#[derive(Clone, Copy)]
-enum Branch {
-    Reflection,
-    Refraction,
-}
 
 pub struct Whitted<'a> {
     pub scene: &'a Scene,
@@ -25,11 +19,12 @@ pub struct Whitted<'a> {
 
 impl Whitted<'_> {
     /// The radiance along a camera ray, with the first hit's AOVs.
-    pub fn sample(&self, ray: &Ray, stats: &mut RayStats) -> Sample {
+    pub fn sample(&self, ray: &Ray, tally: &mut Tally) -> Sample {
         let hit = self.accel.intersect(ray);
+        let radiance = self.follow(ray, &hit, RayKind::Camera, 0, Vec3::ONE, tally);
         if !hit.is_hit() {
             return Sample {
-                radiance: self.scene.background,
+                radiance,
                 depth: f32::INFINITY,
                 normal: Vec3::ZERO,
                 albedo: Vec3::ZERO,
@@ -37,20 +32,61 @@ impl Whitted<'_> {
         }
         let it = self.scene.interaction(ray, &hit);
         Sample {
-            radiance: self.shade(ray, &it, 0, Vec3::ONE, stats),
+            radiance,
             depth: hit.t,
             normal: it.n,
             albedo: self.scene.materials[it.material as usize].albedo,
         }
     }
 
-    fn trace(&self, ray: &Ray, depth: u32, weight: Vec3, stats: &mut RayStats) -> Vec3 {
-        let hit = self.accel.intersect(ray);
-        if !hit.is_hit() {
-            return self.scene.background;
+    /// The radiance a ray of the tree brings back from `hit`.
+    fn follow(
+        &self,
+        ray: &Ray,
+        hit: &Hit,
+        kind: RayKind,
+        depth: u32,
+        weight: Vec3,
+        tally: &mut Tally,
+    ) -> Vec3 {
+        tally.count(kind, depth);
+        let node = tally.open(|| self.describe(hit, kind, depth, weight));
+        let radiance = if hit.is_hit() {
+            let it = self.scene.interaction(ray, hit);
+            self.shade(ray, &it, depth, weight, tally)
+        } else {
+            self.scene.background
+        };
+        tally.finish(node, radiance);
+        radiance
+    }
+
+    fn describe(&self, hit: &Hit, kind: RayKind, depth: u32, weight: Vec3) -> Node {
+        let (what, material) = if !hit.is_hit() {
+            ("background".to_string(), None)
+        } else if hit.geom_id == self.scene.shapes_geom_id() {
+            let shape = &self.scene.shapes[hit.prim_id as usize];
+            (
+                format!("shape {} ({})", hit.prim_id, shape.surface.describe()),
+                Some(shape.material),
+            )
+        } else {
+            let mesh = &self.scene.meshes[hit.geom_id as usize];
+            let m = mesh.materials[hit.prim_id as usize];
+            (
+                format!("mesh {:?} triangle {}", mesh.name, hit.prim_id),
+                Some(m),
+            )
+        };
+        Node {
+            depth,
+            kind,
+            hit: what,
+            t: hit.t,
+            material: material.map(|m| self.scene.materials[m as usize].name.clone()),
+            weight: weight.to_array(),
+            radiance: [0.0; 3],
         }
-        let it = self.scene.interaction(ray, &hit);
-        self.shade(ray, &it, depth, weight, stats)
     }
 
     fn shade(
@@ -59,7 +95,7 @@ impl Whitted<'_> {
         it: &Interaction,
         depth: u32,
         weight: Vec3,
-        stats: &mut RayStats,
+        tally: &mut Tally,
     ) -> Vec3 {
         let material = &self.scene.materials[it.material as usize];
         let wo = -ray.dir;
@@ -70,7 +106,7 @@ impl Whitted<'_> {
                     let r = material.reflectance();
                     let dir = fresnel::reflect(ray.dir, it.n);
                     radiance +=
-                        r * self.spawn(it, dir, depth, weight * r, Branch::Reflection, stats);
+                        r * self.spawn(it, dir, depth, weight * r, RayKind::Reflection, tally);
                 }
             }
             MaterialKind::Dielectric => {
@@ -81,7 +117,7 @@ impl Whitted<'_> {
                 if self.plan.reflection {
                     let dir = fresnel::reflect(ray.dir, it.n);
                     radiance +=
-                        f * self.spawn(it, dir, depth, weight * f, Branch::Reflection, stats);
+                        f * self.spawn(it, dir, depth, weight * f, RayKind::Reflection, tally);
                 }
                 if self.plan.refraction
                     && f < 1.0
@@ -89,19 +125,18 @@ impl Whitted<'_> {
                 {
                     let t = 1.0 - f;
                     radiance +=
-                        t * self.spawn(it, dir, depth, weight * t, Branch::Refraction, stats);
+                        t * self.spawn(it, dir, depth, weight * t, RayKind::Refraction, tally);
                 }
             }
             MaterialKind::Diffuse | MaterialKind::Plastic | MaterialKind::Emissive => {
                 if self.plan.shadow {
-                    radiance += self.direct(it, material, wo, stats);
+                    radiance += self.direct(it, material, wo, depth, weight, tally);
                 }
                 if self.plan.forced {
                     // What a renderer without a plan pays: both branches, weighted by zero.
-                    let back = -wo;
                     let mirror = fresnel::reflect(ray.dir, it.n);
-                    let _ = self.spawn(it, mirror, depth, weight, Branch::Reflection, stats);
-                    let _ = self.spawn(it, back, depth, weight, Branch::Refraction, stats);
+                    let _ = self.spawn(it, mirror, depth, weight, RayKind::Reflection, tally);
+                    let _ = self.spawn(it, ray.dir, depth, weight, RayKind::Refraction, tally);
                 }
             }
         }
@@ -116,18 +151,15 @@ impl Whitted<'_> {
         dir: Vec3,
         depth: u32,
         weight: Vec3,
-        branch: Branch,
-        stats: &mut RayStats,
+        kind: RayKind,
+        tally: &mut Tally,
     ) -> Vec3 {
         if depth >= self.plan.max_depth || weight.max_element() < self.scene.render.min_weight {
             return Vec3::ZERO;
         }
-        match branch {
-            Branch::Reflection => stats.reflection += 1,
-            Branch::Refraction => stats.refraction += 1,
-        }
         let ray = Ray::new(offset(it.p, it.error, it.n, dir), dir);
-        self.trace(&ray, depth + 1, weight, stats)
+        let hit = self.accel.intersect(&ray);
+        self.follow(&ray, &hit, kind, depth + 1, weight, tally)
     }
 
     /// Local shading from every light, each tested with a shadow ray.
@@ -136,10 +168,12 @@ impl Whitted<'_> {
         it: &Interaction,
         material: &Material,
         wo: Vec3,
-        stats: &mut RayStats,
+        depth: u32,
+        weight: Vec3,
+        tally: &mut Tally,
     ) -> Vec3 {
         let mut radiance = Vec3::ZERO;
-        for light in &self.scene.lights {
+        for (index, light) in self.scene.lights.iter().enumerate() {
             let incident = light.incident(it.p);
             let cos = it.n.dot(incident.wi);
             if cos <= 0.0 {
@@ -148,11 +182,26 @@ impl Whitted<'_> {
             let mut shadow = Ray::new(offset(it.p, it.error, it.n, incident.wi), incident.wi);
             // Stop just short of a point light: it is not geometry and cannot occlude itself.
             shadow.tfar = incident.distance * (1.0 - 1e-4);
-            stats.shadow += 1;
-            if self.accel.occluded(&shadow) {
-                continue;
-            }
-            radiance += material.local_brdf(it.n, wo, incident.wi) * incident.irradiance * cos;
+            tally.count(RayKind::Shadow, depth);
+            let blocked = self.accel.occluded(&shadow);
+            let contribution = if blocked {
+                Vec3::ZERO
+            } else {
+                material.local_brdf(it.n, wo, incident.wi) * incident.irradiance * cos
+            };
+            tally.open(|| Node {
+                depth,
+                kind: RayKind::Shadow,
+                hit: format!(
+                    "light {index}: {}",
+                    if blocked { "blocked" } else { "visible" }
+                ),
+                t: shadow.tfar,
+                material: None,
+                weight: weight.to_array(),
+                radiance: contribution.to_array(),
+            });
+            radiance += contribution;
         }
         radiance
     }

@@ -1,0 +1,100 @@
+//! What a render counts as it goes: rays by kind and by depth, and, for
+//! `sturmray explain`, the whole ray tree of one sample.
+
+use serde::Serialize;
+
+/// How many depths the per-depth counts keep apart; deeper rays share the last.
+pub const DEPTHS: usize = 16;
+
+/// Rays traced, by kind, and all rays by the depth of the tree they start at
+/// (0: camera rays and the shadow rays of their hits).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct RayStats {
+    pub camera: u64,
+    pub shadow: u64,
+    pub reflection: u64,
+    pub refraction: u64,
+    pub diffuse: u64,
+    pub photon: u64,
+    pub by_depth: [u64; DEPTHS],
+}
+
+impl RayStats {
+    pub fn total(&self) -> u64 {
+        self.camera + self.shadow + self.reflection + self.refraction + self.diffuse + self.photon
+    }
+}
+
+impl std::ops::AddAssign for RayStats {
+    fn add_assign(&mut self, o: RayStats) {
+        self.camera += o.camera;
+        self.shadow += o.shadow;
+        self.reflection += o.reflection;
+        self.refraction += o.refraction;
+        self.diffuse += o.diffuse;
+        self.photon += o.photon;
+        for (a, b) in self.by_depth.iter_mut().zip(o.by_depth) {
+            *a += b;
+        }
+    }
+}
+
+/// The kinds of ray in the tree.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum RayKind {
+    Camera,
+    Shadow,
+    Reflection,
+    Refraction,
+}
+
+/// One node of a sample's ray tree, for `explain`.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Node {
+    pub depth: u32,
+    pub kind: RayKind,
+    /// What the ray hit: "mesh NAME triangle P", "shape I (KIND)", "background",
+    /// or for shadow rays "light I: blocked" / "light I: visible".
+    pub hit: String,
+    pub t: f32,
+    pub material: Option<String>,
+    /// The branch's weight: what its radiance is multiplied by on its way to the pixel.
+    pub weight: [f32; 3],
+    /// The radiance the ray brings back (for shadow rays: the light's contribution).
+    pub radiance: [f32; 3],
+}
+
+/// Counts, and the tree when one is being recorded.
+#[derive(Default)]
+pub struct Tally {
+    pub stats: RayStats,
+    pub tree: Option<Vec<Node>>,
+}
+
+impl Tally {
+    pub fn count(&mut self, kind: RayKind, depth: u32) {
+        let s = &mut self.stats;
+        match kind {
+            RayKind::Camera => s.camera += 1,
+            RayKind::Shadow => s.shadow += 1,
+            RayKind::Reflection => s.reflection += 1,
+            RayKind::Refraction => s.refraction += 1,
+        }
+        s.by_depth[(depth as usize).min(DEPTHS - 1)] += 1;
+    }
+
+    /// Records a node when a tree is being kept; returns its index for `finish`.
+    pub fn open(&mut self, node: impl FnOnce() -> Node) -> Option<usize> {
+        let tree = self.tree.as_mut()?;
+        tree.push(node());
+        Some(tree.len() - 1)
+    }
+
+    /// Fills in the radiance of a node opened before its children were traced.
+    pub fn finish(&mut self, index: Option<usize>, radiance: crate::math::Vec3) {
+        if let (Some(tree), Some(i)) = (self.tree.as_mut(), index) {
+            tree[i].radiance = radiance.to_array();
+        }
+    }
+}
