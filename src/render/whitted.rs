@@ -9,6 +9,7 @@ use crate::accel::Accel;
 use crate::film::Sample;
 use crate::math::{Hit, Ray, Vec3, offset};
 use crate::scene::{Interaction, Scene};
+use crate::shading::fresnel;
 use crate::shading::{Material, MaterialKind};
 
 pub struct Whitted<'a> {
@@ -204,45 +205,5 @@ impl Whitted<'_> {
             radiance += contribution;
         }
         radiance
-    }
-}
-
-/// Stand-ins until shading::fresnel lands (same signatures).
-mod fresnel {
-    use crate::math::Vec3;
-
-    pub fn reflect(v: Vec3, n: Vec3) -> Vec3 {
-        v - 2.0 * v.dot(n) * n
-    }
-
-    pub fn dielectric(cos_i: f32, ior: f32) -> f32 {
-        let (cos_i, eta) = if cos_i >= 0.0 {
-            (cos_i, ior)
-        } else {
-            (-cos_i, 1.0 / ior)
-        };
-        let sin_t2 = (1.0 - cos_i * cos_i).max(0.0) / (eta * eta);
-        if sin_t2 >= 1.0 {
-            return 1.0;
-        }
-        let cos_t = (1.0 - sin_t2).sqrt();
-        let rs = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
-        let rp = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
-        0.5 * (rs * rs + rp * rp)
-    }
-
-    pub fn refract(wo: Vec3, n: Vec3, ior: f32) -> Option<Vec3> {
-        let cos_i = wo.dot(n);
-        let (n, eta, cos_i) = if cos_i >= 0.0 {
-            (n, ior, cos_i)
-        } else {
-            (-n, 1.0 / ior, -cos_i)
-        };
-        let sin_t2 = (1.0 - cos_i * cos_i).max(0.0) / (eta * eta);
-        if sin_t2 >= 1.0 {
-            return None;
-        }
-        let cos_t = (1.0 - sin_t2).sqrt();
-        Some((-wo / eta + (cos_i / eta - cos_t) * n).normalize())
     }
 }

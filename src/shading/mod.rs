@@ -1,5 +1,8 @@
 //! Materials and the local shading model.
 
+mod bsdf;
+pub mod fresnel;
 mod material;
 
+pub use bsdf::{Bsdf, BsdfSample, COS_EPS, Frame, Lobe, MIN_ALPHA, Transport, shininess_to_alpha};
 pub use material::{Material, MaterialKind};

@@ -33,6 +33,13 @@ impl Rng {
     pub fn next_f32(&mut self) -> f32 {
         (self.next_u64() >> 40) as f32 * (1.0 / (1u64 << 24) as f32)
     }
+
+    /// Two uniforms in [0, 1), in the order two `next_f32` calls give them:
+    /// the `u` that the warps, filters and stratification take.
+    pub fn next_2d(&mut self) -> [f32; 2] {
+        let x = self.next_f32();
+        [x, self.next_f32()]
+    }
 }
 
 #[cfg(test)]
@@ -53,6 +60,18 @@ mod tests {
         let keys = [(1, 2, 4), (1, 3, 3), (2, 2, 3), (0, 0, 0)];
         for (s, p, k) in keys {
             assert_ne!(Rng::for_sample(s, p, k).next_u64(), a[0], "{s} {p} {k}");
+        }
+    }
+
+    #[test]
+    fn next_2d_is_two_next_f32_in_order() {
+        let (mut a, mut b) = (Rng::for_sample(3, 4, 5), Rng::for_sample(3, 4, 5));
+        for _ in 0..8 {
+            let [x, y] = a.next_2d();
+            assert_eq!(
+                (x.to_bits(), y.to_bits()),
+                (b.next_f32().to_bits(), b.next_f32().to_bits())
+            );
         }
     }
 
