@@ -7,6 +7,9 @@ use crate::math::Vec3;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Sample {
     pub radiance: Vec3,
+    /// The reconstruction filter's weight of this sample (1 for box, tent and
+    /// Gaussian; negative in Mitchell's lobes). Radiance is averaged with it.
+    pub weight: f32,
     /// Distance to the first hit, inf on a miss.
     pub depth: f32,
     /// Unit normal of the first hit facing the camera, zero on a miss.
@@ -17,7 +20,11 @@ pub struct Sample {
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Pixel {
+    /// Σ weight · radiance.
     pub radiance: [f64; 3],
+    /// Σ weight: the beauty pass divides by it, as pbrt-v4's film does, so a
+    /// region of constant radiance stays constant whatever the weights.
+    pub weight: f64,
     pub normal: [f64; 3],
     pub albedo: [f64; 3],
     /// The nearest depth of any sample (a minimum, so edges stay sharp).
@@ -29,6 +36,7 @@ impl Default for Pixel {
     fn default() -> Self {
         Pixel {
             radiance: [0.0; 3],
+            weight: 0.0,
             normal: [0.0; 3],
             albedo: [0.0; 3],
             depth: f32::INFINITY,
@@ -43,6 +51,13 @@ fn accumulate(sum: &mut [f64; 3], v: Vec3) {
     }
 }
 
+fn weighted_average(sum: [f64; 3], weight: f64) -> [f32; 3] {
+    if weight == 0.0 {
+        return [0.0; 3];
+    }
+    sum.map(|s| (s / weight) as f32)
+}
+
 fn average(sum: [f64; 3], n: u32) -> [f32; 3] {
     let n = f64::from(n.max(1));
     sum.map(|s| (s / n) as f32)
@@ -50,7 +65,8 @@ fn average(sum: [f64; 3], n: u32) -> [f32; 3] {
 
 impl Pixel {
     pub fn add(&mut self, s: &Sample) {
-        accumulate(&mut self.radiance, s.radiance);
+        accumulate(&mut self.radiance, s.radiance * s.weight);
+        self.weight += f64::from(s.weight);
         accumulate(&mut self.normal, s.normal);
         accumulate(&mut self.albedo, s.albedo);
         self.depth = self.depth.min(s.depth);
@@ -88,7 +104,7 @@ impl Film {
             beauty: self
                 .pixels
                 .iter()
-                .map(|p| average(p.radiance, p.samples))
+                .map(|p| weighted_average(p.radiance, p.weight))
                 .collect(),
             depth: self.pixels.iter().map(|p| p.depth).collect(),
             normal: self
@@ -114,6 +130,7 @@ mod tests {
         let mut film = Film::new(2, 1);
         let s = |r: f32, d: f32| Sample {
             radiance: Vec3::splat(r),
+            weight: 1.0,
             depth: d,
             normal: Vec3::Z,
             albedo: Vec3::splat(0.5),

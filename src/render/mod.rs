@@ -18,7 +18,7 @@ use crate::accel::embree::enable_flush_to_zero;
 use crate::error::{Error, Result};
 use crate::film::{Film, Pixel, Sample};
 use crate::math::{Hit, Ray};
-use crate::sampling::Rng;
+use crate::sampling::{FilterSampler, Rng, stratified_2d};
 use crate::scene::{CameraFrame, Scene};
 
 /// How to run a render; the scene says what to render.
@@ -61,6 +61,7 @@ pub fn render(scene: &Scene, accel: &Accel, options: &RenderOptions) -> Result<R
         return Err(Error::Input("--spp must be at least 1".into()));
     }
     let frame = scene.camera.frame();
+    let filter = scene.render.filter.sampler()?;
     let integrator = Whitted {
         scene,
         accel,
@@ -84,8 +85,10 @@ pub fn render(scene: &Scene, accel: &Accel, options: &RenderOptions) -> Result<R
                     for x in x0..x1 {
                         let mut pixel = Pixel::default();
                         for k in 0..spp {
-                            let ray = camera_ray(scene, &frame, (x, y), k, spp);
-                            pixel.add(&integrator.sample(&ray, &mut tally));
+                            let (ray, weight) = camera_ray(scene, &frame, &filter, (x, y), k, spp);
+                            let mut sample = integrator.sample(&ray, &mut tally);
+                            sample.weight = weight;
+                            pixel.add(&sample);
                         }
                         pixels.push(pixel);
                     }
@@ -130,18 +133,27 @@ fn plan(scene: &Scene, all_effects: bool) -> Plan {
     }
 }
 
-/// Camera ray `k` of `spp` through pixel (x, y): through the pixel's centre
-/// for one sample, jittered within the pixel for more, seeded by (seed,
-/// pixel, k) so it is the same whoever renders it.
-fn camera_ray(scene: &Scene, frame: &CameraFrame, (x, y): (usize, usize), k: u32, spp: u32) -> Ray {
+/// Camera ray `k` of `spp` through pixel (x, y), with its filter weight:
+/// through the pixel's centre for one sample; for more, a stratified point
+/// warped by the reconstruction filter (filter importance sampling), seeded by
+/// (seed, pixel, k) so it is the same whoever renders it.
+fn camera_ray(
+    scene: &Scene,
+    frame: &CameraFrame,
+    filter: &FilterSampler,
+    (x, y): (usize, usize),
+    k: u32,
+    spp: u32,
+) -> (Ray, f32) {
+    let centre = (x as f32 + 0.5, y as f32 + 0.5);
+    if spp == 1 {
+        return (frame.ray(centre.0, centre.1), 1.0);
+    }
     let index = (y * scene.camera.width as usize + x) as u64;
     let mut rng = Rng::for_sample(scene.render.seed, index, k);
-    let (jx, jy) = if spp == 1 {
-        (0.5, 0.5)
-    } else {
-        (rng.next_f32(), rng.next_f32())
-    };
-    frame.ray(x as f32 + jx, y as f32 + jy)
+    let s = filter.sample(stratified_2d(k, spp, rng.next_2d()));
+    let ray = frame.ray(centre.0 + s.offset[0], centre.1 + s.offset[1]);
+    (ray, s.weight)
 }
 
 /// The ray tree of one pixel sample, for `sturmray explain`.
@@ -171,18 +183,15 @@ pub fn explain(
         accel,
         plan: plan(scene, all_effects),
     };
-    let ray = camera_ray(
-        scene,
-        &scene.camera.frame(),
-        pixel,
-        sample,
-        scene.render.spp,
-    );
+    let filter = scene.render.filter.sampler()?;
+    let frame = scene.camera.frame();
+    let (ray, weight) = camera_ray(scene, &frame, &filter, pixel, sample, scene.render.spp);
     let mut tally = Tally {
         tree: Some(Vec::new()),
         ..Tally::default()
     };
-    let result = integrator.sample(&ray, &mut tally);
+    let mut result = integrator.sample(&ray, &mut tally);
+    result.weight = weight;
     accel.check()?;
     Ok((result, tally.tree.unwrap_or_default()))
 }

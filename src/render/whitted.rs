@@ -26,6 +26,7 @@ impl Whitted<'_> {
         if !hit.is_hit() {
             return Sample {
                 radiance,
+                weight: 1.0,
                 depth: f32::INFINITY,
                 normal: Vec3::ZERO,
                 albedo: Vec3::ZERO,
@@ -34,6 +35,7 @@ impl Whitted<'_> {
         let it = self.scene.interaction(ray, &hit);
         Sample {
             radiance,
+            weight: 1.0,
             depth: hit.t,
             normal: it.n,
             albedo: self.scene.materials[it.material as usize].albedo,

@@ -58,6 +58,8 @@ struct RenderFile {
     max_depth: Option<u32>,
     seed: Option<u64>,
     min_weight: Option<f32>,
+    /// "box", "tent", "gaussian" or "mitchell".
+    filter: Option<String>,
     /// The root finder for analytic surfaces, by its stable name.
     method: Option<String>,
     tolerance: Option<f64>,
@@ -371,6 +373,10 @@ pub(super) fn load(path: &Path) -> Result<Scene> {
         max_depth: file.render.max_depth.unwrap_or(defaults.max_depth),
         seed: file.render.seed.unwrap_or(defaults.seed),
         min_weight: file.render.min_weight.unwrap_or(defaults.min_weight),
+        filter: match &file.render.filter {
+            Some(name) => name.parse().map_err(|e| check.error("render.filter", e))?,
+            None => defaults.filter,
+        },
     };
     if !(render.min_weight >= 0.0 && render.min_weight < 1.0) {
         return Err(check.error(

@@ -18,6 +18,7 @@ use crate::error::{Error, Result};
 use crate::geometry::{Mesh, Shape};
 use crate::lights::Light;
 use crate::math::{Bounds, INVALID_ID, Vec3};
+use crate::sampling::Filter;
 use crate::shading::Material;
 
 /// Per-render settings.
@@ -29,6 +30,9 @@ pub struct RenderSettings {
     pub seed: u64,
     /// A branch of the ray tree whose weight falls below this ends (adaptive depth).
     pub min_weight: f32,
+    /// The reconstruction filter, applied by filter importance sampling: each
+    /// sample counts only for its own pixel.
+    pub filter: Filter,
 }
 
 impl Default for RenderSettings {
@@ -38,6 +42,7 @@ impl Default for RenderSettings {
             max_depth: 5,
             seed: 0,
             min_weight: 1e-3,
+            filter: Filter::default(),
         }
     }
 }

@@ -199,6 +199,7 @@ fn toml_scene_settings_and_transforms() {
             max_depth: 5,
             seed: 9,
             min_weight: 1e-3,
+            filter: crate::sampling::Filter::BOX,
         }
     );
     assert_eq!(scene.background, Vec3::new(0.1, 0.2, 0.3));
