@@ -153,3 +153,89 @@ fn a_glass_sphere_in_a_uniform_environment_disappears() {
         assert!(rel < 2e-3, "{p:?}");
     }
 }
+
+/// A uniform environment of radiance 1 around one sphere, no lights, path traced.
+fn furnace(name: &str, material: &str, spp: u32) -> (RayStats, Vec<[f32; 3]>) {
+    let dir = scratch(name);
+    let text = format!(
+        r#"background = [1, 1, 1]
+[camera]
+eye = [0, 0, 4]
+look_at = [0, 0, 0]
+fov = 30
+width = 16
+height = 16
+[render]
+spp = {spp}
+max_depth = 50
+integrator = "path"
+[materials.grey]
+type = "diffuse"
+albedo = [0.5, 0.5, 0.5]
+[materials.glass]
+type = "dielectric"
+ior = 1.5
+[[objects]]
+type = "sphere"
+radius = 1
+material = "{material}"
+"#
+    );
+    let scene = Scene::load(&write(&dir, "s.toml", &text)).unwrap();
+    stats(&scene, false)
+}
+
+#[test]
+fn white_furnace_a_diffuse_sphere_renders_at_its_albedo() {
+    // A convex sphere never sees itself: every bounce escapes to the environment,
+    // so each sample is exactly albedo · 1 (cosine sampling's weight is the albedo).
+    let (st, image) = furnace("furnace-diffuse", "grey", 4);
+    assert!(st.diffuse > 0 && st.shadow == 0, "{st:?}");
+    // The sphere fills the central 8×8 pixels (it spans ±0.93 of the ±1.07 view);
+    // pixels on its outline mix sphere and environment.
+    for y in 4..12 {
+        for x in 4..12 {
+            let p = Vec3::from(image[y * 16 + x]);
+            assert!(
+                (p - Vec3::splat(0.5)).abs().max_element() < 1e-6,
+                "({x}, {y}): {p}"
+            );
+        }
+    }
+    assert_eq!(image[0], [1.0; 3], "the corner sees the environment");
+}
+
+#[test]
+fn white_furnace_a_glass_sphere_disappears_under_path_tracing() {
+    // Fresnel picks reflection or refraction; entering scales radiance by 1/η² and
+    // leaving by η², so every path carries weight 1 back to the environment, except
+    // where Russian roulette reweights long internal paths (unbiased, so the mean
+    // stays 1; 64 samples per pixel keep it within 2%).
+    let (st, image) = furnace("furnace-glass", "glass", 64);
+    assert!(st.refraction > 0);
+    let mean: f32 = image.iter().map(|p| p[1]).sum::<f32>() / image.len() as f32;
+    assert!((mean - 1.0).abs() < 0.02, "{mean}");
+    for p in &image {
+        assert!((p[1] - 1.0).abs() < 0.15, "{p:?}");
+    }
+}
+
+#[test]
+fn whitted_scenes_bounce_no_diffuse_rays_and_path_scenes_do() {
+    let s = scene("whitted-gi", "", true);
+    assert!(!Plan::for_scene(&s).diffuse);
+    let mut p = s.clone();
+    p.render.integrator = sturmray::scene::Integrator::Path;
+    assert!(Plan::for_scene(&p).diffuse);
+    let (st, image) = stats(&p, false);
+    assert!(st.diffuse > 0);
+    // At the square's centre: the direct light, plus the background seen through
+    // the cosine lobe (the square is flat, so every bounce escapes): albedo/π · E +
+    // albedo · background, exactly, as cosine sampling's weight is the albedo.
+    let expected = 0.5 / std::f32::consts::PI * 2.0 + 0.5 * 0.25;
+    assert!(
+        (image[12 * 24 + 12][0] - expected).abs() < 1e-6,
+        "{:?}",
+        image[12 * 24 + 12]
+    );
+}

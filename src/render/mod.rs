@@ -1,5 +1,6 @@
 //! Rendering: the tile loop over rayon, camera sampling, and statistics.
 
+mod path;
 mod plan;
 mod tally;
 mod whitted;
@@ -9,6 +10,7 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
+pub use path::PathTracer;
 pub use plan::Plan;
 pub use tally::{Node, RayKind, RayStats, Tally};
 pub use whitted::Whitted;
@@ -19,7 +21,7 @@ use crate::error::{Error, Result};
 use crate::film::{Film, Pixel, Sample};
 use crate::math::{Hit, Ray};
 use crate::sampling::{FilterSampler, Rng, stratified_2d};
-use crate::scene::{CameraFrame, Scene};
+use crate::scene::{CameraFrame, Integrator, Scene};
 
 /// How to run a render; the scene says what to render.
 #[derive(Clone, Debug, Default)]
@@ -62,11 +64,7 @@ pub fn render(scene: &Scene, accel: &Accel, options: &RenderOptions) -> Result<R
     }
     let frame = scene.camera.frame();
     let filter = scene.render.filter.sampler()?;
-    let integrator = Whitted {
-        scene,
-        accel,
-        plan: plan(scene, options.all_effects),
-    };
+    let integrator = Tracer::new(scene, accel, options.all_effects);
     let tiles: Vec<(usize, usize)> = (0..height.div_ceil(TILE))
         .flat_map(|ty| (0..width.div_ceil(TILE)).map(move |tx| (tx * TILE, ty * TILE)))
         .collect();
@@ -85,8 +83,9 @@ pub fn render(scene: &Scene, accel: &Accel, options: &RenderOptions) -> Result<R
                     for x in x0..x1 {
                         let mut pixel = Pixel::default();
                         for k in 0..spp {
-                            let (ray, weight) = camera_ray(scene, &frame, &filter, (x, y), k, spp);
-                            let mut sample = integrator.sample(&ray, &mut tally);
+                            let (ray, weight, mut rng) =
+                                camera_ray(scene, &frame, &filter, (x, y), k, spp);
+                            let mut sample = integrator.sample(&ray, &mut rng, &mut tally);
                             sample.weight = weight;
                             pixel.add(&sample);
                         }
@@ -125,6 +124,29 @@ pub fn render(scene: &Scene, accel: &Accel, options: &RenderOptions) -> Result<R
     })
 }
 
+/// The integrator the scene asks for.
+enum Tracer<'a> {
+    Whitted(Whitted<'a>),
+    Path(PathTracer<'a>),
+}
+
+impl<'a> Tracer<'a> {
+    fn new(scene: &'a Scene, accel: &'a Accel, all_effects: bool) -> Tracer<'a> {
+        let plan = plan(scene, all_effects);
+        match scene.render.integrator {
+            Integrator::Whitted => Tracer::Whitted(Whitted { scene, accel, plan }),
+            Integrator::Path => Tracer::Path(PathTracer { scene, accel, plan }),
+        }
+    }
+
+    fn sample(&self, ray: &Ray, rng: &mut Rng, tally: &mut Tally) -> Sample {
+        match self {
+            Tracer::Whitted(w) => w.sample(ray, tally),
+            Tracer::Path(p) => p.sample(ray, rng, tally),
+        }
+    }
+}
+
 fn plan(scene: &Scene, all_effects: bool) -> Plan {
     if all_effects {
         Plan::everything(scene.render.max_depth)
@@ -133,10 +155,11 @@ fn plan(scene: &Scene, all_effects: bool) -> Plan {
     }
 }
 
-/// Camera ray `k` of `spp` through pixel (x, y), with its filter weight:
+/// Camera ray `k` of `spp` through pixel (x, y), with its filter weight and
+/// the sample's random stream (which the path tracer goes on drawing from):
 /// through the pixel's centre for one sample; for more, a stratified point
-/// warped by the reconstruction filter (filter importance sampling), seeded by
-/// (seed, pixel, k) so it is the same whoever renders it.
+/// warped by the reconstruction filter (filter importance sampling). Seeded by
+/// (seed, pixel, k), so it is the same whoever renders it.
 fn camera_ray(
     scene: &Scene,
     frame: &CameraFrame,
@@ -144,16 +167,16 @@ fn camera_ray(
     (x, y): (usize, usize),
     k: u32,
     spp: u32,
-) -> (Ray, f32) {
+) -> (Ray, f32, Rng) {
     let centre = (x as f32 + 0.5, y as f32 + 0.5);
-    if spp == 1 {
-        return (frame.ray(centre.0, centre.1), 1.0);
-    }
     let index = (y * scene.camera.width as usize + x) as u64;
     let mut rng = Rng::for_sample(scene.render.seed, index, k);
+    if spp == 1 {
+        return (frame.ray(centre.0, centre.1), 1.0, rng);
+    }
     let s = filter.sample(stratified_2d(k, spp, rng.next_2d()));
     let ray = frame.ray(centre.0 + s.offset[0], centre.1 + s.offset[1]);
-    (ray, s.weight)
+    (ray, s.weight, rng)
 }
 
 /// The ray tree of one pixel sample, for `sturmray explain`.
@@ -178,19 +201,16 @@ pub fn explain(
             scene.render.spp - 1
         )));
     }
-    let integrator = Whitted {
-        scene,
-        accel,
-        plan: plan(scene, all_effects),
-    };
+    let integrator = Tracer::new(scene, accel, all_effects);
     let filter = scene.render.filter.sampler()?;
     let frame = scene.camera.frame();
-    let (ray, weight) = camera_ray(scene, &frame, &filter, pixel, sample, scene.render.spp);
+    let (ray, weight, mut rng) =
+        camera_ray(scene, &frame, &filter, pixel, sample, scene.render.spp);
     let mut tally = Tally {
         tree: Some(Vec::new()),
         ..Tally::default()
     };
-    let mut result = integrator.sample(&ray, &mut tally);
+    let mut result = integrator.sample(&ray, &mut rng, &mut tally);
     result.weight = weight;
     accel.check()?;
     Ok((result, tally.tree.unwrap_or_default()))

@@ -4,7 +4,7 @@
 
 use std::fmt;
 
-use crate::scene::Scene;
+use crate::scene::{Integrator, Scene};
 use crate::shading::MaterialKind;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -15,6 +15,8 @@ pub struct Plan {
     pub reflection: bool,
     /// Refraction rays, through dielectrics.
     pub refraction: bool,
+    /// Diffuse and glossy bounces: global illumination, by the path tracer.
+    pub diffuse: bool,
     /// The depth limit of the ray tree.
     pub max_depth: u32,
     /// Every effect forced on: reflection and refraction rays from every surface,
@@ -47,6 +49,13 @@ impl Plan {
             shadow: local && !scene.lights.is_empty(),
             reflection: deep && uses(&[MaterialKind::Mirror, MaterialKind::Dielectric]),
             refraction: deep && uses(&[MaterialKind::Dielectric]),
+            diffuse: deep
+                && scene.render.integrator == Integrator::Path
+                && uses(&[
+                    MaterialKind::Diffuse,
+                    MaterialKind::Plastic,
+                    MaterialKind::Emissive,
+                ]),
             max_depth: scene.render.max_depth,
             forced: false,
         }
@@ -54,10 +63,13 @@ impl Plan {
 
     /// Every effect on, whatever the scene needs: for measuring what the plan saves.
     pub fn everything(max_depth: u32) -> Plan {
+        // (The path tracer has no zero-weight branches to force; `diffuse` only
+        // lets it bounce wherever it can.)
         Plan {
             shadow: true,
             reflection: true,
             refraction: true,
+            diffuse: true,
             max_depth,
             forced: true,
         }
@@ -67,19 +79,21 @@ impl Plan {
 impl fmt::Display for Plan {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let on = |b: bool| if b { "yes" } else { "no" };
+        let forced = if self.forced {
+            ", every effect forced"
+        } else {
+            ""
+        };
         write!(
             f,
-            "whitted (depth {}{}): shadow rays {}, reflection rays {}, refraction rays {}, \
-             diffuse bounces no, photon pass no",
+            "{} (depth {}{forced}): shadow rays {}, reflection rays {}, refraction rays {}, \
+             diffuse bounces {}, photon pass no",
+            if self.diffuse { "path" } else { "whitted" },
             self.max_depth,
-            if self.forced {
-                ", every effect forced"
-            } else {
-                ""
-            },
             on(self.shadow),
             on(self.reflection),
-            on(self.refraction)
+            on(self.refraction),
+            on(self.diffuse)
         )
     }
 }

@@ -47,6 +47,8 @@ pub enum RayKind {
     Shadow,
     Reflection,
     Refraction,
+    /// A diffuse or glossy bounce of a path (global illumination).
+    Diffuse,
 }
 
 /// One node of a sample's ray tree, for `explain`.
@@ -80,6 +82,7 @@ impl Tally {
             RayKind::Shadow => s.shadow += 1,
             RayKind::Reflection => s.reflection += 1,
             RayKind::Refraction => s.refraction += 1,
+            RayKind::Diffuse => s.diffuse += 1,
         }
         s.by_depth[(depth as usize).min(DEPTHS - 1)] += 1;
     }

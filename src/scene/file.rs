@@ -9,7 +9,9 @@ use std::path::{Path, PathBuf};
 use serde::Deserialize;
 
 use super::shapes::{self, ShapeFile, ShapeKind};
-use super::{Camera, RenderSettings, Scene, headlight, load_obj, locate, scene_name, suggest};
+use super::{
+    Camera, Integrator, RenderSettings, Scene, headlight, load_obj, locate, scene_name, suggest,
+};
 use crate::error::{Error, Result};
 use crate::geometry::{Box3, Shape};
 use crate::lights::Light;
@@ -60,9 +62,17 @@ struct RenderFile {
     min_weight: Option<f32>,
     /// "box", "tent", "gaussian" or "mitchell".
     filter: Option<String>,
+    integrator: Option<IntegratorFile>,
     /// The root finder for analytic surfaces, by its stable name.
     method: Option<String>,
     tolerance: Option<f64>,
+}
+
+#[derive(Deserialize)]
+#[serde(rename_all = "lowercase")]
+enum IntegratorFile {
+    Whitted,
+    Path,
 }
 
 #[derive(Deserialize)]
@@ -376,6 +386,10 @@ pub(super) fn load(path: &Path) -> Result<Scene> {
         filter: match &file.render.filter {
             Some(name) => name.parse().map_err(|e| check.error("render.filter", e))?,
             None => defaults.filter,
+        },
+        integrator: match file.render.integrator {
+            Some(IntegratorFile::Whitted) | None => Integrator::Whitted,
+            Some(IntegratorFile::Path) => Integrator::Path,
         },
     };
     if !(render.min_weight >= 0.0 && render.min_weight < 1.0) {

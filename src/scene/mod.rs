@@ -21,6 +21,16 @@ use crate::math::{Bounds, INVALID_ID, Vec3};
 use crate::sampling::Filter;
 use crate::shading::Material;
 
+/// Which light transport the render computes.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Integrator {
+    /// Local shading, shadow rays, specular reflection and refraction.
+    #[default]
+    Whitted,
+    /// Global illumination: paths with next-event estimation and Russian roulette.
+    Path,
+}
+
 /// Per-render settings.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RenderSettings {
@@ -33,6 +43,7 @@ pub struct RenderSettings {
     /// The reconstruction filter, applied by filter importance sampling: each
     /// sample counts only for its own pixel.
     pub filter: Filter,
+    pub integrator: Integrator,
 }
 
 impl Default for RenderSettings {
@@ -43,6 +54,7 @@ impl Default for RenderSettings {
             seed: 0,
             min_weight: 1e-3,
             filter: Filter::default(),
+            integrator: Integrator::default(),
         }
     }
 }

@@ -200,6 +200,7 @@ fn toml_scene_settings_and_transforms() {
             seed: 9,
             min_weight: 1e-3,
             filter: crate::sampling::Filter::BOX,
+            integrator: Integrator::Whitted,
         }
     );
     assert_eq!(scene.background, Vec3::new(0.1, 0.2, 0.3));
