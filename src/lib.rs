@@ -14,3 +14,4 @@ pub mod report;
 pub mod sampling;
 pub mod scene;
 pub mod shading;
+pub mod suggest;

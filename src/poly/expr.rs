@@ -454,7 +454,7 @@ impl Parser<'_> {
             .chain(self.constants.iter().map(|&(n, _)| n))
             .collect();
         let mut message = format!("unknown name '{name}'");
-        if let Some(best) = closest(name, &known) {
+        if let Some(best) = crate::suggest::closest(name, known.iter().copied()) {
             message.push_str(&format!(": did you mean '{best}'?"));
         }
         const SHOWN: usize = 12;
@@ -507,40 +507,6 @@ fn finite(poly: Trivariate, column: usize) -> Result<Trivariate, ParseError> {
             "a coefficient overflows f64 here (the numbers are too large)",
         ))
     }
-}
-
-/// Levenshtein distance in characters.
-fn edit_distance(a: &str, b: &str) -> usize {
-    let b: Vec<char> = b.chars().collect();
-    let mut row: Vec<usize> = (0..=b.len()).collect();
-    for (i, ca) in a.chars().enumerate() {
-        let mut diagonal = row[0];
-        row[0] = i + 1;
-        for (j, &cb) in b.iter().enumerate() {
-            let next = (diagonal + usize::from(ca != cb))
-                .min(row[j] + 1)
-                .min(row[j + 1] + 1);
-            diagonal = row[j + 1];
-            row[j + 1] = next;
-        }
-    }
-    row[b.len()]
-}
-
-/// The known name closest to a likely typo. Ties go to a name that differs
-/// only in case (`X` → `x`), then to the earlier name.
-fn closest<'a>(word: &str, known: &[&'a str]) -> Option<&'a str> {
-    let limit = (word.chars().count() / 3).max(2);
-    known
-        .iter()
-        .enumerate()
-        .map(|(i, &k)| {
-            let case_only = k.eq_ignore_ascii_case(word);
-            (edit_distance(word, k), !case_only, i, k)
-        })
-        .filter(|&(d, ..)| d <= limit)
-        .min()
-        .map(|(.., k)| k)
 }
 
 #[cfg(test)]
@@ -874,14 +840,6 @@ mod tests {
             let p = ok(text);
             assert_eq!(ok(&p.to_string()), p, "{p}");
         }
-    }
-
-    #[test]
-    fn closest_names() {
-        assert_eq!(closest("rr", &["x", "y", "z", "R", "r"]), Some("r"));
-        assert_eq!(closest("X", &["x", "y", "z"]), Some("x"));
-        assert_eq!(closest("alpah", &["x", "alpha"]), Some("alpha"));
-        assert_eq!(closest("banana", &["x", "y", "z"]), None);
     }
 
     // ---- property test: random expressions, printed, parsed, evaluated ----

@@ -1,33 +1,6 @@
-//! "Did you mean ...?" for unknown keys and variants in scene files.
+//! "Did you mean ...?" for the unknown keys and variants serde reports in scene files.
 
-/// Levenshtein distance between two short strings.
-fn edit_distance(a: &str, b: &str) -> usize {
-    let b: Vec<char> = b.chars().collect();
-    let mut row: Vec<usize> = (0..=b.len()).collect();
-    for (i, ca) in a.chars().enumerate() {
-        let mut diagonal = row[0];
-        row[0] = i + 1;
-        for (j, &cb) in b.iter().enumerate() {
-            let next = (diagonal + usize::from(ca != cb))
-                .min(row[j] + 1)
-                .min(row[j + 1] + 1);
-            diagonal = row[j + 1];
-            row[j + 1] = next;
-        }
-    }
-    row[b.len()]
-}
-
-/// The closest candidate, if it is close enough to be a likely typo.
-pub fn closest<'a>(word: &str, candidates: impl IntoIterator<Item = &'a str>) -> Option<&'a str> {
-    let limit = (word.chars().count() / 3).max(2);
-    candidates
-        .into_iter()
-        .map(|c| (edit_distance(word, c), c))
-        .filter(|&(d, _)| d <= limit)
-        .min()
-        .map(|(_, c)| c)
-}
+pub use crate::suggest::closest;
 
 /// Appends a suggestion to serde's "unknown field `x`, expected one of `a`, `b`"
 /// (or "unknown variant ...") message, when one candidate is close.
@@ -53,14 +26,6 @@ pub fn with_suggestion(message: &str) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn distances() {
-        assert_eq!(edit_distance("fov", "fov"), 0);
-        assert_eq!(edit_distance("fvo", "fov"), 2);
-        assert_eq!(edit_distance("look_At", "look_at"), 1);
-        assert_eq!(edit_distance("", "abc"), 3);
-    }
 
     #[test]
     fn suggests_only_close_keys() {
