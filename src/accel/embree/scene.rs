@@ -127,15 +127,7 @@ impl SceneBuilder {
                 "geometry {geom_id}: vertex index {bad} out of range (the mesh has {count} vertices)"
             )));
         }
-        let device = self.device.raw();
-        // SAFETY: the device is valid; a null result is checked below.
-        let raw =
-            unsafe { sys::rtcNewGeometry(device, sys::RTCGeometryType_RTC_GEOMETRY_TYPE_TRIANGLE) };
-        let Some(raw) = NonNull::new(raw) else {
-            self.device.check()?;
-            return Err(Error::Embree("rtcNewGeometry returned no geometry".into()));
-        };
-        let geometry = GeometryHandle(raw);
+        let geometry = self.new_geometry(sys::RTCGeometryType_RTC_GEOMETRY_TYPE_TRIANGLE)?;
         let g = geometry.0.as_ptr();
         // SAFETY: `g` is a new, unshared triangle geometry. Each buffer is allocated by
         // Embree for exactly `len` items of the stated 12-byte stride, checked for null,
@@ -186,18 +178,7 @@ impl SceneBuilder {
             panics: Arc::clone(&self.panics),
         });
         let user_ptr = &*data as *const UserData<T> as *mut c_void;
-        // SAFETY: the device is valid; a null result is checked below.
-        let raw = unsafe {
-            sys::rtcNewGeometry(
-                self.device.raw(),
-                sys::RTCGeometryType_RTC_GEOMETRY_TYPE_USER,
-            )
-        };
-        let Some(raw) = NonNull::new(raw) else {
-            self.device.check()?;
-            return Err(Error::Embree("rtcNewGeometry returned no geometry".into()));
-        };
-        let geometry = GeometryHandle(raw);
+        let geometry = self.new_geometry(sys::RTCGeometryType_RTC_GEOMETRY_TYPE_USER)?;
         let g = geometry.0.as_ptr();
         // SAFETY: `g` is a new, unshared user geometry. The user pointer is the boxed
         // UserData<T>, which `self.user_data` keeps alive, unmoved, until after Embree's
@@ -219,6 +200,19 @@ impl SceneBuilder {
         drop(geometry);
         self.user_data.push(data);
         self.device.check()
+    }
+
+    /// A new geometry of `kind`, released on drop unless attached.
+    fn new_geometry(&self, kind: sys::RTCGeometryType) -> Result<GeometryHandle> {
+        // SAFETY: the device is valid; a null result is checked below.
+        let raw = unsafe { sys::rtcNewGeometry(self.device.raw(), kind) };
+        match NonNull::new(raw) {
+            Some(raw) => Ok(GeometryHandle(raw)),
+            None => {
+                self.device.check()?;
+                Err(Error::Embree("rtcNewGeometry returned no geometry".into()))
+            }
+        }
     }
 
     /// Builds the BVH. Queries exist only on the result, so none can run on an
