@@ -1,6 +1,7 @@
 //! Lights and the radiance they send to a point.
 
 use crate::math::Vec3;
+use crate::sampling::warp;
 
 #[derive(Clone, Debug, PartialEq)]
 pub enum Light {
@@ -8,11 +9,26 @@ pub enum Light {
     Point { position: Vec3, intensity: Vec3 },
     /// Irradiance E on a surface facing the light; `direction` is where light travels.
     Directional { direction: Vec3, irradiance: Vec3 },
+    /// A sphere of uniform radiance L (also in the scene as an emissive shape).
+    Sphere {
+        center: Vec3,
+        radius: f32,
+        radiance: Vec3,
+    },
+    /// A parallelogram corner + s·edge1 + t·edge2 of uniform radiance, emitting on
+    /// the side edge1 × edge2 points to (also in the scene as two emissive triangles).
+    Quad {
+        corner: Vec3,
+        edge1: Vec3,
+        edge2: Vec3,
+        radiance: Vec3,
+    },
 }
 
 /// What a light sends towards a shading point: the unit direction to the light,
-/// the distance to it (inf for directional lights) and the irradiance on a
-/// surface facing it.
+/// the distance to it (inf for directional lights) and the irradiance it gives a
+/// surface facing it — for area lights an unbiased one-sample estimate, L / pdf
+/// of the sampled direction.
 pub struct Incident {
     pub wi: Vec3,
     pub distance: f32,
@@ -20,7 +36,9 @@ pub struct Incident {
 }
 
 impl Light {
-    pub fn incident(&self, p: Vec3) -> Incident {
+    /// The light as seen from p; area lights pick a point with `u`. None when
+    /// the light sends nothing to p (p inside a sphere light, behind a quad).
+    pub fn incident(&self, p: Vec3, u: [f32; 2]) -> Option<Incident> {
         match self {
             Light::Point {
                 position,
@@ -29,22 +47,83 @@ impl Light {
                 let to = *position - p;
                 let d2 = to.length_squared();
                 let distance = d2.sqrt();
-                Incident {
+                Some(Incident {
                     wi: to / distance,
                     distance,
                     irradiance: *intensity / d2,
-                }
+                })
             }
             Light::Directional {
                 direction,
                 irradiance,
-            } => Incident {
+            } => Some(Incident {
                 wi: -direction.normalize(),
                 distance: f32::INFINITY,
                 irradiance: *irradiance,
-            },
+            }),
+            Light::Sphere {
+                center,
+                radius,
+                radiance,
+            } => {
+                // The cone the sphere fills, sampled uniformly: pdf = 1 / solid angle.
+                let to = *center - p;
+                let d2 = to.length_squared();
+                let sin2_max = radius * radius / d2;
+                if sin2_max >= 1.0 {
+                    return None;
+                }
+                let axis = to / d2.sqrt();
+                let local = warp::uniform_cone_sin2(u, sin2_max);
+                let (s, t) = basis(axis);
+                let wi = (local.x * s + local.y * t + local.z * axis).normalize();
+                // Distance to the near side of the sphere along wi.
+                let b = to.dot(wi);
+                let distance = b - (b * b - d2 + radius * radius).max(0.0).sqrt();
+                let pdf = warp::uniform_cone_sin2_pdf(sin2_max);
+                Some(Incident {
+                    wi,
+                    distance,
+                    irradiance: *radiance / pdf,
+                })
+            }
+            Light::Quad {
+                corner,
+                edge1,
+                edge2,
+                radiance,
+            } => {
+                let point = *corner + u[0] * *edge1 + u[1] * *edge2;
+                let normal = edge1.cross(*edge2);
+                let area = normal.length();
+                let to = point - p;
+                let d2 = to.length_squared();
+                let distance = d2.sqrt();
+                let wi = to / distance;
+                let cos_light = -wi.dot(normal) / area;
+                if cos_light <= 0.0 {
+                    return None;
+                }
+                // Uniform on the area: pdf in solid angle = d² / (A cos θ_light).
+                Some(Incident {
+                    wi,
+                    distance,
+                    irradiance: *radiance * (area * cos_light / d2),
+                })
+            }
         }
     }
+}
+
+/// Two unit vectors completing an orthonormal basis with unit `n`.
+fn basis(n: Vec3) -> (Vec3, Vec3) {
+    let sign = 1.0f32.copysign(n.z);
+    let a = -1.0 / (sign + n.z);
+    let b = n.x * n.y * a;
+    (
+        Vec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x),
+        Vec3::new(b, sign + n.y * n.y * a, -n.y),
+    )
 }
 
 #[cfg(test)]
@@ -57,7 +136,7 @@ mod tests {
             position: Vec3::new(0.0, 2.0, 0.0),
             intensity: Vec3::splat(8.0),
         };
-        let inc = light.incident(Vec3::ZERO);
+        let inc = light.incident(Vec3::ZERO, [0.5; 2]).unwrap();
         assert_eq!(inc.wi, Vec3::Y);
         assert_eq!(inc.distance, 2.0);
         assert_eq!(inc.irradiance, Vec3::splat(2.0));
@@ -69,8 +148,70 @@ mod tests {
             direction: Vec3::new(0.0, -2.0, 0.0),
             irradiance: Vec3::ONE,
         };
-        let inc = light.incident(Vec3::new(5.0, 1.0, 3.0));
+        let inc = light.incident(Vec3::new(5.0, 1.0, 3.0), [0.5; 2]).unwrap();
         assert_eq!(inc.wi, Vec3::Y);
         assert!(inc.distance.is_infinite());
+    }
+
+    /// Mean of the one-sample estimates over many u: the exact irradiance.
+    fn mean_irradiance(light: &Light, p: Vec3, n: Vec3) -> f32 {
+        let mut rng = crate::sampling::Rng::for_sample(3, 0, 0);
+        let count = 200_000;
+        let mut sum = 0.0f64;
+        for _ in 0..count {
+            if let Some(inc) = light.incident(p, rng.next_2d()) {
+                sum += f64::from(inc.irradiance.x * inc.wi.dot(n).max(0.0));
+            }
+        }
+        (sum / f64::from(count)) as f32
+    }
+
+    #[test]
+    fn sphere_light_irradiance_is_pi_l_sin2() {
+        // A sphere light straight above a surface gives E = π L (r/d)² exactly.
+        let light = Light::Sphere {
+            center: Vec3::new(0.0, 0.0, 4.0),
+            radius: 1.0,
+            radiance: Vec3::splat(3.0),
+        };
+        let e = mean_irradiance(&light, Vec3::ZERO, Vec3::Z);
+        let exact = std::f32::consts::PI * 3.0 / 16.0;
+        assert!((e - exact).abs() < 2e-3 * exact, "{e} vs {exact}");
+        assert!(
+            light.incident(Vec3::new(0.0, 0.0, 4.5), [0.5; 2]).is_none(),
+            "inside"
+        );
+        // The sampled point lies on the sphere's near side.
+        for u in [[0.5, 0.5], [0.0, 0.0], [0.99, 0.3]] {
+            let inc = light.incident(Vec3::ZERO, u).unwrap();
+            let on = inc.wi * inc.distance - Vec3::new(0.0, 0.0, 4.0);
+            assert!(
+                (on.length() - 1.0).abs() < 1e-4 && on.z < 0.0,
+                "{u:?}: {on}"
+            );
+        }
+    }
+
+    #[test]
+    fn quad_light_irradiance_matches_the_form_factor() {
+        // A unit square at height 1, centred on the point's normal, facing down. By
+        // the classic closed form, a rectangle a × b whose corner is at height h right
+        // above the point gives E = L/2 [a'/√(1+a'²) atan(b'/√(1+a'²)) + b'/√(1+b'²)
+        // atan(a'/√(1+b'²))] with a' = a/h, b' = b/h; the square is four such quarters.
+        let light = Light::Quad {
+            corner: Vec3::new(-0.5, -0.5, 1.0),
+            edge1: Vec3::new(0.0, 1.0, 0.0),
+            edge2: Vec3::new(1.0, 0.0, 0.0),
+            radiance: Vec3::splat(2.0),
+        };
+        let (x, y) = (0.5f32, 0.5f32);
+        let quarter = 0.5
+            * (x / (1.0 + x * x).sqrt() * (y / (1.0 + x * x).sqrt()).atan()
+                + y / (1.0 + y * y).sqrt() * (x / (1.0 + y * y).sqrt()).atan());
+        let exact = 2.0 * 4.0 * quarter;
+        let e = mean_irradiance(&light, Vec3::ZERO, Vec3::Z);
+        assert!((e - exact).abs() < 5e-3 * exact, "{e} vs {exact}");
+        // From above, it shows its back: nothing.
+        assert!(light.incident(Vec3::new(0.0, 0.0, 2.0), [0.5; 2]).is_none());
     }
 }

@@ -141,7 +141,7 @@ impl<'a> Tracer<'a> {
 
     fn sample(&self, ray: &Ray, rng: &mut Rng, tally: &mut Tally) -> Sample {
         match self {
-            Tracer::Whitted(w) => w.sample(ray, tally),
+            Tracer::Whitted(w) => w.sample(ray, rng, tally),
             Tracer::Path(p) => p.sample(ray, rng, tally),
         }
     }

@@ -49,13 +49,18 @@ impl PathTracer<'_> {
             if depth == 0 {
                 first = Some((hit.t, it.n, material.albedo));
             }
-            radiance += beta * material.emission;
+            // Area lights are reached by next-event estimation from non-specular
+            // surfaces; counting their emission on BSDF-sampled hits too would count
+            // them twice.
+            if !material.sampled_light || kind != RayKind::Diffuse {
+                radiance += beta * material.emission;
+            }
             let bsdf = Bsdf::from_material(material);
             // The BSDF tells inside from outside by the surface's own normal.
             let frame = Frame::from_normal(if it.front { it.n } else { -it.n });
             let wo = -ray.dir;
             if self.plan.shadow && !bsdf.is_delta() {
-                radiance += beta * self.direct(&it, &bsdf, &frame, wo, depth, tally);
+                radiance += beta * self.direct(&it, &bsdf, &frame, wo, depth, rng, tally);
             }
             let u = [rng.next_f32(), rng.next_f32(), rng.next_f32()];
             let Some(s) = bsdf.sample(&frame, wo, u) else {
@@ -114,7 +119,9 @@ impl PathTracer<'_> {
         });
     }
 
-    /// Next-event estimation: each light, through a shadow ray.
+    /// Next-event estimation: each light (area lights at one sampled point),
+    /// through a shadow ray.
+    #[allow(clippy::too_many_arguments)]
     fn direct(
         &self,
         it: &Interaction,
@@ -122,11 +129,14 @@ impl PathTracer<'_> {
         frame: &Frame,
         wo: Vec3,
         depth: u32,
+        rng: &mut Rng,
         tally: &mut Tally,
     ) -> Vec3 {
         let mut sum = Vec3::ZERO;
         for light in &self.scene.lights {
-            let incident = light.incident(it.p);
+            let Some(incident) = light.incident(it.p, rng.next_2d()) else {
+                continue;
+            };
             let cos = it.n.dot(incident.wi);
             if cos <= 0.0 {
                 continue;

@@ -8,9 +8,17 @@ use super::tally::{Node, RayKind, Tally};
 use crate::accel::Accel;
 use crate::film::Sample;
 use crate::math::{Hit, Ray, Vec3, offset};
+use crate::sampling::Rng;
 use crate::scene::{Interaction, Scene};
 use crate::shading::fresnel;
 use crate::shading::{Material, MaterialKind};
+
+/// What one sample's walk down the tree carries: the counts and its random stream
+/// (area lights pick a point on themselves with it).
+struct Walk<'t> {
+    tally: &'t mut Tally,
+    rng: &'t mut Rng,
+}
 
 pub struct Whitted<'a> {
     pub scene: &'a Scene,
@@ -20,9 +28,10 @@ pub struct Whitted<'a> {
 
 impl Whitted<'_> {
     /// The radiance along a camera ray, with the first hit's AOVs.
-    pub fn sample(&self, ray: &Ray, tally: &mut Tally) -> Sample {
+    pub fn sample(&self, ray: &Ray, rng: &mut Rng, tally: &mut Tally) -> Sample {
+        let walk = &mut Walk { tally, rng };
         let hit = self.accel.intersect(ray);
-        let radiance = self.follow(ray, &hit, RayKind::Camera, 0, Vec3::ONE, tally);
+        let radiance = self.follow(ray, &hit, RayKind::Camera, 0, Vec3::ONE, walk);
         if !hit.is_hit() {
             return Sample {
                 radiance,
@@ -50,17 +59,17 @@ impl Whitted<'_> {
         kind: RayKind,
         depth: u32,
         weight: Vec3,
-        tally: &mut Tally,
+        walk: &mut Walk<'_>,
     ) -> Vec3 {
-        tally.count(kind, depth);
-        let node = tally.open(|| self.describe(hit, kind, depth, weight));
+        walk.tally.count(kind, depth);
+        let node = walk.tally.open(|| self.describe(hit, kind, depth, weight));
         let radiance = if hit.is_hit() {
             let it = self.scene.interaction(ray, hit);
-            self.shade(ray, &it, depth, weight, tally)
+            self.shade(ray, &it, depth, weight, walk)
         } else {
             self.scene.background
         };
-        tally.finish(node, radiance);
+        walk.tally.finish(node, radiance);
         radiance
     }
 
@@ -98,7 +107,7 @@ impl Whitted<'_> {
         it: &Interaction,
         depth: u32,
         weight: Vec3,
-        tally: &mut Tally,
+        walk: &mut Walk<'_>,
     ) -> Vec3 {
         let material = &self.scene.materials[it.material as usize];
         let wo = -ray.dir;
@@ -109,7 +118,7 @@ impl Whitted<'_> {
                     let r = material.reflectance();
                     let dir = fresnel::reflect(ray.dir, it.n);
                     radiance +=
-                        r * self.spawn(it, dir, depth, weight * r, RayKind::Reflection, tally);
+                        r * self.spawn(it, dir, depth, weight * r, RayKind::Reflection, walk);
                 }
             }
             MaterialKind::Dielectric => {
@@ -120,7 +129,7 @@ impl Whitted<'_> {
                 if self.plan.reflection {
                     let dir = fresnel::reflect(ray.dir, it.n);
                     radiance +=
-                        f * self.spawn(it, dir, depth, weight * f, RayKind::Reflection, tally);
+                        f * self.spawn(it, dir, depth, weight * f, RayKind::Reflection, walk);
                 }
                 if self.plan.refraction
                     && f < 1.0
@@ -128,18 +137,18 @@ impl Whitted<'_> {
                 {
                     let t = 1.0 - f;
                     radiance +=
-                        t * self.spawn(it, dir, depth, weight * t, RayKind::Refraction, tally);
+                        t * self.spawn(it, dir, depth, weight * t, RayKind::Refraction, walk);
                 }
             }
             MaterialKind::Diffuse | MaterialKind::Plastic | MaterialKind::Emissive => {
                 if self.plan.shadow {
-                    radiance += self.direct(it, material, wo, depth, weight, tally);
+                    radiance += self.direct(it, material, wo, depth, weight, walk);
                 }
                 if self.plan.forced {
                     // What a renderer without a plan pays: both branches, weighted by zero.
                     let mirror = fresnel::reflect(ray.dir, it.n);
-                    let _ = self.spawn(it, mirror, depth, weight, RayKind::Reflection, tally);
-                    let _ = self.spawn(it, ray.dir, depth, weight, RayKind::Refraction, tally);
+                    let _ = self.spawn(it, mirror, depth, weight, RayKind::Reflection, walk);
+                    let _ = self.spawn(it, ray.dir, depth, weight, RayKind::Refraction, walk);
                 }
             }
         }
@@ -155,14 +164,14 @@ impl Whitted<'_> {
         depth: u32,
         weight: Vec3,
         kind: RayKind,
-        tally: &mut Tally,
+        walk: &mut Walk<'_>,
     ) -> Vec3 {
         if depth >= self.plan.max_depth || weight.max_element() < self.scene.render.min_weight {
             return Vec3::ZERO;
         }
         let ray = Ray::new(offset(it.p, it.error, it.n, dir), dir);
         let hit = self.accel.intersect(&ray);
-        self.follow(&ray, &hit, kind, depth + 1, weight, tally)
+        self.follow(&ray, &hit, kind, depth + 1, weight, walk)
     }
 
     /// Local shading from every light, each tested with a shadow ray.
@@ -173,11 +182,13 @@ impl Whitted<'_> {
         wo: Vec3,
         depth: u32,
         weight: Vec3,
-        tally: &mut Tally,
+        walk: &mut Walk<'_>,
     ) -> Vec3 {
         let mut radiance = Vec3::ZERO;
         for (index, light) in self.scene.lights.iter().enumerate() {
-            let incident = light.incident(it.p);
+            let Some(incident) = light.incident(it.p, walk.rng.next_2d()) else {
+                continue;
+            };
             let cos = it.n.dot(incident.wi);
             if cos <= 0.0 {
                 continue;
@@ -185,14 +196,14 @@ impl Whitted<'_> {
             let mut shadow = Ray::new(offset(it.p, it.error, it.n, incident.wi), incident.wi);
             // Stop just short of a point light: it is not geometry and cannot occlude itself.
             shadow.tfar = incident.distance * (1.0 - 1e-4);
-            tally.count(RayKind::Shadow, depth);
+            walk.tally.count(RayKind::Shadow, depth);
             let blocked = self.accel.occluded(&shadow);
             let contribution = if blocked {
                 Vec3::ZERO
             } else {
                 material.local_brdf(it.n, wo, incident.wi) * incident.irradiance * cos
             };
-            tally.open(|| Node {
+            walk.tally.open(|| Node {
                 depth,
                 kind: RayKind::Shadow,
                 hit: format!(

@@ -66,14 +66,17 @@ fn ray_sets(scene: &Scene, accel: &Accel, count: usize) -> RaySets {
         })
         .collect();
 
-    let target = match scene.lights.first() {
-        Some(light) => light.incident(bounds.center()),
-        None => crate::lights::Light::Directional {
-            direction: -Vec3::Y,
-            irradiance: Vec3::ONE,
-        }
-        .incident(bounds.center()),
+    // Shadow rays go towards the first light, or straight up without one.
+    let overhead = crate::lights::Incident {
+        wi: Vec3::Y,
+        distance: f32::INFINITY,
+        irradiance: Vec3::ONE,
     };
+    let target = scene
+        .lights
+        .first()
+        .and_then(|light| light.incident(bounds.center(), [0.5; 2]))
+        .unwrap_or(overhead);
     let shadow = camera
         .iter()
         .filter_map(|ray| {

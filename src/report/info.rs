@@ -92,6 +92,29 @@ pub fn describe(scene: &Scene, accel: &Accel) -> String {
                 v(*direction),
                 v(*irradiance)
             ),
+            Light::Sphere {
+                center,
+                radius,
+                radiance,
+            } => writeln!(
+                s,
+                "  sphere at {} radius {radius} radiance {}",
+                v(*center),
+                v(*radiance)
+            ),
+            Light::Quad {
+                corner,
+                edge1,
+                edge2,
+                radiance,
+            } => writeln!(
+                s,
+                "  quad at {} edges {} {} radiance {}",
+                v(*corner),
+                v(*edge1),
+                v(*edge2),
+                v(*radiance)
+            ),
         };
     }
     s

@@ -164,6 +164,26 @@ enum ScaleFile {
 enum LightFile {
     Point(PointFile),
     Directional(DirectionalFile),
+    Sphere(SphereLightFile),
+    Quad(QuadLightFile),
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SphereLightFile {
+    center: [f32; 3],
+    radius: f32,
+    radiance: [f32; 3],
+}
+
+/// A parallelogram corner + s·edge1 + t·edge2, emitting towards edge1 × edge2.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct QuadLightFile {
+    corner: [f32; 3],
+    edge1: [f32; 3],
+    edge2: [f32; 3],
+    radiance: [f32; 3],
 }
 
 #[derive(Deserialize)]
@@ -291,6 +311,7 @@ impl Check<'_> {
             shininess,
             ior,
             emission: colour("radiance", m.radiance, 0.0)?,
+            sampled_light: false,
         })
     }
 
@@ -461,7 +482,7 @@ pub(super) fn load(path: &Path) -> Result<Scene> {
     }
     for (index, light) in file.lights.iter().enumerate() {
         let key = |field: &str| format!("lights[{index}].{field}");
-        scene.lights.push(match light {
+        let light = match light {
             LightFile::Point(p) => Light::Point {
                 position: check.finite(&key("position"), p.position)?,
                 intensity: check.colour(&key("intensity"), p.intensity)?,
@@ -470,7 +491,62 @@ pub(super) fn load(path: &Path) -> Result<Scene> {
                 direction: check.direction(&key("direction"), d.direction)?,
                 irradiance: check.colour(&key("irradiance"), d.irradiance)?,
             },
-        });
+            LightFile::Sphere(l) => {
+                let center = check.finite(&key("center"), l.center)?;
+                let radiance = check.colour(&key("radiance"), l.radiance)?;
+                if !(l.radius > 0.0 && l.radius.is_finite()) {
+                    return Err(check.error(
+                        &key("radius"),
+                        format!("expected a number > 0, found {}", l.radius),
+                    ));
+                }
+                // The light is also geometry: camera and bounce rays see it, and it casts shadows.
+                let material = scene.light_material(index, radiance);
+                let place = DAffine3::from_translation(center.as_dvec3());
+                let surface = crate::geometry::Surface::Sphere {
+                    radius: f64::from(l.radius),
+                };
+                let shape = Shape::new(surface, place, None, material, solver)
+                    .map_err(|e| check.error(&key("radius"), e))?;
+                scene.shapes.push(shape);
+                Light::Sphere {
+                    center,
+                    radius: l.radius,
+                    radiance,
+                }
+            }
+            LightFile::Quad(l) => {
+                let corner = check.finite(&key("corner"), l.corner)?;
+                let edge1 = check.finite(&key("edge1"), l.edge1)?;
+                let edge2 = check.finite(&key("edge2"), l.edge2)?;
+                let radiance = check.colour(&key("radiance"), l.radiance)?;
+                if edge1.cross(edge2).length() <= 0.0 {
+                    return Err(check.error(
+                        &key("edge1"),
+                        "the quad has zero area: its edges are parallel or zero",
+                    ));
+                }
+                let material = scene.light_material(index, radiance);
+                scene.meshes.push(crate::geometry::Mesh {
+                    name: format!("light {index}"),
+                    positions: vec![
+                        corner,
+                        corner + edge1,
+                        corner + edge1 + edge2,
+                        corner + edge2,
+                    ],
+                    triangles: vec![[0, 1, 2], [0, 2, 3]],
+                    materials: vec![material; 2],
+                });
+                Light::Quad {
+                    corner,
+                    edge1,
+                    edge2,
+                    radiance,
+                }
+            }
+        };
+        scene.lights.push(light);
     }
     scene.camera = match &file.camera {
         Some(c) => check.camera(c)?,

@@ -144,6 +144,16 @@ impl Scene {
         }
     }
 
+    /// The emissive material of area light `index`'s geometry.
+    pub(crate) fn light_material(&mut self, index: usize, radiance: Vec3) -> u32 {
+        let mut m = Material::diffuse(&format!("light {index}"), Vec3::ZERO);
+        m.kind = crate::shading::MaterialKind::Emissive;
+        m.emission = radiance;
+        m.sampled_light = true;
+        self.materials.push(m);
+        self.materials.len() as u32 - 1
+    }
+
     pub fn bounds(&self) -> Bounds {
         let meshes = self.meshes.iter().map(Mesh::bounds);
         let shapes = self.shapes.iter().map(Shape::bounds);

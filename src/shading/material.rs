@@ -31,6 +31,9 @@ pub struct Material {
     pub ior: f32,
     /// Emitted radiance (Ke).
     pub emission: Vec3,
+    /// The surface of an area light that next-event estimation samples: paths
+    /// that reach it by a diffuse or glossy bounce do not count its emission again.
+    pub sampled_light: bool,
 }
 
 impl Material {
@@ -48,6 +51,7 @@ impl Material {
             shininess: 0.0,
             ior: 1.5,
             emission: Vec3::ZERO,
+            sampled_light: false,
         }
     }
 
@@ -82,6 +86,7 @@ impl Material {
             // Ni = 1 (or missing) in a glass material means "not set": use glass's 1.5.
             ior: m.optical_density.filter(|&n| n > 1.0).unwrap_or(1.5),
             emission,
+            sampled_light: false,
         }
     }
 
