@@ -33,19 +33,13 @@ impl PathTracer<'_> {
             let hit = self.accel.intersect(&ray);
             if !hit.is_hit() {
                 radiance += beta * self.scene.background;
-                self.record(tally, kind, depth, beta, "background".into(), hit.t);
+                tally.open(|| Node::of_hit(self.scene, &hit, kind, depth, beta));
                 break;
             }
             let it = self.scene.interaction(&ray, &hit);
             let material = &self.scene.materials[it.material as usize];
-            self.record(
-                tally,
-                kind,
-                depth,
-                beta,
-                format!("geometry {} primitive {}", hit.geom_id, hit.prim_id),
-                hit.t,
-            );
+            // Built only when explain records the tree: nothing is allocated per ray.
+            tally.open(|| Node::of_hit(self.scene, &hit, kind, depth, beta));
             if depth == 0 {
                 first = Some((hit.t, it.n, material.albedo));
             }
@@ -97,26 +91,6 @@ impl PathTracer<'_> {
             normal,
             albedo,
         }
-    }
-
-    fn record(
-        &self,
-        tally: &mut Tally,
-        kind: RayKind,
-        depth: u32,
-        beta: Vec3,
-        hit: String,
-        t: f32,
-    ) {
-        tally.open(|| Node {
-            depth,
-            kind,
-            hit,
-            t,
-            material: None,
-            weight: beta.to_array(),
-            radiance: [0.0; 3],
-        });
     }
 
     /// Next-event estimation: each light (area lights at one sampled point),

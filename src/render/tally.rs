@@ -3,6 +3,9 @@
 
 use serde::Serialize;
 
+use crate::math::{Hit, Vec3};
+use crate::scene::Scene;
+
 /// How many depths the per-depth counts keep apart; deeper rays share the last.
 pub const DEPTHS: usize = 16;
 
@@ -67,6 +70,32 @@ pub struct Node {
     pub radiance: [f32; 3],
 }
 
+impl Node {
+    /// The node of a ray that ended at `hit` (a miss: the background).
+    pub fn of_hit(scene: &Scene, hit: &Hit, kind: RayKind, depth: u32, weight: Vec3) -> Node {
+        let (what, material) = if !hit.is_hit() {
+            ("background".to_string(), None)
+        } else if hit.geom_id == scene.shapes_geom_id() {
+            let shape = &scene.shapes[hit.prim_id as usize];
+            let what = format!("shape {} ({})", hit.prim_id, shape.surface.describe());
+            (what, Some(shape.material))
+        } else {
+            let mesh = &scene.meshes[hit.geom_id as usize];
+            let what = format!("mesh {:?} triangle {}", mesh.name, hit.prim_id);
+            (what, Some(mesh.materials[hit.prim_id as usize]))
+        };
+        Node {
+            depth,
+            kind,
+            hit: what,
+            t: hit.t,
+            material: material.map(|m| scene.materials[m as usize].name.clone()),
+            weight: weight.to_array(),
+            radiance: [0.0; 3],
+        }
+    }
+}
+
 /// Counts, and the tree when one is being recorded.
 #[derive(Default)]
 pub struct Tally {
@@ -95,7 +124,7 @@ impl Tally {
     }
 
     /// Fills in the radiance of a node opened before its children were traced.
-    pub fn finish(&mut self, index: Option<usize>, radiance: crate::math::Vec3) {
+    pub fn finish(&mut self, index: Option<usize>, radiance: Vec3) {
         if let (Some(tree), Some(i)) = (self.tree.as_mut(), index) {
             tree[i].radiance = radiance.to_array();
         }

@@ -62,7 +62,9 @@ impl Whitted<'_> {
         walk: &mut Walk<'_>,
     ) -> Vec3 {
         walk.tally.count(kind, depth);
-        let node = walk.tally.open(|| self.describe(hit, kind, depth, weight));
+        let node = walk
+            .tally
+            .open(|| Node::of_hit(self.scene, hit, kind, depth, weight));
         let radiance = if hit.is_hit() {
             let it = self.scene.interaction(ray, hit);
             self.shade(ray, &it, depth, weight, walk)
@@ -71,34 +73,6 @@ impl Whitted<'_> {
         };
         walk.tally.finish(node, radiance);
         radiance
-    }
-
-    fn describe(&self, hit: &Hit, kind: RayKind, depth: u32, weight: Vec3) -> Node {
-        let (what, material) = if !hit.is_hit() {
-            ("background".to_string(), None)
-        } else if hit.geom_id == self.scene.shapes_geom_id() {
-            let shape = &self.scene.shapes[hit.prim_id as usize];
-            (
-                format!("shape {} ({})", hit.prim_id, shape.surface.describe()),
-                Some(shape.material),
-            )
-        } else {
-            let mesh = &self.scene.meshes[hit.geom_id as usize];
-            let m = mesh.materials[hit.prim_id as usize];
-            (
-                format!("mesh {:?} triangle {}", mesh.name, hit.prim_id),
-                Some(m),
-            )
-        };
-        Node {
-            depth,
-            kind,
-            hit: what,
-            t: hit.t,
-            material: material.map(|m| self.scene.materials[m as usize].name.clone()),
-            weight: weight.to_array(),
-            radiance: [0.0; 3],
-        }
     }
 
     fn shade(
