@@ -146,3 +146,36 @@ fn every_reconstruction_filter_keeps_a_uniform_region_exact() {
         assert!(mixed, "{filter}: no pixel mixes square and background");
     }
 }
+
+#[test]
+fn point_light_over_a_diffuse_plane() {
+    // A point light of intensity I at height h over the square: the irradiance at a
+    // point x off its foot is I·cosθ/d² with cosθ = h/d, d² = h² + x². Check the
+    // centre (x = 0) and the falloff towards the edge along the image's rows.
+    let text = plane_scene("")
+        .replace("type = \"directional\"", "type = \"point\"")
+        .replace("direction = [0, 0, -1]", "position = [0, 0, 2]")
+        .replace("irradiance = [2, 2, 2]", "intensity = [8, 8, 8]");
+    let dir = scratch("pointlight");
+    write(&dir, "square.obj", SQUARE);
+    let scene = Scene::load(&write(&dir, "s.toml", &text)).unwrap();
+    let accel = Accel::build(&scene, Backend::Embree, None).unwrap();
+    let out = render(&scene, &accel, &options(2)).unwrap();
+    let layers = out.film.layers();
+    let (w, h) = (out.film.width, out.film.height);
+    let frame = scene.camera.frame();
+    for x in [w / 2, w / 2 + 3, w / 2 + 6] {
+        let y = h / 2;
+        // Where this pixel's centre ray meets the plane z = 0.
+        let ray = frame.ray(x as f32 + 0.5, y as f32 + 0.5);
+        let p = ray.at(-ray.origin.z / ray.dir.z);
+        let d2 = p.length_squared() + 4.0;
+        let irradiance = 8.0 * (2.0 / d2.sqrt()) / d2;
+        let expected = 0.5 / PI * irradiance;
+        let got = layers.beauty[y * w + x][0];
+        assert!(
+            (got - expected).abs() < 1e-5 * expected.max(1.0),
+            "x = {x}: {got} vs {expected}"
+        );
+    }
+}
