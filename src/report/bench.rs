@@ -9,7 +9,7 @@ use serde::Serialize;
 
 use crate::accel::{Accel, Backend};
 use crate::error::Result;
-use crate::math::{Hit, Ray, Vec3};
+use crate::math::{Hit, Ray, Vec3, offset};
 use crate::render::thread_pool;
 use crate::sampling::Rng;
 use crate::scene::Scene;
@@ -82,13 +82,9 @@ fn ray_sets(scene: &Scene, accel: &Accel, count: usize) -> RaySets {
         .filter_map(|ray| {
             let hit = accel.intersect(ray);
             hit.is_hit().then(|| {
-                let mut n = hit.ng.normalize_or_zero();
-                if n.dot(ray.dir) > 0.0 {
-                    n = -n;
-                }
-                let p = ray.at(hit.t);
-                // A relative offset is enough here: the bench measures traversal speed.
-                let mut s = Ray::new(p + n * (1e-4 * (1.0 + p.abs().max_element())), target.wi);
+                // Spawned as the renderer spawns its shadow rays.
+                let it = scene.interaction(ray, &hit);
+                let mut s = Ray::new(offset(it.p, it.error, it.n, target.wi), target.wi);
                 s.tfar = target.distance;
                 s
             })
