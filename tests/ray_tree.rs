@@ -240,11 +240,16 @@ fn whitted_scenes_bounce_no_diffuse_rays_and_path_scenes_do() {
     );
 }
 
-/// The square under a small quad light 1 above its centre, seen from the side so
-/// the light does not hide the centre; `integrator` whitted or path.
-fn under_a_quad_light(name: &str, integrator: &str) -> (RayStats, Vec<[f32; 3]>) {
+/// The square under a light (TOML text, plus files it needs) about 1 above
+/// its centre, seen from the side so the light does not hide the centre;
+/// `integrator` whitted or path. Returns the stats and the mean of the four
+/// centre pixels (the image is 8×8; they see points within 0.02 of the axis).
+fn under_a_light(name: &str, integrator: &str, light: &str, files: &[File]) -> (RayStats, f32) {
     let dir = scratch(name);
     write(&dir, "square.obj", SQUARE);
+    for (file, text) in files {
+        write(&dir, file, text);
+    }
     let text = format!(
         r#"[camera]
 eye = [2, 0, 3]
@@ -262,40 +267,148 @@ albedo = [0.5, 0.5, 0.5]
 type = "mesh"
 file = "square.obj"
 material = "paint"
-[[lights]]
+{light}"#
+    );
+    let (st, image) = stats(&Scene::load(&write(&dir, "s.toml", &text)).unwrap(), false);
+    let centre = [(3, 3), (4, 3), (3, 4), (4, 4)]
+        .iter()
+        .map(|&(x, y)| image[y * 8 + x][0])
+        .sum::<f32>()
+        / 4.0;
+    (st, centre)
+}
+
+/// A file the scene needs: name and text.
+type File<'a> = (&'a str, &'a str);
+
+const QUAD_LIGHT: &str = r#"[[lights]]
 type = "quad"
 corner = [-0.25, -0.25, 1]
 edge1 = [0, 0.5, 0]
 edge2 = [0.5, 0, 0]
 radiance = [4, 4, 4]
-"#
-    );
-    stats(&Scene::load(&write(&dir, "s.toml", &text)).unwrap(), false)
+"#;
+
+/// The same square of light as an OBJ panel with an emissive MTL material,
+/// wound to face down (`down`) or up.
+fn panel(down: bool) -> String {
+    let face = if down { "f 1 2 3 4" } else { "f 4 3 2 1" };
+    format!(
+        "mtllib panel.mtl\nv -0.25 -0.25 1\nv -0.25 0.25 1\nv 0.25 0.25 1\nv 0.25 -0.25 1\n\
+         usemtl glow\n{face}\n"
+    )
 }
 
+const PANEL_MTL: &str = "newmtl glow\nKd 0 0 0\nKe 4 4 4\n";
+
+const PANEL_OBJECT: &str = "[[objects]]\ntype = \"mesh\"\nfile = \"panel.obj\"\n";
+
 #[test]
-fn a_quad_light_gives_the_form_factor_irradiance_once() {
+fn area_lights_give_the_form_factor_irradiance_once() {
     // On the light's axis at height 1, a square of half-side 0.25 gives, by the
     // closed form for rectangles (four quarters with a' = b' = 0.25),
-    // E = 4 · L/2 · 2 · 0.25/√1.0625 · atan(0.25/√1.0625); the centre pixel shows
-    // albedo/π · E. The path tracer must agree: it reaches the light again by
-    // bouncing, but counts it only through next-event estimation.
+    // E = 4 · L/2 · 2 · 0.25/√1.0625 · atan(0.25/√1.0625); the centre shows
+    // albedo/π · E. The path tracer must agree: it reaches the light both by
+    // light sampling and by bouncing, and MIS weights the two to sum to one.
+    // The square comes as a TOML quad light and as an emissive OBJ panel.
     let k = 0.25 / 1.0625f32.sqrt();
     let e = 4.0 * 4.0 / 2.0 * 2.0 * k * k.atan();
     let expected = 0.5 / std::f32::consts::PI * e;
+    let down = panel(true);
+    let lights: [(&str, &str, &[File]); 2] = [
+        ("quad", QUAD_LIGHT, &[]),
+        (
+            "panel",
+            PANEL_OBJECT,
+            &[("panel.obj", down.as_str()), ("panel.mtl", PANEL_MTL)],
+        ),
+    ];
+    for (light, text, files) in lights {
+        for integrator in ["whitted", "path"] {
+            let name = format!("{light}-{integrator}");
+            let (st, centre) = under_a_light(&name, integrator, text, files);
+            // 1024 one-point light samples: a few percent of noise at most.
+            assert!(
+                (centre - expected).abs() < 0.03 * expected,
+                "{name}: {centre} vs {expected}"
+            );
+            assert!(st.shadow > 0);
+        }
+    }
+}
+
+#[test]
+fn an_emissive_sphere_is_a_sampled_light() {
+    // A sphere of radius 0.4 centred 1 above the point gives E = π L (0.4/1)²
+    // (a sphere light's closed form), so the centre shows albedo · L · 0.16. A
+    // sphere this close fills a wide cone, so the path tracer's bounces hit it
+    // often: the MIS weights of both strategies are far from 0 and 1.
+    let sphere = "[materials.glow]\ntype = \"emissive\"\nradiance = [4, 4, 4]\n\
+                  [[objects]]\ntype = \"sphere\"\nradius = 0.4\nmaterial = \"glow\"\n\
+                  transform = { translate = [0, 0, 1] }\n";
+    let expected = 0.5 * 4.0 * 0.16;
     for integrator in ["whitted", "path"] {
-        let (st, image) = under_a_quad_light(integrator, integrator);
-        // The four centre pixels (the image is 8×8) see points within 0.02 of the axis.
-        let centre: f32 = [(3, 3), (4, 3), (3, 4), (4, 4)]
-            .iter()
-            .map(|&(x, y)| image[y * 8 + x][0])
-            .sum::<f32>()
-            / 4.0;
-        // 1024 one-point light samples: a few percent of noise at most.
+        let (st, centre) = under_a_light(&format!("sphere-{integrator}"), integrator, sphere, &[]);
         assert!(
             (centre - expected).abs() < 0.03 * expected,
             "{integrator}: {centre} vs {expected}"
         );
-        assert!(st.shadow > 0);
+        assert!(st.shadow > 0, "the emissive sphere is sampled");
     }
+}
+
+#[test]
+fn area_lights_shine_from_their_front_only() {
+    // The panel wound to face up lights nothing below it, by either strategy.
+    let up = panel(false);
+    for integrator in ["whitted", "path"] {
+        let files = [("panel.obj", up.as_str()), ("panel.mtl", PANEL_MTL)];
+        let (_, centre) = under_a_light(
+            &format!("up-{integrator}"),
+            integrator,
+            PANEL_OBJECT,
+            &files,
+        );
+        assert_eq!(centre, 0.0, "{integrator}");
+    }
+}
+
+#[test]
+fn explain_gives_each_path_node_the_radiance_it_brings_back() {
+    let dir = scratch("explain-path");
+    write(&dir, "square.obj", SQUARE);
+    let text = format!(
+        "[camera]\neye = [2, 0, 3]\nlook_at = [0, 0, 0]\nfov = 10\nwidth = 8\nheight = 8\n\
+         [render]\nspp = 4\nintegrator = \"path\"\n\
+         [materials.paint]\ntype = \"diffuse\"\nalbedo = [0.5, 0.5, 0.5]\n\
+         [[objects]]\ntype = \"mesh\"\nfile = \"square.obj\"\nmaterial = \"paint\"\n{QUAD_LIGHT}"
+    );
+    let scene = Scene::load(&write(&dir, "s.toml", &text)).unwrap();
+    let accel = Accel::build(&scene, Backend::Embree, Some(1)).unwrap();
+    let mut bounced = 0;
+    for k in 0..4 {
+        let (sample, tree) = sturmray::render::explain(&scene, &accel, (4, 4), k, false).unwrap();
+        // The camera ray brings back the whole sample: its weight is 1.
+        let camera = Vec3::from(tree[0].radiance);
+        assert!(
+            (camera - sample.radiance).abs().max_element() <= 1e-5 * sample.radiance.max_element(),
+            "{camera} vs {}",
+            sample.radiance
+        );
+        assert!(sample.radiance.x > 0.0, "the square is lit");
+        // Every later node carries its own weight and what it brings back, so
+        // radiance × weight never exceeds what the node above it brought back.
+        for pair in tree.windows(2) {
+            let (above, below) = (Vec3::from(pair[0].radiance), &pair[1]);
+            let carried = Vec3::from(below.radiance) * Vec3::from(below.weight);
+            assert!(
+                carried
+                    .cmple(above * Vec3::from(pair[0].weight) * (1.0 + 1e-5))
+                    .all(),
+                "{tree:?}"
+            );
+        }
+        bounced += tree.len() - 1;
+    }
+    assert!(bounced > 0, "the path tracer bounces off the square");
 }

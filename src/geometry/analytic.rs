@@ -248,6 +248,33 @@ impl Shape {
         })
     }
 
+    /// The centre and radius of the world-space sphere this shape is, if it is
+    /// a whole sphere under a similarity transform (rotation, uniform scale,
+    /// translation) and no clip box cuts it: what a sphere light needs.
+    pub fn world_sphere(&self) -> Option<(DVec3, f64)> {
+        let Surface::Sphere { radius } = self.surface else {
+            return None;
+        };
+        let whole = Box3::cube(radius);
+        if self.object_box.intersection(&whole) != whole {
+            return None;
+        }
+        let to_world = self.to_object.inverse();
+        let m = to_world.matrix3;
+        let scale = m.x_axis.length();
+        let similar = [m.y_axis.length(), m.z_axis.length()]
+            .iter()
+            .all(|s| (s - scale).abs() <= 1e-9 * scale)
+            && [
+                m.x_axis.dot(m.y_axis),
+                m.y_axis.dot(m.z_axis),
+                m.z_axis.dot(m.x_axis),
+            ]
+            .iter()
+            .all(|d| d.abs() <= 1e-9 * scale * scale);
+        similar.then_some((to_world.translation, radius * scale))
+    }
+
     /// World-space bounds, rounded outwards to f32.
     pub fn bounds(&self) -> Bounds {
         self.world_bounds

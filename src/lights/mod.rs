@@ -1,4 +1,13 @@
 //! Lights and the radiance they send to a point.
+//!
+//! Point and directional lights are given in the scene file. Area lights are
+//! the scene's emissive geometry: every emissive triangle and every emissive
+//! sphere becomes one (see `scene::emitters`), so a light is always visible,
+//! casts shadows and is found by bounces as well as by light sampling.
+
+mod pick;
+
+pub use pick::{LightPick, LightPicker};
 
 use crate::math::Vec3;
 use crate::sampling::warp;
@@ -9,16 +18,17 @@ pub enum Light {
     Point { position: Vec3, intensity: Vec3 },
     /// Irradiance E on a surface facing the light; `direction` is where light travels.
     Directional { direction: Vec3, irradiance: Vec3 },
-    /// A sphere of uniform radiance L (also in the scene as an emissive shape).
+    /// An emissive sphere of uniform radiance L, emitting outwards.
     Sphere {
         center: Vec3,
         radius: f32,
         radiance: Vec3,
     },
-    /// A parallelogram corner + s·edge1 + t·edge2 of uniform radiance, emitting on
-    /// the side edge1 × edge2 points to (also in the scene as two emissive triangles).
-    Quad {
-        corner: Vec3,
+    /// An emissive triangle p0, p0 + edge1, p0 + edge2 of uniform radiance,
+    /// emitting on the side edge1 × edge2 points to: the side a hit calls its
+    /// front (the counter-clockwise side), as pbrt and Mitsuba area lights do.
+    Triangle {
+        p0: Vec3,
         edge1: Vec3,
         edge2: Vec3,
         radiance: Vec3,
@@ -33,6 +43,10 @@ pub struct Incident {
     pub wi: Vec3,
     pub distance: f32,
     pub irradiance: Vec3,
+    /// The solid-angle density with which `wi` was sampled (for multiple
+    /// importance sampling); 0 for point and directional lights, which no
+    /// bounce can reach.
+    pub pdf: f32,
 }
 
 impl Light {
@@ -51,6 +65,7 @@ impl Light {
                     wi: to / distance,
                     distance,
                     irradiance: *intensity / d2,
+                    pdf: 0.0,
                 })
             }
             Light::Directional {
@@ -60,6 +75,7 @@ impl Light {
                 wi: -direction.normalize(),
                 distance: f32::INFINITY,
                 irradiance: *irradiance,
+                pdf: 0.0,
             }),
             Light::Sphere {
                 center,
@@ -85,32 +101,83 @@ impl Light {
                     wi,
                     distance,
                     irradiance: *radiance / pdf,
+                    pdf,
                 })
             }
-            Light::Quad {
-                corner,
+            Light::Triangle {
+                p0,
                 edge1,
                 edge2,
                 radiance,
             } => {
-                let point = *corner + u[0] * *edge1 + u[1] * *edge2;
-                let normal = edge1.cross(*edge2);
-                let area = normal.length();
+                let (b1, b2) = warp::uniform_triangle(u);
+                let point = *p0 + b1 * *edge1 + b2 * *edge2;
                 let to = point - p;
-                let d2 = to.length_squared();
-                let distance = d2.sqrt();
+                let distance = to.length();
                 let wi = to / distance;
-                let cos_light = -wi.dot(normal) / area;
-                if cos_light <= 0.0 {
-                    return None;
-                }
-                // Uniform on the area: pdf in solid angle = d² / (A cos θ_light).
-                Some(Incident {
+                let pdf = self.pdf(p, point);
+                (pdf > 0.0).then(|| Incident {
                     wi,
                     distance,
-                    irradiance: *radiance * (area * cos_light / d2),
+                    irradiance: *radiance / pdf,
+                    pdf,
                 })
             }
+        }
+    }
+
+    /// The solid-angle density with which [`Light::incident`] from `p` picks
+    /// the direction towards `point`, a point on the light (where a bounce
+    /// from p found it). Zero for point and directional lights, and for the
+    /// back of a triangle.
+    pub fn pdf(&self, p: Vec3, point: Vec3) -> f32 {
+        match self {
+            Light::Point { .. } | Light::Directional { .. } => 0.0,
+            Light::Sphere { center, radius, .. } => {
+                let sin2_max = radius * radius / (*center - p).length_squared();
+                if sin2_max >= 1.0 {
+                    0.0
+                } else {
+                    warp::uniform_cone_sin2_pdf(sin2_max)
+                }
+            }
+            Light::Triangle { edge1, edge2, .. } => {
+                // Uniform on the area: pdf in solid angle = d² / (A cos θ_light).
+                let normal = edge1.cross(*edge2);
+                let double_area = normal.length();
+                let to = point - p;
+                let d2 = to.length_squared();
+                let cos_light = -to.dot(normal) / (d2.sqrt() * double_area);
+                if cos_light > 0.0 && double_area > 0.0 {
+                    d2 / (0.5 * double_area * cos_light)
+                } else {
+                    0.0
+                }
+            }
+        }
+    }
+
+    /// A point or directional light: one direction reaches it, no bounce can.
+    pub fn is_delta(&self) -> bool {
+        matches!(self, Light::Point { .. } | Light::Directional { .. })
+    }
+
+    /// Emitted power, up to a constant factor shared by all area lights: what
+    /// light sampling picks lights by. Zero for point and directional lights,
+    /// which are sampled every time.
+    pub fn area_power(&self) -> f32 {
+        let luminance = |c: Vec3| c.dot(Vec3::new(0.2126, 0.7152, 0.0722));
+        match self {
+            Light::Point { .. } | Light::Directional { .. } => 0.0,
+            Light::Sphere {
+                radius, radiance, ..
+            } => luminance(*radiance) * 4.0 * std::f32::consts::PI * radius * radius,
+            Light::Triangle {
+                edge1,
+                edge2,
+                radiance,
+                ..
+            } => luminance(*radiance) * 0.5 * edge1.cross(*edge2).length(),
         }
     }
 }
@@ -193,25 +260,67 @@ mod tests {
     }
 
     #[test]
-    fn quad_light_irradiance_matches_the_form_factor() {
+    fn two_triangle_lights_give_the_form_factor_of_their_square() {
         // A unit square at height 1, centred on the point's normal, facing down. By
         // the classic closed form, a rectangle a × b whose corner is at height h right
         // above the point gives E = L/2 [a'/√(1+a'²) atan(b'/√(1+a'²)) + b'/√(1+b'²)
         // atan(a'/√(1+b'²))] with a' = a/h, b' = b/h; the square is four such quarters.
-        let light = Light::Quad {
-            corner: Vec3::new(-0.5, -0.5, 1.0),
-            edge1: Vec3::new(0.0, 1.0, 0.0),
-            edge2: Vec3::new(1.0, 0.0, 0.0),
-            radiance: Vec3::splat(2.0),
-        };
+        let corner = Vec3::new(-0.5, -0.5, 1.0);
+        let (x_edge, y_edge) = (Vec3::X, Vec3::Y);
+        let radiance = Vec3::splat(2.0);
+        let halves = [
+            Light::Triangle {
+                p0: corner,
+                edge1: y_edge,
+                edge2: x_edge + y_edge,
+                radiance,
+            },
+            Light::Triangle {
+                p0: corner,
+                edge1: x_edge + y_edge,
+                edge2: x_edge,
+                radiance,
+            },
+        ];
         let (x, y) = (0.5f32, 0.5f32);
         let quarter = 0.5
             * (x / (1.0 + x * x).sqrt() * (y / (1.0 + x * x).sqrt()).atan()
                 + y / (1.0 + y * y).sqrt() * (x / (1.0 + y * y).sqrt()).atan());
         let exact = 2.0 * 4.0 * quarter;
-        let e = mean_irradiance(&light, Vec3::ZERO, Vec3::Z);
+        let e: f32 = halves
+            .iter()
+            .map(|t| mean_irradiance(t, Vec3::ZERO, Vec3::Z))
+            .sum();
         assert!((e - exact).abs() < 5e-3 * exact, "{e} vs {exact}");
-        // From above, it shows its back: nothing.
-        assert!(light.incident(Vec3::new(0.0, 0.0, 2.0), [0.5; 2]).is_none());
+        // From above, they show their backs: nothing.
+        for t in &halves {
+            assert!(t.incident(Vec3::new(0.0, 0.0, 2.0), [0.5; 2]).is_none());
+        }
+    }
+
+    #[test]
+    fn pdf_agrees_with_the_sampled_density() {
+        let lights = [
+            Light::Sphere {
+                center: Vec3::new(0.3, -0.2, 3.0),
+                radius: 0.7,
+                radiance: Vec3::ONE,
+            },
+            Light::Triangle {
+                // edge1 × edge2 points down, towards p.
+                p0: Vec3::new(-1.0, 0.0, 2.0),
+                edge1: Vec3::new(0.0, 1.5, -0.5),
+                edge2: Vec3::new(2.0, 0.5, 0.0),
+                radiance: Vec3::ONE,
+            },
+        ];
+        let p = Vec3::new(0.1, 0.2, -0.3);
+        for light in &lights {
+            for u in [[0.1, 0.9], [0.5, 0.5], [0.8, 0.2]] {
+                let inc = light.incident(p, u).unwrap();
+                let pdf = light.pdf(p, p + inc.distance * inc.wi);
+                assert!((pdf - inc.pdf).abs() < 1e-4 * pdf, "{pdf} vs {}", inc.pdf);
+            }
+        }
     }
 }

@@ -1,14 +1,17 @@
 //! The path tracer: global illumination by BSDF sampling, next-event
-//! estimation towards the point and directional lights (delta lights, so no
-//! MIS is needed for them), and Russian roulette after a few bounces. Emissive
-//! surfaces and the background are reached by BSDF sampling.
+//! estimation (every point and directional light, plus one area light picked
+//! by power), multiple importance sampling between the two ways of reaching
+//! an area light, and Russian roulette after a few bounces. The background
+//! and emissive shapes that are not sampled lights are reached by BSDF
+//! sampling alone.
 
 use super::Plan;
 use super::tally::{Node, RayKind, Tally};
 use crate::accel::Accel;
 use crate::film::Sample;
-use crate::math::{Ray, Vec3, offset};
+use crate::math::{Hit, Ray, Vec3, offset};
 use crate::sampling::Rng;
+use crate::sampling::mis::power_heuristic;
 use crate::scene::{Interaction, Scene};
 use crate::shading::{Bsdf, Frame, Lobe};
 
@@ -21,6 +24,15 @@ pub struct PathTracer<'a> {
     pub plan: Plan,
 }
 
+/// The shading point a path is at, as light sampling needs it.
+struct Vertex<'v> {
+    it: &'v Interaction,
+    bsdf: &'v Bsdf,
+    frame: &'v Frame,
+    wo: Vec3,
+    depth: u32,
+}
+
 impl PathTracer<'_> {
     pub fn sample(&self, camera: &Ray, rng: &mut Rng, tally: &mut Tally) -> Sample {
         let mut radiance = Vec3::ZERO;
@@ -28,34 +40,51 @@ impl PathTracer<'_> {
         let mut ray = *camera;
         let mut kind = RayKind::Camera;
         let mut first = None;
+        // Where the last bounce left from and the BSDF density of its direction,
+        // when light sampling there could also have found what the ray hits: the
+        // two strategies' MIS weights must then sum to one.
+        let mut sampled_from: Option<(Vec3, f32)> = None;
+        let path = tally.mark();
         for depth in 0..=self.plan.max_depth {
             tally.count(kind, depth);
             let hit = self.accel.intersect(&ray);
+            // Built only when explain records the tree: nothing is allocated per ray.
+            let node = tally.open(|| Node::of_hit(self.scene, &hit, kind, depth, beta));
             if !hit.is_hit() {
-                radiance += beta * self.scene.background;
-                tally.open(|| Node::of_hit(self.scene, &hit, kind, depth, beta));
+                let add = beta * self.scene.background;
+                tally.add(node, add);
+                radiance += add;
                 break;
             }
             let it = self.scene.interaction(&ray, &hit);
             let material = &self.scene.materials[it.material as usize];
-            // Built only when explain records the tree: nothing is allocated per ray.
-            tally.open(|| Node::of_hit(self.scene, &hit, kind, depth, beta));
             if depth == 0 {
                 first = Some((hit.t, it.n, material.albedo));
             }
-            // Area lights are reached by next-event estimation from non-specular
-            // surfaces; counting their emission on BSDF-sampled hits too would count
-            // them twice.
-            if !material.sampled_light || kind != RayKind::Diffuse {
-                radiance += beta * material.emission;
+            let mut add = Vec3::ZERO;
+            // Emitters shine from their front side only.
+            if it.front && material.emits() {
+                let weight =
+                    sampled_from.map_or(1.0, |(from, pdf)| self.mis_weight(from, pdf, &hit, it.p));
+                add += beta * material.emission * weight;
             }
             let bsdf = Bsdf::from_material(material);
             // The BSDF tells inside from outside by the surface's own normal.
             let frame = Frame::from_normal(if it.front { it.n } else { -it.n });
             let wo = -ray.dir;
-            if self.plan.shadow && !bsdf.is_delta() {
-                radiance += beta * self.direct(&it, &bsdf, &frame, wo, depth, rng, tally);
+            let samples_lights = self.plan.shadow && !bsdf.is_delta();
+            if samples_lights {
+                let vertex = Vertex {
+                    it: &it,
+                    bsdf: &bsdf,
+                    frame: &frame,
+                    wo,
+                    depth,
+                };
+                add += beta * self.direct(&vertex, rng, tally);
             }
+            tally.add(node, add);
+            radiance += add;
             let u = [rng.next_f32(), rng.next_f32(), rng.next_f32()];
             let Some(s) = bsdf.sample(&frame, wo, u) else {
                 break;
@@ -73,6 +102,7 @@ impl PathTracer<'_> {
             if !allowed {
                 break;
             }
+            sampled_from = (samples_lights && !s.delta).then_some((it.p, s.pdf));
             beta *= s.weight;
             if depth >= ROULETTE_AFTER {
                 let survive = beta.max_element().min(0.95);
@@ -83,6 +113,7 @@ impl PathTracer<'_> {
             }
             ray = Ray::new(offset(it.p, it.error, it.n, s.wi), s.wi);
         }
+        tally.close_path(path);
         let (depth, normal, albedo) = first.unwrap_or((f32::INFINITY, Vec3::ZERO, Vec3::ZERO));
         Sample {
             radiance,
@@ -93,39 +124,68 @@ impl PathTracer<'_> {
         }
     }
 
-    /// Next-event estimation: each light (area lights at one sampled point),
-    /// through a shadow ray.
-    #[allow(clippy::too_many_arguments)]
-    fn direct(
+    /// The MIS weight of an emitter that a bounce from `from` (BSDF density
+    /// `bsdf_pdf`) found at `point`: 1 unless it is a light that light
+    /// sampling picks too.
+    fn mis_weight(&self, from: Vec3, bsdf_pdf: f32, hit: &Hit, point: Vec3) -> f32 {
+        match self.scene.light_picker.light_of(hit.geom_id, hit.prim_id) {
+            Some((light, picked)) => {
+                let light_pdf = picked * self.scene.lights[light].pdf(from, point);
+                power_heuristic(1.0, bsdf_pdf, 1.0, light_pdf)
+            }
+            None => 1.0,
+        }
+    }
+
+    /// Next-event estimation: every delta light, and one area light picked by
+    /// power, each through a shadow ray.
+    fn direct(&self, v: &Vertex<'_>, rng: &mut Rng, tally: &mut Tally) -> Vec3 {
+        let pick = self.scene.light_picker.pick(rng.next_f32());
+        let mut sum = Vec3::ZERO;
+        for light in pick.delta {
+            sum += self.light_sample(v, light, 1.0, rng, tally);
+        }
+        if let Some((light, picked)) = pick.area {
+            sum += self.light_sample(v, light, picked, rng, tally);
+        }
+        sum
+    }
+
+    /// One sample of light `index`, picked with probability `picked`.
+    fn light_sample(
         &self,
-        it: &Interaction,
-        bsdf: &Bsdf,
-        frame: &Frame,
-        wo: Vec3,
-        depth: u32,
+        v: &Vertex<'_>,
+        index: usize,
+        picked: f32,
         rng: &mut Rng,
         tally: &mut Tally,
     ) -> Vec3 {
-        let mut sum = Vec3::ZERO;
-        for light in &self.scene.lights {
-            let Some(incident) = light.incident(it.p, rng.next_2d()) else {
-                continue;
-            };
-            let cos = it.n.dot(incident.wi);
-            if cos <= 0.0 {
-                continue;
-            }
-            let f = bsdf.eval(frame, wo, incident.wi);
-            if f == Vec3::ZERO {
-                continue;
-            }
-            let mut shadow = Ray::new(offset(it.p, it.error, it.n, incident.wi), incident.wi);
-            shadow.tfar = incident.distance * (1.0 - 1e-4);
-            tally.count(RayKind::Shadow, depth);
-            if !self.accel.occluded(&shadow) {
-                sum += f * incident.irradiance * cos;
-            }
+        let it = v.it;
+        let Some(incident) = self.scene.lights[index].incident(it.p, rng.next_2d()) else {
+            return Vec3::ZERO;
+        };
+        let cos = it.n.dot(incident.wi);
+        if cos <= 0.0 {
+            return Vec3::ZERO;
         }
-        sum
+        let f = v.bsdf.eval(v.frame, v.wo, incident.wi);
+        if f == Vec3::ZERO {
+            return Vec3::ZERO;
+        }
+        let mut shadow = Ray::new(offset(it.p, it.error, it.n, incident.wi), incident.wi);
+        // Stop just short of the light: its own surface must not occlude it.
+        shadow.tfar = incident.distance * (1.0 - 1e-4);
+        tally.count(RayKind::Shadow, v.depth);
+        if self.accel.occluded(&shadow) {
+            return Vec3::ZERO;
+        }
+        // Delta lights (pdf 0) only light sampling reaches: weight 1.
+        let weight = if incident.pdf > 0.0 {
+            let bsdf_pdf = v.bsdf.pdf(v.frame, v.wo, incident.wi);
+            power_heuristic(1.0, picked * incident.pdf, 1.0, bsdf_pdf)
+        } else {
+            1.0
+        };
+        f * incident.irradiance * (cos * weight / picked)
     }
 }

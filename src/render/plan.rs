@@ -43,7 +43,11 @@ impl Plan {
                 .zip(&used)
                 .any(|(m, &u)| u && kinds.contains(&m.kind))
         };
-        let local = uses(&[MaterialKind::Diffuse, MaterialKind::Plastic]);
+        let local = uses(&[
+            MaterialKind::Diffuse,
+            MaterialKind::Plastic,
+            MaterialKind::Metal,
+        ]);
         let deep = scene.render.max_depth > 0;
         Plan {
             shadow: local && !scene.lights.is_empty(),
@@ -54,6 +58,7 @@ impl Plan {
                 && uses(&[
                     MaterialKind::Diffuse,
                     MaterialKind::Plastic,
+                    MaterialKind::Metal,
                     MaterialKind::Emissive,
                 ]),
             max_depth: scene.render.max_depth,

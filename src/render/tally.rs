@@ -123,6 +123,36 @@ impl Tally {
         Some(tree.len() - 1)
     }
 
+    /// Where the next node will go: the start of a path for [`Tally::close_path`].
+    pub fn mark(&self) -> usize {
+        self.tree.as_ref().map_or(0, Vec::len)
+    }
+
+    /// Adds to a path node what its vertex contributes to the pixel (weighted
+    /// by the path's throughput so far).
+    pub fn add(&mut self, index: Option<usize>, contribution: Vec3) {
+        if let (Some(tree), Some(i)) = (self.tree.as_mut(), index) {
+            let r = &mut tree[i].radiance;
+            *r = (Vec3::from(*r) + contribution).to_array();
+        }
+    }
+
+    /// Turns the contributions [`Tally::add`] recorded on the path's nodes
+    /// (from `start` on) into the radiance each ray brings back: what its own
+    /// vertex and every later one contribute, divided by its own weight.
+    pub fn close_path(&mut self, start: usize) {
+        let Some(tree) = self.tree.as_mut() else {
+            return;
+        };
+        let mut later = Vec3::ZERO;
+        for node in tree[start..].iter_mut().rev() {
+            later += Vec3::from(node.radiance);
+            let weight = Vec3::from(node.weight);
+            let brought = Vec3::select(weight.cmpgt(Vec3::ZERO), later / weight, Vec3::ZERO);
+            node.radiance = brought.to_array();
+        }
+    }
+
     /// Fills in the radiance of a node opened before its children were traced.
     pub fn finish(&mut self, index: Option<usize>, radiance: Vec3) {
         if let (Some(tree), Some(i)) = (self.tree.as_mut(), index) {

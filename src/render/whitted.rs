@@ -85,7 +85,12 @@ impl Whitted<'_> {
     ) -> Vec3 {
         let material = &self.scene.materials[it.material as usize];
         let wo = -ray.dir;
-        let mut radiance = material.emission;
+        // Emitters shine from their front side only.
+        let mut radiance = if it.front {
+            material.emission
+        } else {
+            Vec3::ZERO
+        };
         match material.kind {
             MaterialKind::Mirror => {
                 if self.plan.reflection {
@@ -114,7 +119,10 @@ impl Whitted<'_> {
                         t * self.spawn(it, dir, depth, weight * t, RayKind::Refraction, walk);
                 }
             }
-            MaterialKind::Diffuse | MaterialKind::Plastic | MaterialKind::Emissive => {
+            MaterialKind::Diffuse
+            | MaterialKind::Plastic
+            | MaterialKind::Metal
+            | MaterialKind::Emissive => {
                 if self.plan.shadow {
                     radiance += self.direct(it, material, wo, depth, weight, walk);
                 }
@@ -148,7 +156,8 @@ impl Whitted<'_> {
         self.follow(&ray, &hit, kind, depth + 1, weight, walk)
     }
 
-    /// Local shading from every light, each tested with a shadow ray.
+    /// Local shading from every point and directional light and one area light
+    /// picked by power, each tested with a shadow ray.
     fn direct(
         &self,
         it: &Interaction,
@@ -158,8 +167,11 @@ impl Whitted<'_> {
         weight: Vec3,
         walk: &mut Walk<'_>,
     ) -> Vec3 {
+        let pick = self.scene.light_picker.pick(walk.rng.next_f32());
+        let area = pick.area.into_iter();
         let mut radiance = Vec3::ZERO;
-        for (index, light) in self.scene.lights.iter().enumerate() {
+        for (index, picked) in pick.delta.map(|i| (i, 1.0)).chain(area) {
+            let light = &self.scene.lights[index];
             let Some(incident) = light.incident(it.p, walk.rng.next_2d()) else {
                 continue;
             };
@@ -168,14 +180,14 @@ impl Whitted<'_> {
                 continue;
             }
             let mut shadow = Ray::new(offset(it.p, it.error, it.n, incident.wi), incident.wi);
-            // Stop just short of a point light: it is not geometry and cannot occlude itself.
+            // Stop just short of the light: its own surface must not occlude it.
             shadow.tfar = incident.distance * (1.0 - 1e-4);
             walk.tally.count(RayKind::Shadow, depth);
             let blocked = self.accel.occluded(&shadow);
             let contribution = if blocked {
                 Vec3::ZERO
             } else {
-                material.local_brdf(it.n, wo, incident.wi) * incident.irradiance * cos
+                material.local_brdf(it.n, wo, incident.wi) * incident.irradiance * (cos / picked)
             };
             walk.tally.open(|| Node {
                 depth,

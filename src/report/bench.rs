@@ -71,6 +71,7 @@ fn ray_sets(scene: &Scene, accel: &Accel, count: usize) -> RaySets {
         wi: Vec3::Y,
         distance: f32::INFINITY,
         irradiance: Vec3::ONE,
+        pdf: 0.0,
     };
     let target = scene
         .lights

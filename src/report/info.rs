@@ -76,7 +76,17 @@ pub fn describe(scene: &Scene, accel: &Accel) -> String {
     if !bounds.is_empty() {
         let _ = writeln!(s, "bounds     {} to {}", v(bounds.min), v(bounds.max));
     }
-    let _ = writeln!(s, "lights     {}", scene.lights.len());
+    let triangles = scene
+        .lights
+        .iter()
+        .filter(|l| matches!(l, Light::Triangle { .. }))
+        .count();
+    let _ = writeln!(
+        s,
+        "lights     {} ({} emissive triangles, sampled one per shading point by power)",
+        scene.lights.len(),
+        triangles
+    );
     for light in &scene.lights {
         let _ = match light {
             Light::Point {
@@ -102,20 +112,15 @@ pub fn describe(scene: &Scene, accel: &Accel) -> String {
                 v(*center),
                 v(*radiance)
             ),
-            Light::Quad {
-                corner,
-                edge1,
-                edge2,
-                radiance,
-            } => writeln!(
-                s,
-                "  quad at {} edges {} {} radiance {}",
-                v(*corner),
-                v(*edge1),
-                v(*edge2),
-                v(*radiance)
-            ),
+            Light::Triangle { .. } => Ok(()),
         };
+    }
+    let unsampled = scene.unsampled_emitters();
+    if unsampled > 0 {
+        let _ = writeln!(
+            s,
+            "  {unsampled} emissive shapes that are not spheres: found by bounces only"
+        );
     }
     s
 }

@@ -14,7 +14,7 @@ use super::{
 };
 use crate::error::{Error, Result};
 use crate::geometry::{Box3, Shape};
-use crate::lights::Light;
+use crate::lights::{Light, LightPicker};
 use crate::math::Vec3;
 use crate::poly::solve::{Method, Solver};
 use crate::shading::{Material, MaterialKind};
@@ -81,6 +81,7 @@ enum KindFile {
     Diffuse,
     Plastic,
     Mirror,
+    Metal,
     Dielectric,
     Emissive,
 }
@@ -93,6 +94,7 @@ struct MaterialFile {
     albedo: Option<[f32; 3]>,
     specular: Option<[f32; 3]>,
     shininess: Option<f32>,
+    roughness: Option<f32>,
     ior: Option<f32>,
     radiance: Option<[f32; 3]>,
 }
@@ -284,6 +286,7 @@ impl Check<'_> {
             KindFile::Diffuse => MaterialKind::Diffuse,
             KindFile::Plastic => MaterialKind::Plastic,
             KindFile::Mirror => MaterialKind::Mirror,
+            KindFile::Metal => MaterialKind::Metal,
             KindFile::Dielectric => MaterialKind::Dielectric,
             KindFile::Emissive => MaterialKind::Emissive,
         };
@@ -298,6 +301,13 @@ impl Check<'_> {
                 format!("expected a number >= 0, found {shininess}"),
             ));
         }
+        let roughness = m.roughness.unwrap_or(0.3);
+        if !(0.0..=1.0).contains(&roughness) {
+            return Err(self.error(
+                &key("roughness"),
+                format!("expected a number from 0 to 1, found {roughness}"),
+            ));
+        }
         let specular_default = if kind == MaterialKind::Plastic {
             0.04
         } else {
@@ -309,9 +319,9 @@ impl Check<'_> {
             albedo: colour("albedo", m.albedo, 0.7)?,
             specular: colour("specular", m.specular, specular_default)?,
             shininess,
+            roughness,
             ior,
             emission: colour("radiance", m.radiance, 0.0)?,
-            sampled_light: false,
         })
     }
 
@@ -431,6 +441,7 @@ pub(super) fn load(path: &Path) -> Result<Scene> {
         meshes: Vec::new(),
         shapes: Vec::new(),
         lights: Vec::new(),
+        light_picker: LightPicker::default(),
     };
     for (name, m) in &file.materials {
         scene.materials.push(check.material(name, m)?);
@@ -482,15 +493,17 @@ pub(super) fn load(path: &Path) -> Result<Scene> {
     }
     for (index, light) in file.lights.iter().enumerate() {
         let key = |field: &str| format!("lights[{index}].{field}");
-        let light = match light {
-            LightFile::Point(p) => Light::Point {
+        match light {
+            LightFile::Point(p) => scene.lights.push(Light::Point {
                 position: check.finite(&key("position"), p.position)?,
                 intensity: check.colour(&key("intensity"), p.intensity)?,
-            },
-            LightFile::Directional(d) => Light::Directional {
+            }),
+            LightFile::Directional(d) => scene.lights.push(Light::Directional {
                 direction: check.direction(&key("direction"), d.direction)?,
                 irradiance: check.colour(&key("irradiance"), d.irradiance)?,
-            },
+            }),
+            // Area lights are emissive geometry: camera and bounce rays see them, they
+            // cast shadows, and `gather_emitters` makes them sampled lights.
             LightFile::Sphere(l) => {
                 let center = check.finite(&key("center"), l.center)?;
                 let radiance = check.colour(&key("radiance"), l.radiance)?;
@@ -500,7 +513,6 @@ pub(super) fn load(path: &Path) -> Result<Scene> {
                         format!("expected a number > 0, found {}", l.radius),
                     ));
                 }
-                // The light is also geometry: camera and bounce rays see it, and it casts shadows.
                 let material = scene.light_material(index, radiance);
                 let place = DAffine3::from_translation(center.as_dvec3());
                 let surface = crate::geometry::Surface::Sphere {
@@ -509,11 +521,6 @@ pub(super) fn load(path: &Path) -> Result<Scene> {
                 let shape = Shape::new(surface, place, None, material, solver)
                     .map_err(|e| check.error(&key("radius"), e))?;
                 scene.shapes.push(shape);
-                Light::Sphere {
-                    center,
-                    radius: l.radius,
-                    radiance,
-                }
             }
             LightFile::Quad(l) => {
                 let corner = check.finite(&key("corner"), l.corner)?;
@@ -526,6 +533,8 @@ pub(super) fn load(path: &Path) -> Result<Scene> {
                         "the quad has zero area: its edges are parallel or zero",
                     ));
                 }
+                // Counter-clockwise seen from the side edge1 × edge2 points to, which
+                // is the side it emits on.
                 let material = scene.light_material(index, radiance);
                 scene.meshes.push(crate::geometry::Mesh {
                     name: format!("light {index}"),
@@ -538,15 +547,8 @@ pub(super) fn load(path: &Path) -> Result<Scene> {
                     triangles: vec![[0, 1, 2], [0, 2, 3]],
                     materials: vec![material; 2],
                 });
-                Light::Quad {
-                    corner,
-                    edge1,
-                    edge2,
-                    radiance,
-                }
             }
-        };
-        scene.lights.push(light);
+        }
     }
     scene.camera = match &file.camera {
         Some(c) => check.camera(c)?,
@@ -562,5 +564,6 @@ pub(super) fn load(path: &Path) -> Result<Scene> {
             camera
         }
     };
+    scene.gather_emitters();
     Ok(scene)
 }

@@ -1,6 +1,7 @@
 //! Scenes: the in-memory form, loaded from a TOML file or a bare OBJ.
 
 mod camera;
+mod emitters;
 mod file;
 mod interaction;
 mod locate;
@@ -16,7 +17,7 @@ pub use obj::{ObjFile, load_obj};
 
 use crate::error::{Error, Result};
 use crate::geometry::{Mesh, Shape};
-use crate::lights::Light;
+use crate::lights::{Light, LightPicker};
 use crate::math::{Bounds, INVALID_ID, Vec3};
 use crate::sampling::Filter;
 use crate::shading::Material;
@@ -72,7 +73,11 @@ pub struct Scene {
     /// Analytic shapes: together one more geometry, `geom_id` = the number of
     /// meshes, and `prim_id` the shape's index here.
     pub shapes: Vec<Shape>,
+    /// Point and directional lights first, then the area lights (the emissive
+    /// geometry, in geometry order).
     pub lights: Vec<Light>,
+    /// Which lights a shading point samples, and which light a hit found.
+    pub light_picker: LightPicker,
 }
 
 impl Scene {
@@ -100,6 +105,7 @@ impl Scene {
             meshes: Vec::new(),
             shapes: Vec::new(),
             lights: Vec::new(),
+            light_picker: LightPicker::default(),
         };
         scene.add_obj(load_obj(path)?, None);
         let bounds = scene.bounds();
@@ -112,6 +118,7 @@ impl Scene {
         }
         scene.camera = Camera::framing(bounds, 640, 480);
         scene.lights.push(headlight(&scene.camera));
+        scene.gather_emitters();
         Ok(scene)
     }
 
@@ -149,7 +156,6 @@ impl Scene {
         let mut m = Material::diffuse(&format!("light {index}"), Vec3::ZERO);
         m.kind = crate::shading::MaterialKind::Emissive;
         m.emission = radiance;
-        m.sampled_light = true;
         self.materials.push(m);
         self.materials.len() as u32 - 1
     }

@@ -336,3 +336,93 @@ fn analytic_object_errors_name_line_key_and_column() {
         }
     }
 }
+
+const LIT: &str = r#"
+[materials.brushed]
+type = "metal"
+albedo = [0.9, 0.6, 0.3]
+roughness = 0.5
+
+[materials.glow]
+type = "emissive"
+radiance = [2, 2, 2]
+
+[[objects]]
+type = "sphere"
+radius = 0.5
+material = "glow"
+transform = { translate = [0, 2, 0], scale = 2 }
+
+[[objects]]
+type = "sphere"
+radius = 0.5
+material = "glow"
+clip = { min = [-1, -1, 0], max = [1, 1, 1] }
+
+[[objects]]
+type = "torus"
+major = 1.0
+minor = 0.1
+material = "glow"
+
+[[objects]]
+type = "sphere"
+radius = 0.5
+material = "brushed"
+transform = { translate = [3, 0, 0] }
+
+[[lights]]
+type = "quad"
+corner = [0, 3, 0]
+edge1 = [1, 0, 0]
+edge2 = [0, 0, 1]
+radiance = [1, 1, 1]
+
+[[lights]]
+type = "point"
+position = [0, 5, 0]
+intensity = [1, 1, 1]
+"#;
+
+#[test]
+fn emissive_geometry_becomes_sampled_lights() {
+    let dir = scratch("lit");
+    let scene = Scene::load(&write(&dir, "s.toml", LIT)).unwrap();
+    let metal = scene
+        .materials
+        .iter()
+        .find(|m| m.name == "brushed")
+        .unwrap();
+    assert_eq!((metal.kind, metal.roughness), (MaterialKind::Metal, 0.5));
+    // The point light first, then the quad's two triangles, then the one whole
+    // sphere (scaled by 2: radius 1). The clipped sphere and the torus emit but
+    // have no area sampling.
+    assert!(matches!(scene.lights[0], Light::Point { .. }));
+    assert!(matches!(scene.lights[1], Light::Triangle { .. }));
+    assert!(matches!(scene.lights[2], Light::Triangle { .. }));
+    match scene.lights[3] {
+        Light::Sphere { center, radius, .. } => {
+            assert!((center - Vec3::new(0.0, 2.0, 0.0)).length() < 1e-6);
+            assert!((radius - 1.0).abs() < 1e-6);
+        }
+        ref other => panic!("{other:?}"),
+    }
+    assert_eq!(scene.lights.len(), 4);
+    assert_eq!(scene.unsampled_emitters(), 2);
+    // Hits on light geometry find their light.
+    let quad_mesh = scene.meshes.len() as u32 - 1;
+    assert_eq!(scene.light_picker.light_of(quad_mesh, 1).unwrap().0, 2);
+    assert_eq!(
+        scene
+            .light_picker
+            .light_of(scene.shapes_geom_id(), 0)
+            .unwrap()
+            .0,
+        3
+    );
+    assert_eq!(scene.light_picker.light_of(scene.shapes_geom_id(), 1), None);
+
+    let bad = LIT.replace("roughness = 0.5", "roughness = 1.5");
+    let msg = message(Scene::load(&write(&dir, "bad.toml", &bad)).unwrap_err());
+    assert!(msg.contains("materials.brushed.roughness"), "{msg}");
+}

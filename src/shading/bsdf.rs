@@ -205,6 +205,10 @@ impl Bsdf {
                     m.albedo
                 },
             },
+            MaterialKind::Metal => Bsdf::Metal {
+                f0: m.albedo,
+                roughness: (m.roughness * m.roughness).clamp(MIN_ALPHA, 1.0),
+            },
             MaterialKind::Dielectric => Bsdf::Dielectric {
                 ior: if m.ior.is_finite() && m.ior > 0.0 {
                     m.ior

@@ -13,6 +13,8 @@ pub enum MaterialKind {
     /// Diffuse plus a Blinn-Phong highlight.
     Plastic,
     Mirror,
+    /// A rough conductor: a GGX microfacet lobe whose F0 is the albedo.
+    Metal,
     Dielectric,
     Emissive,
 }
@@ -27,13 +29,12 @@ pub struct Material {
     pub specular: Vec3,
     /// Blinn-Phong exponent (Ns).
     pub shininess: f32,
+    /// A metal's perceptual roughness in [0, 1] (MTL's Pr); GGX α is its square.
+    pub roughness: f32,
     /// Index of refraction (Ni).
     pub ior: f32,
     /// Emitted radiance (Ke).
     pub emission: Vec3,
-    /// The surface of an area light that next-event estimation samples: paths
-    /// that reach it by a diffuse or glossy bounce do not count its emission again.
-    pub sampled_light: bool,
 }
 
 impl Material {
@@ -49,15 +50,16 @@ impl Material {
             albedo,
             specular: Vec3::ZERO,
             shininess: 0.0,
+            roughness: 0.3,
             ior: 1.5,
             emission: Vec3::ZERO,
-            sampled_light: false,
         }
     }
 
-    /// Maps an MTL material: Ke > 0 → emissive; illum 3 → mirror (Ks its
-    /// reflectance); illum 4, 6, 7, 9 or d < 1 → dielectric with Ni; a nonzero
-    /// Ks → plastic with Ns; otherwise diffuse. Kd defaults to 0.7 grey.
+    /// Maps an MTL material: Ke > 0 → emissive; the PBR extension's metallic
+    /// Pm ≥ 0.5 → metal (F0 = Kd, roughness Pr, else from Ns); illum 3 → mirror
+    /// (Ks its reflectance); illum 4, 6, 7, 9 or d < 1 → dielectric with Ni; a
+    /// nonzero Ks → plastic with Ns; otherwise diffuse. Kd defaults to 0.7 grey.
     pub fn from_mtl(m: &tobj::Material) -> Material {
         let albedo = m.diffuse.map_or(Vec3::splat(0.7), Vec3::from);
         let specular = m.specular.map_or(Vec3::ZERO, Vec3::from);
@@ -66,8 +68,16 @@ impl Material {
             .illumination_model
             .unwrap_or(if specular == Vec3::ZERO { 1 } else { 2 });
         let transparent = m.dissolve.is_some_and(|d| d < 1.0);
+        let pbr = |key: &str| {
+            m.unknown_param
+                .get(key)
+                .and_then(|v| v.trim().parse::<f32>().ok())
+                .filter(|v| v.is_finite())
+        };
         let kind = if emission.max_element() > 0.0 {
             MaterialKind::Emissive
+        } else if pbr("Pm").is_some_and(|metallic| metallic >= 0.5) {
+            MaterialKind::Metal
         } else if illum == 3 {
             MaterialKind::Mirror
         } else if matches!(illum, 4 | 6 | 7 | 9) || transparent {
@@ -83,11 +93,20 @@ impl Material {
             albedo,
             specular,
             shininess: m.shininess.unwrap_or(0.0),
+            // Without Pr, the GGX width that matches the Phong exponent (α = roughness²).
+            roughness: pbr("Pr").map_or_else(
+                || crate::shading::shininess_to_alpha(m.shininess.unwrap_or(0.0)).sqrt(),
+                |r| r.clamp(0.0, 1.0),
+            ),
             // Ni = 1 (or missing) in a glass material means "not set": use glass's 1.5.
             ior: m.optical_density.filter(|&n| n > 1.0).unwrap_or(1.5),
             emission,
-            sampled_light: false,
         }
+    }
+
+    /// Whether the surface is a light: emissive with some radiance.
+    pub fn emits(&self) -> bool {
+        self.kind == MaterialKind::Emissive && self.emission.max_element() > 0.0
     }
 
     /// What a mirror reflects: its specular colour (MTL's Ks) if it has one, else its albedo.
@@ -104,8 +123,13 @@ impl Material {
     /// the viewer) and wi (towards the light).
     pub fn local_brdf(&self, n: Vec3, wo: Vec3, wi: Vec3) -> Vec3 {
         let diffuse = self.albedo / PI;
-        if self.kind != MaterialKind::Plastic {
-            return diffuse;
+        match self.kind {
+            MaterialKind::Plastic => {}
+            MaterialKind::Metal => {
+                let frame = crate::shading::Frame::from_normal(n);
+                return crate::shading::Bsdf::from_material(self).eval(&frame, wo, wi);
+            }
+            _ => return diffuse,
         }
         let h = (wo + wi).normalize_or_zero();
         let cos_h = n.dot(h).max(0.0);
@@ -156,6 +180,17 @@ mod tests {
             mtl(|m| m.dissolve = Some(0.5)).kind,
             MaterialKind::Dielectric
         );
+        let metal = mtl(|m| {
+            m.unknown_param.insert("Pm".into(), "1".into());
+            m.unknown_param.insert("Pr".into(), " 0.25".into());
+        });
+        assert_eq!((metal.kind, metal.roughness), (MaterialKind::Metal, 0.25));
+        // Without Pr, Ns sets the width: α = √(2/(Ns+2)) = 0.1 for Ns = 198.
+        let phong = mtl(|m| {
+            m.unknown_param.insert("Pm".into(), "0.9".into());
+            m.shininess = Some(198.0);
+        });
+        assert!((phong.roughness * phong.roughness - 0.1).abs() < 1e-6);
         let light = mtl(|m| m.emissive = Some([4.0, 3.0, 2.0]));
         assert_eq!(light.kind, MaterialKind::Emissive);
         assert_eq!(light.emission, Vec3::new(4.0, 3.0, 2.0));

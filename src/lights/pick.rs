@@ -1,0 +1,133 @@
+//! Which lights a shading point samples: every point and directional light
+//! (they are cheap and noiseless), plus one area light picked in proportion to
+//! its power, so a mesh with ten thousand emissive triangles costs one shadow
+//! ray, not ten thousand, and the bright ones get the samples.
+
+use std::collections::HashMap;
+
+use super::Light;
+
+/// The lights of one shading point's estimate.
+pub struct LightPick {
+    /// The point and directional lights: each is sampled with probability 1.
+    pub delta: std::ops::Range<usize>,
+    /// One area light and the probability it was picked with.
+    pub area: Option<(usize, f32)>,
+}
+
+/// Light selection for a scene whose lights list the delta lights first.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct LightPicker {
+    deltas: usize,
+    /// Cumulative power of the area lights, which follow the deltas; the last
+    /// entry is the total.
+    cdf: Vec<f32>,
+    /// The area light each emissive primitive is, by (geom_id, prim_id).
+    emitters: HashMap<(u32, u32), u32>,
+}
+
+impl LightPicker {
+    /// `lights` holds the delta lights first, then the area lights;
+    /// `emitters` names the geometry of each area light.
+    pub fn new(lights: &[Light], emitters: HashMap<(u32, u32), u32>) -> LightPicker {
+        let deltas = lights.iter().take_while(|l| l.is_delta()).count();
+        let mut total = 0.0;
+        let cdf = lights[deltas..]
+            .iter()
+            .map(|l| {
+                total += l.area_power().max(0.0);
+                total
+            })
+            .collect();
+        LightPicker {
+            deltas,
+            cdf,
+            emitters,
+        }
+    }
+
+    /// The lights to sample, picking the area light with `u` in [0, 1).
+    pub fn pick(&self, u: f32) -> LightPick {
+        LightPick {
+            delta: 0..self.deltas,
+            area: self.pick_area(u),
+        }
+    }
+
+    fn pick_area(&self, u: f32) -> Option<(usize, f32)> {
+        let total = *self.cdf.last()?;
+        if total <= 0.0 {
+            return None;
+        }
+        let target = u * total;
+        let i = self
+            .cdf
+            .partition_point(|&c| c <= target)
+            .min(self.cdf.len() - 1);
+        let below = if i == 0 { 0.0 } else { self.cdf[i - 1] };
+        Some((self.deltas + i, (self.cdf[i] - below) / total))
+    }
+
+    /// The light a hit on primitive (geom_id, prim_id) found, with the
+    /// probability [`LightPicker::pick`] picks it; None for geometry that is no
+    /// sampled light.
+    pub fn light_of(&self, geom_id: u32, prim_id: u32) -> Option<(usize, f32)> {
+        let &light = self.emitters.get(&(geom_id, prim_id))?;
+        let i = light as usize - self.deltas;
+        let below = if i == 0 { 0.0 } else { self.cdf[i - 1] };
+        let total = *self.cdf.last()?;
+        Some((light as usize, (self.cdf[i] - below) / total))
+    }
+
+    /// How many area lights there are.
+    pub fn area_lights(&self) -> usize {
+        self.cdf.len()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::Vec3;
+
+    fn sphere(radius: f32) -> Light {
+        Light::Sphere {
+            center: Vec3::ZERO,
+            radius,
+            radiance: Vec3::ONE,
+        }
+    }
+
+    #[test]
+    fn area_lights_are_picked_by_power() {
+        let point = Light::Point {
+            position: Vec3::ZERO,
+            intensity: Vec3::ONE,
+        };
+        // Powers 1 : 3 (radii 1 and √3).
+        let lights = [point, sphere(1.0), sphere(3f32.sqrt())];
+        let emitters = HashMap::from([((4, 0), 1), ((4, 1), 2)]);
+        let picker = LightPicker::new(&lights, emitters);
+        assert_eq!(picker.area_lights(), 2);
+        let pick = picker.pick(0.1);
+        assert_eq!(pick.delta, 0..1);
+        let (light, p) = pick.area.unwrap();
+        assert_eq!(light, 1);
+        assert!((p - 0.25).abs() < 1e-6, "{p}");
+        let (light, p) = picker.pick(0.9).area.unwrap();
+        assert_eq!(light, 2);
+        assert!((p - 0.75).abs() < 1e-6, "{p}");
+        // The lookup from geometry gives the same probabilities.
+        assert_eq!(picker.light_of(4, 1), picker.pick(0.9).area);
+        assert_eq!(picker.light_of(4, 7), None);
+        // u just below 1 stays in range.
+        assert_eq!(picker.pick(0.999_999_9).area.unwrap().0, 2);
+    }
+
+    #[test]
+    fn no_area_lights_picks_none() {
+        let picker = LightPicker::new(&[], HashMap::new());
+        assert!(picker.pick(0.5).area.is_none());
+        assert_eq!(picker.pick(0.5).delta, 0..0);
+    }
+}

@@ -1,0 +1,68 @@
+//! The scene's area lights, found in its geometry: every emissive triangle and
+//! every emissive whole sphere is a light that next-event estimation samples.
+//! Other emissive analytic shapes (tori, quadrics, algebraic surfaces) have no
+//! area sampling: bounces still find them, and they light the scene that way.
+
+use std::collections::HashMap;
+
+use super::Scene;
+use crate::lights::{Light, LightPicker};
+
+impl Scene {
+    /// Appends a light for each emissive primitive, after the point and
+    /// directional lights, and builds the light picker. Called once, when the
+    /// scene is loaded.
+    pub(crate) fn gather_emitters(&mut self) {
+        let emissive = |m: u32| self.materials[m as usize].emits();
+        let mut emitters = HashMap::new();
+        let mut found = Vec::new();
+        for (geom, mesh) in self.meshes.iter().enumerate() {
+            for (prim, (tri, &m)) in mesh.triangles.iter().zip(&mesh.materials).enumerate() {
+                let [p0, p1, p2] = tri.map(|i| mesh.positions[i as usize]);
+                let (edge1, edge2) = (p1 - p0, p2 - p0);
+                if !emissive(m) || edge1.cross(edge2).length_squared() == 0.0 {
+                    continue;
+                }
+                emitters.insert((geom as u32, prim as u32), found.len());
+                found.push(Light::Triangle {
+                    p0,
+                    edge1,
+                    edge2,
+                    radiance: self.materials[m as usize].emission,
+                });
+            }
+        }
+        let shapes = self.shapes_geom_id();
+        for (prim, shape) in self.shapes.iter().enumerate() {
+            let Some((center, radius)) = shape.world_sphere() else {
+                continue;
+            };
+            if !emissive(shape.material) {
+                continue;
+            }
+            emitters.insert((shapes, prim as u32), found.len());
+            found.push(Light::Sphere {
+                center: center.as_vec3(),
+                radius: radius as f32,
+                radiance: self.materials[shape.material as usize].emission,
+            });
+        }
+        // Delta lights first: the picker samples them all and picks among the rest.
+        self.lights.retain(Light::is_delta);
+        let first = self.lights.len() as u32;
+        self.lights.extend(found);
+        let emitters = emitters
+            .into_iter()
+            .map(|(k, i)| (k, first + i as u32))
+            .collect();
+        self.light_picker = LightPicker::new(&self.lights, emitters);
+    }
+
+    /// Emissive shapes that only bounces can find (no area sampling for their kind).
+    pub fn unsampled_emitters(&self) -> usize {
+        self.shapes
+            .iter()
+            .filter(|s| self.materials[s.material as usize].emits() && s.world_sphere().is_none())
+            .count()
+    }
+}
