@@ -412,3 +412,34 @@ fn explain_gives_each_path_node_the_radiance_it_brings_back() {
     }
     assert!(bounced > 0, "the path tracer bounces off the square");
 }
+
+#[test]
+fn adaptive_sampling_spends_samples_on_edges_only() {
+    // The square seen from above fills the middle of the image; with a
+    // directional light every sample inside it (or outside, on the background)
+    // agrees, and only pixels on its outline disagree.
+    let mut s = scene("adaptive", "", true);
+    s.render.spp = 4;
+    s.render.adaptive = Some(sturmray::scene::Adaptive {
+        max_spp: 32,
+        threshold: 0.01,
+    });
+    let accel = Accel::build(&s, Backend::Embree, None).unwrap();
+    let out = render(&s, &accel, &RenderOptions::default()).unwrap();
+    let counts: Vec<u32> = out.film.pixels.iter().map(|p| p.samples).collect();
+    assert!(counts.iter().all(|&n| n % 4 == 0 && (4..=32).contains(&n)));
+    let (corner, centre) = (counts[0], counts[12 * 24 + 12]);
+    assert_eq!((corner, centre), (4, 4), "flat regions keep the base count");
+    let most = *counts.iter().max().unwrap();
+    assert_eq!(most, 32, "the outline takes the most");
+    let edges = counts.iter().filter(|&&n| n > 4).count();
+    assert!(
+        edges > 0 && edges < counts.len() / 2,
+        "{edges} of {}",
+        counts.len()
+    );
+    assert_eq!(
+        out.stats.camera,
+        counts.iter().map(|&n| u64::from(n)).sum::<u64>()
+    );
+}

@@ -1,5 +1,6 @@
 //! Rendering: the tile loop over rayon, camera sampling, and statistics.
 
+mod adaptive;
 mod path;
 mod plan;
 mod tally;
@@ -64,6 +65,13 @@ pub fn render(scene: &Scene, accel: &Accel, options: &RenderOptions) -> Result<R
     }
     let frame = scene.camera.frame();
     let filter = scene.render.filter.sampler()?;
+    let adaptive = scene.render.adaptive.as_ref();
+    if adaptive.is_some_and(|a| spp < 2 || a.max_spp < spp) {
+        return Err(Error::Input(format!(
+            "--spp {spp}: adaptive sampling needs at least 2 samples per round, \
+             and no more than the scene's max_spp"
+        )));
+    }
     let integrator = Tracer::new(scene, accel, options.all_effects);
     let tiles: Vec<(usize, usize)> = (0..height.div_ceil(TILE))
         .flat_map(|ty| (0..width.div_ceil(TILE)).map(move |tx| (tx * TILE, ty * TILE)))
@@ -81,15 +89,13 @@ pub fn render(scene: &Scene, accel: &Accel, options: &RenderOptions) -> Result<R
                 let mut tally = Tally::default();
                 for y in y0..y1 {
                     for x in x0..x1 {
-                        let mut pixel = Pixel::default();
-                        for k in 0..spp {
+                        pixels.push(adaptive::sample_pixel(spp, adaptive, |k| {
                             let (ray, weight, mut rng) =
                                 camera_ray(scene, &frame, &filter, (x, y), k, spp);
                             let mut sample = integrator.sample(&ray, &mut rng, &mut tally);
                             sample.weight = weight;
-                            pixel.add(&sample);
-                        }
-                        pixels.push(pixel);
+                            sample
+                        }));
                     }
                 }
                 let stats = tally.stats;
@@ -155,11 +161,12 @@ fn plan(scene: &Scene, all_effects: bool) -> Plan {
     }
 }
 
-/// Camera ray `k` of `spp` through pixel (x, y), with its filter weight and
-/// the sample's random stream (which the path tracer goes on drawing from):
-/// through the pixel's centre for one sample; for more, a stratified point
-/// warped by the reconstruction filter (filter importance sampling). Seeded by
-/// (seed, pixel, k), so it is the same whoever renders it.
+/// Camera ray `k` through pixel (x, y), with its filter weight and the
+/// sample's random stream (which the path tracer goes on drawing from):
+/// through the pixel's centre when the pixel takes one sample; otherwise a
+/// point stratified over each round of `spp` samples, warped by the
+/// reconstruction filter (filter importance sampling). Seeded by (seed,
+/// pixel, k), so it is the same whoever renders it.
 fn camera_ray(
     scene: &Scene,
     frame: &CameraFrame,
@@ -194,11 +201,15 @@ pub fn explain(
             pixel.0, pixel.1
         )));
     }
-    if sample >= scene.render.spp {
+    let most = scene
+        .render
+        .adaptive
+        .as_ref()
+        .map_or(scene.render.spp, |a| a.max_spp);
+    if sample >= most {
         return Err(Error::Input(format!(
-            "--sample {sample}: the scene takes {} samples per pixel (0 to {})",
-            scene.render.spp,
-            scene.render.spp - 1
+            "--sample {sample}: the scene takes at most {most} samples per pixel (0 to {})",
+            most - 1
         )));
     }
     let integrator = Tracer::new(scene, accel, all_effects);

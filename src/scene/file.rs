@@ -10,7 +10,8 @@ use serde::Deserialize;
 
 use super::shapes::{self, ShapeFile, ShapeKind};
 use super::{
-    Camera, Integrator, RenderSettings, Scene, headlight, load_obj, locate, scene_name, suggest,
+    Adaptive, Camera, Integrator, RenderSettings, Scene, headlight, load_obj, locate, scene_name,
+    suggest,
 };
 use crate::error::{Error, Result};
 use crate::geometry::{Box3, Shape};
@@ -66,6 +67,14 @@ struct RenderFile {
     /// The root finder for analytic surfaces, by its stable name.
     method: Option<String>,
     tolerance: Option<f64>,
+    adaptive: Option<AdaptiveFile>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct AdaptiveFile {
+    max_spp: u32,
+    threshold: f32,
 }
 
 #[derive(Deserialize)]
@@ -422,7 +431,30 @@ pub(super) fn load(path: &Path) -> Result<Scene> {
             Some(IntegratorFile::Whitted) | None => Integrator::Whitted,
             Some(IntegratorFile::Path) => Integrator::Path,
         },
+        adaptive: file.render.adaptive.as_ref().map(|a| Adaptive {
+            max_spp: a.max_spp,
+            threshold: a.threshold,
+        }),
     };
+    if let Some(a) = &render.adaptive {
+        // Disagreement needs two samples to measure, and a round to grow by.
+        if render.spp < 2 || a.max_spp < render.spp {
+            return Err(check.error(
+                "render.adaptive.max_spp",
+                format!(
+                    "adaptive sampling takes rounds of spp ({}) samples, which must be at least 2, \
+                     up to max_spp ({}), which must be at least spp",
+                    render.spp, a.max_spp
+                ),
+            ));
+        }
+        if !(a.threshold > 0.0 && a.threshold.is_finite()) {
+            return Err(check.error(
+                "render.adaptive.threshold",
+                format!("expected a number > 0, found {}", a.threshold),
+            ));
+        }
+    }
     if !(render.min_weight >= 0.0 && render.min_weight < 1.0) {
         return Err(check.error(
             "render.min_weight",

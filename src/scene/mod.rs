@@ -32,6 +32,15 @@ pub enum Integrator {
     Path,
 }
 
+/// Adaptive supersampling: after its base samples a pixel takes further rounds
+/// of as many while the standard error of its mean luminance is above
+/// `threshold` times the mean, up to `max_spp` samples.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Adaptive {
+    pub max_spp: u32,
+    pub threshold: f32,
+}
+
 /// Per-render settings.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RenderSettings {
@@ -45,6 +54,8 @@ pub struct RenderSettings {
     /// sample counts only for its own pixel.
     pub filter: Filter,
     pub integrator: Integrator,
+    /// Adaptive supersampling, when asked for.
+    pub adaptive: Option<Adaptive>,
 }
 
 impl Default for RenderSettings {
@@ -56,6 +67,7 @@ impl Default for RenderSettings {
             min_weight: 1e-3,
             filter: Filter::default(),
             integrator: Integrator::default(),
+            adaptive: None,
         }
     }
 }

@@ -201,6 +201,7 @@ fn toml_scene_settings_and_transforms() {
             min_weight: 1e-3,
             filter: crate::sampling::Filter::BOX,
             integrator: Integrator::Whitted,
+            adaptive: None,
         }
     );
     assert_eq!(scene.background, Vec3::new(0.1, 0.2, 0.3));
@@ -231,6 +232,27 @@ fn toml_errors_name_line_and_suggest() {
         (
             TOML.replace("spp = 3", "spp = 0"),
             vec!["line 12, render.spp"],
+        ),
+        (
+            TOML.replace(
+                "spp = 3",
+                "spp = 1\nadaptive = { max_spp = 8, threshold = 0.1 }",
+            ),
+            vec!["render.adaptive.max_spp", "at least 2"],
+        ),
+        (
+            TOML.replace(
+                "spp = 3",
+                "spp = 3\nadaptive = { max_spp = 8, threshold = 0 }",
+            ),
+            vec!["render.adaptive.threshold", "> 0"],
+        ),
+        (
+            TOML.replace(
+                "spp = 3",
+                "spp = 3\nadaptive = { max_spp = 8, treshold = 0.1 }",
+            ),
+            vec!["unknown field `treshold`", "did you mean `threshold`?"],
         ),
         (
             TOML.replace("fov = 30", "fov = 180"),
