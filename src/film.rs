@@ -30,6 +30,9 @@ pub struct Pixel {
     /// The nearest depth of any sample (a minimum, so edges stay sharp).
     pub depth: f32,
     pub samples: u32,
+    /// Σ y and Σ y² of the samples' weighted luminance y: what adaptive
+    /// sampling decides from, kept here so a resumed render decides the same.
+    pub luminance: [f64; 2],
 }
 
 impl Default for Pixel {
@@ -41,6 +44,7 @@ impl Default for Pixel {
             albedo: [0.0; 3],
             depth: f32::INFINITY,
             samples: 0,
+            luminance: [0.0; 2],
         }
     }
 }
@@ -71,14 +75,56 @@ impl Pixel {
         accumulate(&mut self.albedo, s.albedo);
         self.depth = self.depth.min(s.depth);
         self.samples += 1;
+        let y = f64::from(s.radiance.dot(LUMINANCE) * s.weight);
+        self.luminance[0] += y;
+        self.luminance[1] += y * y;
     }
 }
 
-/// A width × height image of pixel sums, row 0 at the top.
+/// Luminance weights (Rec. 709).
+const LUMINANCE: Vec3 = Vec3::new(0.2126, 0.7152, 0.0722);
+
+/// A half-open rectangle of pixels, [x0, x1) × [y0, y1), row 0 at the top.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct Region {
+    pub x0: usize,
+    pub y0: usize,
+    pub x1: usize,
+    pub y1: usize,
+}
+
+impl Region {
+    /// The whole of a width × height image.
+    pub fn whole(width: usize, height: usize) -> Region {
+        Region {
+            x0: 0,
+            y0: 0,
+            x1: width,
+            y1: height,
+        }
+    }
+
+    pub fn width(&self) -> usize {
+        self.x1 - self.x0
+    }
+
+    pub fn height(&self) -> usize {
+        self.y1 - self.y0
+    }
+
+    pub fn area(&self) -> usize {
+        self.width() * self.height()
+    }
+}
+
+/// The pixel sums of a region of a width × height image.
 #[derive(Clone, Debug)]
 pub struct Film {
+    /// The whole image's size.
     pub width: usize,
     pub height: usize,
+    /// The pixels this film holds, row by row.
+    pub region: Region,
     pub pixels: Vec<Pixel>,
 }
 
@@ -91,11 +137,18 @@ pub struct Layers {
 }
 
 impl Film {
+    /// An empty film of the whole image.
     pub fn new(width: usize, height: usize) -> Film {
+        Film::of_region(width, height, Region::whole(width, height))
+    }
+
+    /// An empty film of `region` of a width × height image.
+    pub fn of_region(width: usize, height: usize, region: Region) -> Film {
         Film {
             width,
             height,
-            pixels: vec![Pixel::default(); width * height],
+            region,
+            pixels: vec![Pixel::default(); region.area()],
         }
     }
 

@@ -12,3 +12,4 @@
 pub mod exr;
 pub mod npy;
 pub mod png;
+pub mod state;

@@ -6,9 +6,6 @@
 use crate::film::{Pixel, Sample};
 use crate::scene::Adaptive;
 
-/// Luminance weights (Rec. 709): what "disagree" is measured on.
-const LUMINANCE: [f32; 3] = [0.2126, 0.7152, 0.0722];
-
 /// The pixel's samples: `spp` of them, then with `adaptive` more rounds of
 /// `spp` while the standard error of the mean luminance exceeds the threshold
 /// (relative to the mean, with a floor so near-black pixels count absolutely).
@@ -19,21 +16,17 @@ pub fn sample_pixel(
     mut take: impl FnMut(u32) -> Sample,
 ) -> Pixel {
     let mut pixel = Pixel::default();
-    // Σx and Σx² of the luminance, in f64: they are subtracted.
-    let (mut sum, mut sum2) = (0.0f64, 0.0f64);
     let limit = adaptive.map_or(spp, |a| a.max_spp.max(spp));
     let mut k = 0;
     while k < limit {
         for _ in 0..spp.min(limit - k) {
-            let sample = take(k);
-            let y = f64::from(sample.radiance.dot(LUMINANCE.into()) * sample.weight);
-            sum += y;
-            sum2 += y * y;
-            pixel.add(&sample);
+            pixel.add(&take(k));
             k += 1;
         }
         let Some(a) = adaptive else { break };
         let n = f64::from(k);
+        // Σy and Σy² are in f64: the variance subtracts them.
+        let [sum, sum2] = pixel.luminance;
         let mean = sum / n;
         let variance = ((sum2 - sum * mean) / (n - 1.0)).max(0.0);
         let error = (variance / n).sqrt();

@@ -3,6 +3,7 @@
 mod camera;
 mod emitters;
 mod file;
+mod hash;
 mod interaction;
 mod locate;
 mod obj;
