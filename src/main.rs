@@ -28,12 +28,21 @@ struct Cli {
 #[derive(Clone, Copy, ValueEnum)]
 enum BackendArg {
     Embree,
+    /// obvhs's compressed wide BVH (pure Rust).
+    Obvhs,
+    /// The bvh crate's binary SAH BVH (pure Rust).
+    Bvh,
+    /// The faster of the pure-Rust backends (obvhs).
+    RustBvh,
 }
 
 impl From<BackendArg> for Backend {
     fn from(b: BackendArg) -> Backend {
         match b {
             BackendArg::Embree => Backend::Embree,
+            BackendArg::Obvhs => Backend::Obvhs,
+            BackendArg::Bvh => Backend::Bvh,
+            BackendArg::RustBvh => Backend::FASTEST_RUST,
         }
     }
 }
@@ -62,8 +71,12 @@ enum Command {
         #[arg(long)]
         all_effects: bool,
     },
-    /// Print the Embree version in use, the objects, triangle count, lights and settings.
-    Info { scene: PathBuf },
+    /// Print the backend in use, the objects, triangle count, lights and settings.
+    Info {
+        scene: PathBuf,
+        #[arg(long, value_enum, default_value = "embree")]
+        backend: BackendArg,
+    },
     /// Print the ray tree of one pixel sample: each ray's kind, what it hit, t,
     /// the material, its weight and the radiance it brings back.
     Explain {
@@ -77,6 +90,8 @@ enum Command {
         /// As `render --all-effects`.
         #[arg(long)]
         all_effects: bool,
+        #[arg(long, value_enum, default_value = "embree")]
+        backend: BackendArg,
     },
     /// Trace rays from a .npy file and write the hits as a structured .npy.
     Trace {
@@ -225,9 +240,12 @@ fn run(command: Command) -> anyhow::Result<()> {
             );
             Ok(())
         }
-        Command::Info { scene: path } => {
+        Command::Info {
+            scene: path,
+            backend,
+        } => {
             let scene = Scene::load(&path)?;
-            let accel = Accel::build(&scene, Backend::Embree, None)?;
+            let accel = Accel::build(&scene, backend.into(), None)?;
             print!("{}", sturmray::report::info::describe(&scene, &accel));
             Ok(())
         }
@@ -236,9 +254,10 @@ fn run(command: Command) -> anyhow::Result<()> {
             pixel,
             sample,
             all_effects,
+            backend,
         } => {
             let scene = Scene::load(&scene)?;
-            let accel = Accel::build(&scene, Backend::Embree, None)?;
+            let accel = Accel::build(&scene, backend.into(), None)?;
             let (result, tree) =
                 sturmray::render::explain(&scene, &accel, pixel, sample, all_effects)?;
             println!(
