@@ -111,17 +111,22 @@ enum Command {
         #[arg(long)]
         sturm: bool,
     },
-    /// Measure Mrays/s of camera, incoherent and shadow rays, on one thread and on all.
+    /// Measure BVH build time, memory and Mrays/s of camera, incoherent and shadow
+    /// rays per backend, on one thread and on all, on the same rays.
     Bench {
-        /// Fewer rays and repetitions: a run of seconds.
+        /// Smaller meshes, fewer rays and repetitions: under a minute.
         #[arg(long)]
         quick: bool,
         /// Write the records as JSON.
         #[arg(long)]
         json: Option<PathBuf>,
-        /// Scenes to measure (default: scenes/knot.toml).
+        /// Scenes to measure (default: generated meshes of 10k to 1M triangles,
+        /// scenes/knot.toml and scenes/gallery/*.toml).
         #[arg(long = "scene")]
         scenes: Vec<PathBuf>,
+        /// Backends to measure (repeatable; default: all).
+        #[arg(long = "backend", value_enum)]
+        backends: Vec<BackendArg>,
     },
 }
 
@@ -314,14 +319,17 @@ fn run(command: Command) -> anyhow::Result<()> {
             quick,
             json,
             scenes,
+            backends,
         } => {
-            let scenes = if scenes.is_empty() {
-                vec![PathBuf::from("scenes/knot.toml")]
-            } else {
-                scenes
+            let options = bench::Options {
+                quick,
+                scenes,
+                scene_root: PathBuf::from("scenes"),
+                backends: backends.into_iter().map(Backend::from).collect(),
             };
-            let records = bench::run(&scenes, quick).context("benchmark failed")?;
+            let records = bench::run(&options).context("benchmark failed")?;
             print!("{}", bench::table(&records));
+            print!("{}", bench::incoherent_ratios(&records));
             if let Some(path) = json {
                 prepare_output(&path)?;
                 let text = serde_json::to_string_pretty(&records)?;
