@@ -28,12 +28,21 @@ struct Cli {
 #[derive(Clone, Copy, ValueEnum)]
 enum BackendArg {
     Embree,
+    /// obvhs's compressed wide BVH (pure Rust).
+    Obvhs,
+    /// The bvh crate's binary SAH BVH (pure Rust).
+    Bvh,
+    /// The faster of the pure-Rust backends (obvhs).
+    RustBvh,
 }
 
 impl From<BackendArg> for Backend {
     fn from(b: BackendArg) -> Backend {
         match b {
             BackendArg::Embree => Backend::Embree,
+            BackendArg::Obvhs => Backend::Obvhs,
+            BackendArg::Bvh => Backend::Bvh,
+            BackendArg::RustBvh => Backend::FASTEST_RUST,
         }
     }
 }
@@ -62,8 +71,12 @@ enum Command {
         #[arg(long)]
         all_effects: bool,
     },
-    /// Print the Embree version in use, the objects, triangle count, lights and settings.
-    Info { scene: PathBuf },
+    /// Print the backend in use, the objects, triangle count, lights and settings.
+    Info {
+        scene: PathBuf,
+        #[arg(long, value_enum, default_value = "embree")]
+        backend: BackendArg,
+    },
     /// Print the ray tree of one pixel sample: each ray's kind, what it hit, t,
     /// the material, its weight and the radiance it brings back.
     Explain {
@@ -77,6 +90,8 @@ enum Command {
         /// As `render --all-effects`.
         #[arg(long)]
         all_effects: bool,
+        #[arg(long, value_enum, default_value = "embree")]
+        backend: BackendArg,
     },
     /// Trace rays from a .npy file and write the hits as a structured .npy.
     Trace {
@@ -96,17 +111,22 @@ enum Command {
         #[arg(long)]
         sturm: bool,
     },
-    /// Measure Mrays/s of camera, incoherent and shadow rays, on one thread and on all.
+    /// Measure BVH build time, memory and Mrays/s of camera, incoherent and shadow
+    /// rays per backend, on one thread and on all, on the same rays.
     Bench {
-        /// Fewer rays and repetitions: a run of seconds.
+        /// Smaller meshes, fewer rays and repetitions: under a minute.
         #[arg(long)]
         quick: bool,
         /// Write the records as JSON.
         #[arg(long)]
         json: Option<PathBuf>,
-        /// Scenes to measure (default: scenes/knot.toml).
+        /// Scenes to measure (default: generated meshes of 10k to 1M triangles,
+        /// scenes/knot.toml and scenes/gallery/*.toml).
         #[arg(long = "scene")]
         scenes: Vec<PathBuf>,
+        /// Backends to measure (repeatable; default: all).
+        #[arg(long = "backend", value_enum)]
+        backends: Vec<BackendArg>,
     },
 }
 
@@ -225,9 +245,12 @@ fn run(command: Command) -> anyhow::Result<()> {
             );
             Ok(())
         }
-        Command::Info { scene: path } => {
+        Command::Info {
+            scene: path,
+            backend,
+        } => {
             let scene = Scene::load(&path)?;
-            let accel = Accel::build(&scene, Backend::Embree, None)?;
+            let accel = Accel::build(&scene, backend.into(), None)?;
             print!("{}", sturmray::report::info::describe(&scene, &accel));
             Ok(())
         }
@@ -236,9 +259,10 @@ fn run(command: Command) -> anyhow::Result<()> {
             pixel,
             sample,
             all_effects,
+            backend,
         } => {
             let scene = Scene::load(&scene)?;
-            let accel = Accel::build(&scene, Backend::Embree, None)?;
+            let accel = Accel::build(&scene, backend.into(), None)?;
             let (result, tree) =
                 sturmray::render::explain(&scene, &accel, pixel, sample, all_effects)?;
             println!(
@@ -295,14 +319,17 @@ fn run(command: Command) -> anyhow::Result<()> {
             quick,
             json,
             scenes,
+            backends,
         } => {
-            let scenes = if scenes.is_empty() {
-                vec![PathBuf::from("scenes/knot.toml")]
-            } else {
-                scenes
+            let options = bench::Options {
+                quick,
+                scenes,
+                scene_root: PathBuf::from("scenes"),
+                backends: backends.into_iter().map(Backend::from).collect(),
             };
-            let records = bench::run(&scenes, quick).context("benchmark failed")?;
+            let records = bench::run(&options).context("benchmark failed")?;
             print!("{}", bench::table(&records));
+            print!("{}", bench::incoherent_ratios(&records));
             if let Some(path) = json {
                 prepare_output(&path)?;
                 let text = serde_json::to_string_pretty(&records)?;

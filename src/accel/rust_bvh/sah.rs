@@ -1,0 +1,144 @@
+//! The `bvh` crate backend (svenstaro's): a binary BVH split by binned SAH,
+//! one primitive a leaf, walked with the crate's allocation-free
+//! `traverse_iterator`. The crate's own `Ray` knows no interval and its
+//! front-to-back iterator allocates a heap per ray, so the query here is a
+//! ray segment whose far end shrinks to the nearest hit found so far: boxes
+//! behind it are skipped, as in any closest-hit traversal.
+
+use std::cell::Cell;
+
+use bvh::aabb::{Aabb, Bounded, IntersectsAabb};
+use bvh::bounding_hierarchy::{BHShape, BoundingHierarchy};
+use bvh::bvh::{Bvh, BvhNode};
+
+use super::primitives::{Closest, Primitives};
+use crate::error::Result;
+use crate::math::{Hit, Ray, Vec3, gamma};
+
+/// A leaf of the crate's BVH: the primitive's box and where the builder put it.
+struct Leaf {
+    aabb: Aabb<f32, 3>,
+    /// Index into `Primitives`.
+    primitive: u32,
+    node: usize,
+}
+
+impl Bounded<f32, 3> for Leaf {
+    fn aabb(&self) -> Aabb<f32, 3> {
+        self.aabb
+    }
+}
+
+impl BHShape<f32, 3> for Leaf {
+    fn set_bh_node_index(&mut self, index: usize) {
+        self.node = index;
+    }
+
+    fn bh_node_index(&self) -> usize {
+        self.node
+    }
+}
+
+pub struct SahScene {
+    bvh: Bvh<f32, 3>,
+    leaves: Vec<Leaf>,
+    primitives: Primitives,
+}
+
+impl SahScene {
+    pub fn build(scene: &crate::scene::Scene) -> Result<SahScene> {
+        let primitives = Primitives::from_scene(scene)?;
+        let mut leaves: Vec<Leaf> = primitives
+            .padded_bounds()
+            .iter()
+            .enumerate()
+            .map(|(i, b)| {
+                // Filled by axis: the crate's points are nalgebra's, which we need not name.
+                let mut aabb = Aabb::empty();
+                for axis in 0..3 {
+                    (aabb.min[axis], aabb.max[axis]) = (b.min[axis], b.max[axis]);
+                }
+                Leaf {
+                    aabb,
+                    primitive: i as u32,
+                    node: 0,
+                }
+            })
+            .collect();
+        let bvh = Bvh::build_par(&mut leaves);
+        Ok(SahScene {
+            bvh,
+            leaves,
+            primitives,
+        })
+    }
+
+    pub fn intersect(&self, ray: &Ray) -> Hit {
+        let segment = Segment::new(ray);
+        let mut closest = Closest::new(ray);
+        for leaf in self.bvh.traverse_iterator(&segment, &self.leaves) {
+            if closest.test(&self.primitives, leaf.primitive as usize) {
+                segment.tfar.set(closest.tfar());
+            }
+        }
+        closest.hit()
+    }
+
+    /// Any hit ends the traversal.
+    pub fn occluded(&self, ray: &Ray) -> bool {
+        let segment = Segment::new(ray);
+        self.bvh
+            .traverse_iterator(&segment, &self.leaves)
+            .any(|leaf| self.primitives.occludes(leaf.primitive as usize, ray))
+    }
+
+    /// The nodes, the leaf records and the primitives.
+    pub fn memory_bytes(&self) -> usize {
+        self.bvh.nodes.capacity() * size_of::<BvhNode<f32, 3>>()
+            + self.leaves.capacity() * size_of::<Leaf>()
+            + self.primitives.memory_bytes()
+    }
+}
+
+/// A ray segment [tnear, tfar] as the crate's box query. `tfar` is a `Cell`
+/// because the iterator holds the query by shared reference while the
+/// traversal shortens it.
+struct Segment {
+    origin: Vec3,
+    inv_dir: Vec3,
+    tnear: f32,
+    tfar: Cell<f32>,
+}
+
+impl Segment {
+    fn new(ray: &Ray) -> Segment {
+        // Clamped to finite values, so (box − origin) · inv_dir is never 0 · ∞ = NaN:
+        // a zero component then gives ±∞ slab ends (or 0 on the box's face).
+        let inv_dir = ray
+            .dir
+            .recip()
+            .clamp(Vec3::splat(-f32::MAX), Vec3::splat(f32::MAX));
+        Segment {
+            origin: ray.origin,
+            inv_dir,
+            tnear: ray.tnear,
+            tfar: Cell::new(ray.tfar),
+        }
+    }
+}
+
+impl IntersectsAabb<f32, 3> for Segment {
+    /// The slab test. The far end is rounded up by 1 + 2γ(3) (pbrt), so a
+    /// rounding error never drops a box the ray touches, flat ones included.
+    fn intersects_aabb(&self, aabb: &Aabb<f32, 3>) -> bool {
+        let round_up = 1.0 + 2.0 * gamma(3);
+        let (mut near, mut far) = (self.tnear, self.tfar.get());
+        for axis in 0..3 {
+            let t0 = (aabb.min[axis] - self.origin[axis]) * self.inv_dir[axis];
+            let t1 = (aabb.max[axis] - self.origin[axis]) * self.inv_dir[axis];
+            near = near.max(t0.min(t1));
+            far = far.min(t0.max(t1) * round_up);
+        }
+        near <= far
+    }
+}

@@ -1,0 +1,245 @@
+//! Every backend gives the same answers: Embree and the two pure-Rust BVHs
+//! (obvhs, bvh) on random rays through meshes, camera and shadow rays through
+//! a scene with analytic shapes, a scene smaller than a millimetre, and whole
+//! renders.
+
+mod common;
+
+use std::path::Path;
+
+use common::{scratch, write};
+use sturmray::accel::{Accel, Backend};
+use sturmray::math::{Hit, Ray, Vec3};
+use sturmray::render::{RenderOptions, render};
+use sturmray::sampling::Rng;
+use sturmray::scene::Scene;
+
+/// Relative tolerance on t, and absolute on the barycentrics u, v, for triangle
+/// hits. Both sides run the same f32 Plücker test, but Embree contracts its
+/// cross products into FMAs and divides through an approximate reciprocal
+/// refined by one Newton step, so t differs by a few ulps, more where the ray
+/// grazes the triangle (dividing by a small dot(Ng, D)). 1e-4 is about 800
+/// ulps: loose enough for grazing rays, tight enough that a different
+/// triangle or a shifted hit point fails. Analytic hits come from the same f64
+/// code on the same f32 ray in every backend, so they must be bit-equal.
+const TOLERANCE: f32 = 1e-4;
+
+const RUST_BACKENDS: [Backend; 2] = [Backend::Obvhs, Backend::Bvh];
+
+fn scene_file(relative: &str) -> Scene {
+    Scene::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join(relative)).unwrap()
+}
+
+fn build(scene: &Scene, backend: Backend) -> Accel {
+    Accel::build(scene, backend, Some(2)).unwrap()
+}
+
+/// Rays from random points in the scene's bounds (grown by 10% each side) in
+/// uniformly random directions.
+fn random_rays(scene: &Scene, count: usize, seed: u64) -> Vec<Ray> {
+    let b = scene.bounds();
+    let (lo, size) = (b.min - 0.1 * b.diagonal(), 1.2 * b.diagonal());
+    let mut rng = Rng::for_sample(seed, 0, 0);
+    (0..count)
+        .map(|_| {
+            let o = lo + size * Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32());
+            let z = 2.0 * rng.next_f32() - 1.0;
+            let phi = std::f32::consts::TAU * rng.next_f32();
+            let r = (1.0 - z * z).max(0.0).sqrt();
+            Ray::new(o, Vec3::new(r * phi.cos(), r * phi.sin(), z))
+        })
+        .collect()
+}
+
+/// Rays through the centres of a `n`×`n` grid of the camera's pixels.
+fn camera_rays(scene: &Scene, n: u32) -> Vec<Ray> {
+    let frame = scene.camera.frame();
+    let (w, h) = (scene.camera.width as f32, scene.camera.height as f32);
+    (0..n * n)
+        .map(|i| {
+            let (x, y) = ((i % n) as f32 + 0.5, (i / n) as f32 + 0.5);
+            frame.ray(x * w / n as f32, y * h / n as f32)
+        })
+        .collect()
+}
+
+/// Asserts `other` agrees with Embree's `reference` on ray `i`.
+fn assert_same_hit(reference: &Hit, other: &Hit, shapes_geom_id: u32, what: &str) {
+    assert_eq!(
+        (reference.geom_id, reference.prim_id),
+        (other.geom_id, other.prim_id),
+        "{what}: embree {reference:?}, other {other:?}"
+    );
+    if !reference.is_hit() {
+        return;
+    }
+    if reference.geom_id == shapes_geom_id {
+        assert_eq!(reference, other, "{what}: an analytic hit differs");
+        return;
+    }
+    let close = (reference.t - other.t).abs() <= TOLERANCE * reference.t.abs()
+        && (reference.u - other.u).abs() <= TOLERANCE
+        && (reference.v - other.v).abs() <= TOLERANCE
+        && (reference.ng - other.ng).length() <= TOLERANCE * reference.ng.length();
+    assert!(close, "{what}: embree {reference:?}, other {other:?}");
+}
+
+/// Traces `rays` through Embree and each pure-Rust backend and compares every
+/// hit; returns Embree's hits.
+fn assert_backends_agree(scene: &Scene, rays: &[Ray], what: &str) -> Vec<Hit> {
+    let embree = build(scene, Backend::Embree);
+    let reference: Vec<Hit> = rays.iter().map(|r| embree.intersect(r)).collect();
+    for backend in RUST_BACKENDS {
+        let accel = build(scene, backend);
+        for (i, (ray, expected)) in rays.iter().zip(&reference).enumerate() {
+            let context = format!("{what}, {}, ray {i} {ray:?}", backend.name());
+            assert_same_hit(
+                expected,
+                &accel.intersect(ray),
+                scene.shapes_geom_id(),
+                &context,
+            );
+            assert_eq!(
+                embree.occluded(ray),
+                accel.occluded(ray),
+                "{context}: occluded differs"
+            );
+        }
+        let mut batch = vec![Hit::MISS; rays.len()];
+        accel.intersect_batch(rays, &mut batch, false).unwrap();
+        for (i, (expected, hit)) in reference.iter().zip(&batch).enumerate() {
+            let context = format!("{what}, {} batch, ray {i}", backend.name());
+            assert_same_hit(expected, hit, scene.shapes_geom_id(), &context);
+        }
+        accel.check().unwrap();
+    }
+    reference
+}
+
+/// Shadow rays from each hit towards `target`, starting a little off the surface.
+fn shadow_rays(rays: &[Ray], hits: &[Hit], target: Vec3) -> Vec<Ray> {
+    rays.iter()
+        .zip(hits)
+        .filter(|(_, h)| h.is_hit())
+        .map(|(ray, hit)| {
+            let p = ray.at(hit.t);
+            let n = hit.ng.normalize();
+            let n = if n.dot(ray.dir) > 0.0 { -n } else { n };
+            let origin = p + 1e-4 * p.abs().max_element().max(1.0) * n;
+            let mut shadow = Ray::new(origin, target - origin);
+            shadow.tfar = 1.0;
+            shadow
+        })
+        .collect()
+}
+
+#[test]
+fn random_rays_through_the_cornell_box_agree() {
+    let scene = scene_file("scenes/cornell.toml");
+    let rays = random_rays(&scene, 20_000, 1);
+    let hits = assert_backends_agree(&scene, &rays, "cornell random");
+    // The rays start inside and around a closed-ish box: most hit something.
+    let hit = hits.iter().filter(|h| h.is_hit()).count();
+    assert!(hit > rays.len() / 2, "only {hit} hits");
+}
+
+#[test]
+fn camera_and_shadow_rays_through_meshes_and_analytic_shapes_agree() {
+    let scene = scene_file("scenes/gallery/mixed.toml");
+    let rays = camera_rays(&scene, 96);
+    let hits = assert_backends_agree(&scene, &rays, "mixed camera");
+    let shapes = hits
+        .iter()
+        .filter(|h| h.geom_id == scene.shapes_geom_id())
+        .count();
+    let meshes = hits
+        .iter()
+        .filter(|h| h.geom_id < scene.shapes_geom_id())
+        .count();
+    assert!(
+        shapes > 100 && meshes > 100,
+        "{shapes} shape hits, {meshes} mesh hits"
+    );
+    // Towards the point light: some are blocked by the shapes and the knot.
+    let light = Vec3::new(0.278, 0.5278, 0.2795);
+    let shadows = shadow_rays(&rays, &hits, light);
+    assert_backends_agree(&scene, &shadows, "mixed shadow");
+    let embree = build(&scene, Backend::Embree);
+    let blocked = shadows.iter().filter(|r| embree.occluded(r)).count();
+    assert!(
+        blocked > 0 && blocked < shadows.len(),
+        "{blocked} of {} blocked",
+        shadows.len()
+    );
+}
+
+/// The Cornell box and a sphere scaled into half a millimetre: obvhs on its own
+/// skips every node a ray leaves before t = 1e-4, i.e. most hits here.
+#[test]
+fn a_scene_smaller_than_a_millimetre_agrees() {
+    let dir = scratch("tiny");
+    let obj = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/cornell/cornell.obj");
+    let text = format!(
+        r#"[camera]
+eye = [0.000278, 0.000273, -0.0008]
+look_at = [0.000278, 0.000273, 0]
+fov = 39.3
+width = 64
+height = 64
+[materials.grey]
+type = "diffuse"
+albedo = [0.5, 0.5, 0.5]
+[[objects]]
+type = "mesh"
+file = {obj:?}
+transform = {{ scale = 0.001 }}
+[[objects]]
+type = "sphere"
+radius = 0.00009
+material = "grey"
+transform = {{ translate = [0.0004, 0.00009, 0.00017] }}
+"#
+    );
+    let scene = Scene::load(&write(&dir, "tiny.toml", &text)).unwrap();
+    let size = scene.bounds().diagonal().max_element();
+    assert!(size < 1e-3, "the scene is {size} across");
+    let mut rays = random_rays(&scene, 5_000, 2);
+    rays.extend(camera_rays(&scene, 48));
+    let hits = assert_backends_agree(&scene, &rays, "tiny");
+    let near = hits.iter().filter(|h| h.is_hit() && h.t < 1e-4).count();
+    assert!(near > 1000, "only {near} hits closer than 1e-4");
+    assert!(hits.iter().any(|h| h.geom_id == scene.shapes_geom_id()));
+}
+
+#[test]
+fn renders_through_every_backend_agree() {
+    let mut scene = scene_file("scenes/gallery/mixed.toml");
+    (scene.camera.width, scene.camera.height) = (40, 40);
+    let options = RenderOptions {
+        threads: Some(2),
+        spp: Some(1),
+        ..RenderOptions::default()
+    };
+    let image = |backend| {
+        let out = render(&scene, &build(&scene, backend), &options).unwrap();
+        out.film.layers().beauty
+    };
+    let reference = image(Backend::Embree);
+    let lit = reference
+        .iter()
+        .filter(|p| p.iter().sum::<f32>() > 0.0)
+        .count();
+    assert!(lit > reference.len() / 2, "only {lit} lit pixels");
+    for backend in RUST_BACKENDS {
+        let other = image(backend);
+        for (i, (a, b)) in reference.iter().zip(&other).enumerate() {
+            let (a, b) = (Vec3::from(*a), Vec3::from(*b));
+            // Hits agree to TOLERANCE, and shading is smooth in the hit point.
+            assert!(
+                (a - b).abs().max_element() <= 1e-3 * a.max_element().max(1.0),
+                "{}: pixel {i}: embree {a}, other {b}",
+                backend.name()
+            );
+        }
+    }
+}
