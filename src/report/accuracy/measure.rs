@@ -24,11 +24,12 @@ pub enum Finder {
 }
 
 impl Finder {
-    pub const ALL: [Finder; 5] = [
+    pub const ALL: [Finder; 6] = [
         Finder::Cold(Method::SturmBisect),
         Finder::Cold(Method::SturmNewton),
         Finder::Cold(Method::SturmIllinois),
         Finder::Cold(Method::Closed),
+        Finder::Cold(Method::Yuksel),
         Finder::Warm,
     ];
 
