@@ -41,24 +41,20 @@ pub const SCENES: &[&str] = &[
     "scenes/accuracy/high_degree.toml",
 ];
 
-/// The hard cases: the thin tori and degree 6–10 scenes and the clustered
-/// and repeated root sets. Scene paths are relative to `root`, the
-/// repository; `width` is how many rays (and pixels) across each image;
-/// `synthetic` the size of each synthetic set.
-pub fn hard_cases(root: &Path, width: u32, synthetic: usize) -> Result<Vec<CaseSet>> {
-    sets(root, &SCENES[2..], width, synthetic)
-}
-
-/// Every input of the study: all of [`SCENES`] and the synthetic sets.
-pub fn all_cases(root: &Path, width: u32, synthetic: usize) -> Result<Vec<CaseSet>> {
-    sets(root, SCENES, width, synthetic)
-}
-
-fn sets(root: &Path, scenes: &[&str], width: u32, synthetic: usize) -> Result<Vec<CaseSet>> {
-    let mut sets = scenes
+/// The hard-case scenes, every one of [`SCENES`]: the polynomials of
+/// camera rays through the pixel centres of images `width` pixels across.
+/// Scene paths are relative to `root`, the repository.
+pub fn hard_cases(root: &Path, width: u32) -> Result<Vec<CaseSet>> {
+    SCENES
         .iter()
         .map(|path| scene_set(&root.join(path), width))
-        .collect::<Result<Vec<_>>>()?;
+        .collect()
+}
+
+/// Every input of the study: the hard-case scenes and the synthetic sets
+/// of `synthetic` polynomials each.
+pub fn all_cases(root: &Path, width: u32, synthetic: usize) -> Result<Vec<CaseSet>> {
+    let mut sets = hard_cases(root, width)?;
     sets.push(clustered(synthetic));
     sets.push(repeated(synthetic));
     Ok(sets)
