@@ -73,6 +73,7 @@ fn draw<DB: DrawingBackend>(
         .configure_mesh()
         .x_desc("median relative root error vs exact (0 drawn at 1e-17)")
         .y_desc("ns per ray (one thread)")
+        .y_labels(12)
         .x_label_formatter(&|x| format!("{x:.0e}"))
         .y_label_formatter(&|y| format!("{y:.0}"))
         .draw()?;
