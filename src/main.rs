@@ -128,6 +128,20 @@ enum Command {
         #[arg(long = "backend", value_enum)]
         backends: Vec<BackendArg>,
     },
+    /// What accuracy costs in time: every root finder at tolerances 1e-2 to
+    /// 1e-14 on the algebraic scenes and sets of hard polynomials, against the
+    /// exact reference. Run from the repository (it reads scenes/).
+    Accuracy {
+        /// Fewer rays and passes: a run under a minute (release build).
+        #[arg(long)]
+        quick: bool,
+        /// Write the records as JSON.
+        #[arg(long)]
+        json: Option<PathBuf>,
+        /// Write the plot of time against error (SVG).
+        #[arg(long)]
+        plot: Option<PathBuf>,
+    },
 }
 
 fn parse_pixel(text: &str) -> Result<(usize, usize), String> {
@@ -336,6 +350,10 @@ fn run(command: Command) -> anyhow::Result<()> {
                 std::fs::write(&path, text + "\n").map_err(|e| Error::io(&path, e))?;
             }
             Ok(())
+        }
+        Command::Accuracy { quick, json, plot } => {
+            sturmray::report::accuracy::command(quick, json.as_deref(), plot.as_deref())
+                .context("accuracy study failed")
         }
     }
 }

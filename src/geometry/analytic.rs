@@ -191,6 +191,21 @@ pub struct Shape {
     solver: Solver,
 }
 
+/// Q(s) = F(start + s·d) of one ray in object space (|d| = 1, s the distance
+/// from `start`): the search looks for its roots in s ∈ (0, hi), where the
+/// ray's own t is (t0 + s) / length. `start` is either the ray's own origin
+/// (tmin, excluded) or its entry into the shape's box, where no surface
+/// point lies.
+#[derive(Clone, Copy, Debug)]
+pub struct RayPoly {
+    pub q: Poly,
+    pub hi: f64,
+    start: DVec3,
+    d: DVec3,
+    t0: f64,
+    length: f64,
+}
+
 /// The roots found for one ray, in the ray's own parameter.
 struct Found {
     t: f64,
@@ -309,7 +324,14 @@ impl Shape {
         self.search(o, d, tmin, tmax, true).is_some()
     }
 
-    fn search(&self, o: DVec3, d: DVec3, tmin: f64, tmax: f64, shadow: bool) -> Option<Found> {
+    /// Swaps the root finder, for studies that compare them on one scene.
+    pub fn set_solver(&mut self, solver: Solver) {
+        self.solver = solver;
+    }
+
+    /// The polynomial the search for hits of the world ray o + t·d with t in
+    /// (tmin, tmax) solves, or None if the ray misses the shape's box.
+    pub fn ray_polynomial(&self, o: DVec3, d: DVec3, tmin: f64, tmax: f64) -> Option<RayPoly> {
         let (o, d) = (
             self.to_object.transform_point3(o),
             self.to_object.transform_vector3(d),
@@ -328,10 +350,25 @@ impl Shape {
         // Move the origin to where the ray enters the box: Q's coefficients then
         // describe the surface near the ray's start, not far away from it.
         let start = o + t0 * d;
-        // The search runs over s in (0, t1 - t0): the start is either the ray's own
-        // origin (tmin, excluded) or the box entry, where no surface point lies.
-        let hi = t1 - t0;
-        let q = self.surface.along(start, d).trimmed(1e-14);
+        Some(RayPoly {
+            q: self.surface.along(start, d).trimmed(1e-14),
+            hi: t1 - t0,
+            start,
+            d,
+            t0,
+            length,
+        })
+    }
+
+    fn search(&self, o: DVec3, d: DVec3, tmin: f64, tmax: f64, shadow: bool) -> Option<Found> {
+        let RayPoly {
+            q,
+            hi,
+            start,
+            d,
+            t0,
+            length,
+        } = self.ray_polynomial(o, d, tmin, tmax)?;
         let quadratic = matches!(self.surface, Surface::Sphere { .. } | Surface::Quadric(_));
         // Shadow rays: a Sturm count of zero settles most of them without refining.
         if shadow && !quadratic && !self.solver.any(&q, 0.0, hi) {

@@ -4,5 +4,5 @@
 mod analytic;
 mod mesh;
 
-pub use analytic::{Box3, Quadric, Shape, ShapeHit, Surface};
+pub use analytic::{Box3, Quadric, RayPoly, Shape, ShapeHit, Surface};
 pub use mesh::Mesh;

@@ -41,6 +41,14 @@ pub enum Method {
     /// comparison method: they decide double roots by a discriminant's sign);
     /// sturm-newton above degree 4.
     Closed,
+    /// Yuksel's derivative intervals ("High-Performance Polynomial Root
+    /// Finding for Graphics", HPG 2022), no Sturm chain: the roots of p'
+    /// cut the interval into pieces where p is monotonic, so each holds at
+    /// most one root, refined by bracketed Newton where p changes sign; the
+    /// roots of p' come the same way from p'', down to a quadratic solved
+    /// in closed form. A root of even multiplicity (no sign change, as at a
+    /// tangent) is found only where p evaluates to exactly 0.
+    Yuksel,
 }
 
 impl Method {
@@ -49,6 +57,7 @@ impl Method {
         Method::SturmNewton,
         Method::SturmIllinois,
         Method::Closed,
+        Method::Yuksel,
     ];
 
     pub fn name(self) -> &'static str {
@@ -57,6 +66,7 @@ impl Method {
             Method::SturmNewton => "sturm-newton",
             Method::SturmIllinois => "sturm-illinois",
             Method::Closed => "closed",
+            Method::Yuksel => "yuksel",
         }
     }
 }
@@ -145,7 +155,7 @@ impl Solver {
         if !is_interval(a, b) {
             return 0;
         }
-        if let Some(found) = self.closed_roots(p, a, b) {
+        if let Some(found) = self.direct_roots(p, a, b, f64::INFINITY) {
             return self.closed_roots_in(&found, a, b, out);
         }
         let mut search = Search::EMPTY;
@@ -163,7 +173,7 @@ impl Solver {
         if !is_interval(a, b) {
             return None;
         }
-        if let Some(found) = self.closed_roots(p, a, b) {
+        if let Some(found) = self.direct_roots(p, a, b, a) {
             return found.iter().copied().find(|&t| t > a && t < b);
         }
         let mut search = Search::EMPTY;
@@ -180,7 +190,7 @@ impl Solver {
         if !is_interval(a, b) {
             return false;
         }
-        if let Some(found) = self.closed_roots(p, a, b) {
+        if let Some(found) = self.direct_roots(p, a, b, a) {
             return found.iter().any(|&t| t > a && t < b);
         }
         if a.is_finite() && b.is_finite() && opposite(p.eval(a), p.eval(b)) {
@@ -203,7 +213,7 @@ impl Solver {
         if !is_interval(a, b) {
             return None;
         }
-        if self.closed_roots(p, a, b).is_some() {
+        if matches!(self.method, Method::Closed | Method::Yuksel) && self.direct(p) {
             return self.nearest(p, a, b);
         }
         let mut search = Search::EMPTY;
@@ -218,36 +228,115 @@ impl Solver {
         self.nearest_in(&search, a, b)
     }
 
-    /// The closed-form roots (increasing) when the method is `Closed` and
-    /// the degree allows; `None` sends the caller down the Sturm path.
-    /// Terms below one rounding on the interval are dropped first, as on
-    /// the Sturm path: a formula divides by the leading coefficient.
-    fn closed_roots(&self, p: &Poly, a: f64, b: f64) -> Option<ClosedRoots> {
-        if self.method != Method::Closed || p.degree() > 4 {
+    /// Whether this method solves `p` without a Sturm chain: `Closed` up to
+    /// degree 4, `Yuksel` always.
+    fn direct(&self, p: &Poly) -> bool {
+        match self.method {
+            Method::Closed => p.degree() <= 4,
+            Method::Yuksel => true,
+            _ => false,
+        }
+    }
+
+    /// The roots (increasing) from the closed forms or Yuksel's derivative
+    /// intervals when the method and degree call for them; `None` sends the
+    /// caller down the Sturm path. Terms below one rounding on the interval
+    /// are dropped first, as on the Sturm path: a formula divides by the
+    /// leading coefficient. Yuksel's method stops after the first root above
+    /// `after` (the closed forms find all at once).
+    fn direct_roots(&self, p: &Poly, a: f64, b: f64, after: f64) -> Option<DirectRoots> {
+        if !self.direct(p) {
             return None;
         }
-        let mut found = ClosedRoots::default();
+        let mut found = DirectRoots::default();
         let Some((lo, hi)) = clip_to_root_bound(p, a, b) else {
             return Some(found);
         };
         let degree = negligible_above(p, lo.abs().max(hi.abs()), f64::EPSILON);
         let p = Poly::new(&p.coeffs()[..=degree]);
+        if self.method == Method::Yuksel {
+            self.derivative_intervals(&p, lo, hi, after, &mut found);
+            return Some(found);
+        }
         let mut c = [0.0; 5];
         c[..=p.degree()].copy_from_slice(p.coeffs());
-        found.len = match p.degree() {
+        let mut roots = [0.0; 4];
+        let n = match p.degree() {
             0 => 0,
-            1 | 2 => closed::quadratic(c[0], c[1], c[2], &mut found.roots),
-            3 => closed::cubic([c[0], c[1], c[2], c[3]], &mut found.roots),
-            _ => closed::quartic(c, &mut found.roots),
+            1 | 2 => closed::quadratic(c[0], c[1], c[2], &mut roots),
+            3 => closed::cubic([c[0], c[1], c[2], c[3]], &mut roots),
+            _ => closed::quartic(c, &mut roots),
         };
+        roots[..n].iter().for_each(|&t| found.push(t));
         Some(found)
+    }
+
+    /// Yuksel's method on [lo, hi]: the roots of p there, increasing,
+    /// stopping after the first above `after`. The derivatives p^(k) are
+    /// formed down to degree 2, whose roots the quadratic formula gives;
+    /// then each level's roots are the sign changes of p^(k) between the
+    /// roots of p^(k+1), where it is monotonic.
+    fn derivative_intervals(&self, p: &Poly, lo: f64, hi: f64, after: f64, out: &mut DirectRoots) {
+        let deepest = p.degree().saturating_sub(2);
+        let mut chain = [Poly::ZERO; MAX_DEGREE + 1];
+        chain[0] = *p;
+        for k in 1..=deepest {
+            chain[k] = chain[k - 1].derivative();
+        }
+        let mut roots = [0.0; 4];
+        let c = |k: usize| chain[deepest].coeffs().get(k).copied().unwrap_or(0.0);
+        let n = closed::quadratic(c(0), c(1), c(2), &mut roots);
+        let mut critical = DirectRoots::default();
+        for &t in roots[..n].iter().filter(|&&t| t >= lo && t <= hi) {
+            critical.push(t);
+        }
+        for k in (0..deepest).rev() {
+            let mut next = DirectRoots::default();
+            let stop = if k == 0 { after } else { f64::INFINITY };
+            self.monotonic_pieces(&chain[k], lo, hi, &critical, stop, &mut next);
+            critical = next;
+        }
+        *out = critical;
+    }
+
+    /// The roots of f in [lo, hi], where f is monotonic between consecutive
+    /// `critical` points: one per piece whose ends have opposite signs, or
+    /// an end where f is exactly 0. Stops after the first root above `after`.
+    fn monotonic_pieces(
+        &self,
+        f: &Poly,
+        lo: f64,
+        hi: f64,
+        critical: &DirectRoots,
+        after: f64,
+        out: &mut DirectRoots,
+    ) {
+        let (mut x0, mut f0) = (lo, f.eval(lo));
+        for &x1 in critical.iter().chain(std::iter::once(&hi)) {
+            if x1 <= x0 {
+                continue;
+            }
+            let f1 = f.eval(x1);
+            if f0 == 0.0 {
+                out.push(x0);
+            } else if opposite(f0, f1) {
+                out.push(self.newton(f, x0, x1, f0, f1));
+            }
+            if out.last().is_some_and(|t| t > after) {
+                return;
+            }
+            (x0, f0) = (x1, f1);
+        }
+        if f0 == 0.0 {
+            out.push(x0);
+        }
     }
 
     /// Closed-form roots in (a, b], those closer than the tolerance to the
     /// previous one merged into it, as the Sturm path would report them.
     fn closed_roots_in(
         &self,
-        found: &ClosedRoots,
+        found: &DirectRoots,
         a: f64,
         b: f64,
         out: &mut [f64; MAX_DEGREE],
@@ -351,7 +440,10 @@ impl Solver {
     fn refine_bracket(&self, f: &Poly, lo: f64, hi: f64, flo: f64, fhi: f64) -> f64 {
         match self.method {
             Method::SturmBisect => self.bisect(f, lo, hi, flo),
-            Method::SturmNewton | Method::Closed => self.newton(f, lo, hi, flo, fhi),
+            // Yuksel never reaches the Sturm path; its pieces refine by Newton too.
+            Method::SturmNewton | Method::Closed | Method::Yuksel => {
+                self.newton(f, lo, hi, flo, fhi)
+            }
             Method::SturmIllinois => self.illinois(f, lo, hi, flo, fhi),
         }
     }
@@ -520,16 +612,30 @@ impl Solver {
     }
 }
 
-/// Up to four closed-form roots, increasing.
+/// Roots found without a Sturm chain (closed forms, derivative
+/// intervals), increasing; one of equal neighbours kept.
 #[derive(Clone, Copy, Debug, Default)]
-struct ClosedRoots {
-    roots: [f64; 4],
+struct DirectRoots {
+    roots: [f64; MAX_DEGREE],
     len: usize,
 }
 
-impl ClosedRoots {
+impl DirectRoots {
     fn iter(&self) -> impl Iterator<Item = &f64> {
         self.roots[..self.len].iter()
+    }
+
+    fn last(&self) -> Option<f64> {
+        self.len.checked_sub(1).map(|i| self.roots[i])
+    }
+
+    /// Appends t if it is above the last root (a polynomial of degree n has
+    /// at most n, so storage cannot run out for degree <= MAX_DEGREE).
+    fn push(&mut self, t: f64) {
+        if self.last().is_none_or(|last| t > last) && self.len < MAX_DEGREE {
+            self.roots[self.len] = t;
+            self.len += 1;
+        }
     }
 }
 
@@ -1124,6 +1230,50 @@ mod tests {
     }
 
     #[test]
+    fn yuksel_finds_every_root_of_high_degree_polynomials() {
+        let s = solver(Method::Yuksel);
+        // Roots 1..10, and ten roots of a Chebyshev-like spread in (-1, 1).
+        let integers: Vec<f64> = (1..=10).map(f64::from).collect();
+        let cheb: Vec<f64> = (0..10)
+            .map(|k| (std::f64::consts::PI * (f64::from(k) + 0.5) / 10.0).cos())
+            .rev()
+            .collect();
+        for want in [integers, cheb] {
+            let p = from_roots(1.0, &want);
+            let got = roots_of(&s, &p, -2.0, 11.0);
+            assert_near(&got, &want, 1e-9);
+            let near = s.nearest(&p, want[3], 11.0).unwrap();
+            assert!((near - want[4]).abs() < 1e-9, "{near}");
+            assert!(s.any(&p, want[3] + 1e-3, want[4] + 1e-3));
+            assert!(!s.any(&p, want[3] + 1e-3, want[4] - 1e-3));
+        }
+    }
+
+    #[test]
+    fn yuksel_tolerance_and_odd_multiplicity() {
+        let p = Poly::new(&[-2.0, 0.0, 1.0]);
+        for tol in [1e-2, 1e-6, 1e-10, 1e-14] {
+            let s = Solver {
+                method: Method::Yuksel,
+                tolerance: tol,
+                max_iterations: 200,
+            };
+            let got = s.nearest(&p, 0.0, 10.0).unwrap();
+            assert!(
+                (got - std::f64::consts::SQRT_2).abs() <= tol * 1.5,
+                "{tol}: {got}"
+            );
+        }
+        // A triple root changes sign: found, to the cube root of rounding.
+        let triple = from_roots(1.0, &[0.3, 0.3, 0.3, 2.0]);
+        let got = solver(Method::Yuksel).nearest(&triple, 0.0, 3.0).unwrap();
+        assert!((got - 0.3).abs() < 1e-4, "{got}");
+        // A tangent with no crossing: (t - 1)^2 + 1e-12 has no real root.
+        let touch = Poly::new(&[1.0 + 1e-12, -2.0, 1.0]);
+        assert_eq!(solver(Method::Yuksel).nearest(&touch, 0.0, 3.0), None);
+    }
+
+    #[test]
     fn nudges_inside_skip_subnormals() {
         assert_eq!(above(0.0), f64::MIN_POSITIVE);
         assert_eq!(above(-f64::MIN_POSITIVE), 0.0);
@@ -1184,7 +1334,7 @@ mod tests {
 
         #[test]
         fn roots_finds_constructed_roots(
-            roots in separated_roots(), lead in leading(), m in 0usize..4,
+            roots in separated_roots(), lead in leading(), m in 0usize..Method::ALL.len(),
         ) {
             let p = from_roots(lead, &roots);
             let s = solver(Method::ALL[m]);
@@ -1222,7 +1372,7 @@ mod tests {
         fn nearest_and_any_agree_with_the_construction(
             roots in separated_roots(),
             lead in leading(),
-            m in 0usize..4,
+            m in 0usize..Method::ALL.len(),
             a in -4.5f64..4.5,
             len in 0.01f64..9.0,
         ) {

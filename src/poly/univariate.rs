@@ -297,8 +297,8 @@ pub(crate) fn pow2_reciprocal(x: f64) -> f64 {
 }
 
 /// `lead` times the product of (t - r) over `roots`, expanded in f64: the
-/// tests' independent reference, since the roots are known by construction.
-#[cfg(test)]
+/// tests' independent reference, since the roots are known by construction,
+/// and the accuracy study's synthetic cases.
 pub(crate) fn from_roots(lead: f64, roots: &[f64]) -> Poly {
     let mut c = vec![lead];
     for &r in roots {

@@ -1,0 +1,201 @@
+//! The inputs of the accuracy study: sets of polynomials, each solved for
+//! its nearest root in (0, hi) as a camera ray's search solves it.
+//!
+//! Scene sets take the very polynomials the renderer solves
+//! ([`Shape::ray_polynomial`]) for camera rays through pixel centres, shape
+//! by shape in scanline order, so consecutive cases come from neighbouring
+//! rays (what a warm start exploits). Synthetic sets hold clustered and
+//! repeated roots, built from their roots in f64.
+
+use std::path::Path;
+
+use crate::error::Result;
+use crate::geometry::Surface;
+use crate::poly::univariate::{Poly, from_roots};
+use crate::sampling::Rng;
+use crate::scene::Scene;
+
+/// One query: the nearest root of `q` in (0, hi).
+#[derive(Clone, Copy, Debug)]
+pub struct Case {
+    pub q: Poly,
+    pub hi: f64,
+}
+
+/// A named set of cases; a scene set keeps its scene, resized for the
+/// study's reference renders.
+#[derive(Clone, Debug)]
+pub struct CaseSet {
+    pub name: String,
+    pub cases: Vec<Case>,
+    pub scene: Option<Scene>,
+}
+
+/// The scenes the study reads: the gallery's tori and algebraic surfaces
+/// (Goursat's tangle cube, Steiner, Kummer, the heart) and the accuracy
+/// folder's thin tori and degree 6–10 surfaces.
+pub const SCENES: &[&str] = &[
+    "scenes/gallery/tori.toml",
+    "scenes/gallery/algebraic.toml",
+    "scenes/accuracy/thin_tori.toml",
+    "scenes/accuracy/high_degree.toml",
+];
+
+/// The hard-case scenes, every one of [`SCENES`]: the polynomials of
+/// camera rays through the pixel centres of images `width` pixels across.
+/// Scene paths are relative to `root`, the repository.
+pub fn hard_cases(root: &Path, width: u32) -> Result<Vec<CaseSet>> {
+    SCENES
+        .iter()
+        .map(|path| scene_set(&root.join(path), width))
+        .collect()
+}
+
+/// Every input of the study: the hard-case scenes and the synthetic sets
+/// of `synthetic` polynomials each.
+pub fn all_cases(root: &Path, width: u32, synthetic: usize) -> Result<Vec<CaseSet>> {
+    let mut sets = hard_cases(root, width)?;
+    sets.push(clustered(synthetic));
+    sets.push(repeated(synthetic));
+    Ok(sets)
+}
+
+/// The polynomials of camera rays through the pixel centres of an image
+/// `width` pixels across (aspect kept, the scene resized to it) against
+/// every torus and algebraic shape of the scene. Spheres and quadrics are
+/// left out: their quadratics never reach the root finders.
+pub fn scene_set(path: &Path, width: u32) -> Result<CaseSet> {
+    let mut scene = Scene::load(path)?;
+    let name = format!("scene:{}", scene.name);
+    resize(&mut scene, width);
+    let frame = scene.camera.frame();
+    let (w, h) = (scene.camera.width, scene.camera.height);
+    let mut cases = Vec::new();
+    for shape in &scene.shapes {
+        if !matches!(shape.surface, Surface::Torus { .. } | Surface::Algebraic(_)) {
+            continue;
+        }
+        for y in 0..h {
+            for x in 0..w {
+                let ray = frame.ray(x as f32 + 0.5, y as f32 + 0.5);
+                let (o, d) = (ray.origin.as_dvec3(), ray.dir.as_dvec3());
+                if let Some(r) = shape.ray_polynomial(o, d, 0.0, f64::INFINITY) {
+                    cases.push(Case { q: r.q, hi: r.hi });
+                }
+            }
+        }
+    }
+    Ok(CaseSet {
+        name,
+        cases,
+        scene: Some(scene),
+    })
+}
+
+/// Sets the camera's width, keeping the aspect ratio (the field of view is
+/// vertical, so the view does not change).
+fn resize(scene: &mut Scene, width: u32) {
+    let c = &mut scene.camera;
+    let height = (u64::from(c.height) * u64::from(width) / u64::from(c.width)).max(1);
+    (c.width, c.height) = (width, height as u32);
+}
+
+/// Degree 4 to 10 with a cluster of 2 to 4 roots, 1e-2 to 1e-9 apart (a ray
+/// through a thin shell or grazing a fold), among other roots in (0, 4).
+pub fn clustered(n: usize) -> CaseSet {
+    let mut rng = Rng::for_sample(0x0c10_57e5, 0, 0);
+    let cases = (0..n)
+        .map(|_| {
+            let degree = 4 + (rng.next_u64() % 7) as usize;
+            let size = 2 + (rng.next_u64() % 3) as usize;
+            let gap = 10f64.powf(-2.0 - 7.0 * f64::from(rng.next_f32()));
+            let centre = 0.2 + 3.0 * f64::from(rng.next_f32());
+            let mut roots: Vec<f64> = (0..size).map(|k| centre + gap * k as f64).collect();
+            while roots.len() < degree {
+                roots.push(-1.0 + 6.0 * f64::from(rng.next_f32()));
+            }
+            Case {
+                q: from_roots(lead(&mut rng), &roots),
+                hi: 4.0,
+            }
+        })
+        .collect();
+    CaseSet {
+        name: "clustered".into(),
+        cases,
+        scene: None,
+    }
+}
+
+/// Degree 2 to 10 with one root of multiplicity 2 to 4 (a tangent ray, a
+/// node, a surface like the cubed sphere), half of them at values f64
+/// represents exactly (the polynomial then has the multiple root itself),
+/// half at decimals (rounding splits the root into a cluster or a complex
+/// pair: the exact reference decides which).
+pub fn repeated(n: usize) -> CaseSet {
+    let mut rng = Rng::for_sample(0x4e9, 0, 0);
+    let cases = (0..n)
+        .map(|i| {
+            let multiplicity = 2 + (rng.next_u64() % 3) as usize;
+            let others = (rng.next_u64() % 7) as usize;
+            let step = (1 + rng.next_u64() % 15) as f64;
+            let root = if i % 2 == 0 { step / 4.0 } else { step / 5.0 };
+            let mut roots = vec![root; multiplicity];
+            for _ in 0..others {
+                roots.push(-1.0 + 6.0 * f64::from(rng.next_f32()));
+            }
+            Case {
+                q: from_roots(lead(&mut rng), &roots),
+                hi: 4.0,
+            }
+        })
+        .collect();
+    CaseSet {
+        name: "repeated".into(),
+        cases,
+        scene: None,
+    }
+}
+
+/// A leading coefficient of either sign, 1e-3 to 1e3 in size.
+fn lead(rng: &mut Rng) -> f64 {
+    let size = 10f64.powf(6.0 * f64::from(rng.next_f32()) - 3.0);
+    if rng.next_u64().is_multiple_of(2) {
+        size
+    } else {
+        -size
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::poly::sturm::SturmSequence;
+
+    #[test]
+    fn synthetic_sets_have_their_roots_in_the_interval() {
+        for set in [clustered(50), repeated(50)] {
+            assert_eq!(set.cases.len(), 50, "{}", set.name);
+            for c in &set.cases {
+                assert!(c.q.degree() >= 2, "{}: {:?}", set.name, c.q);
+                // Every case was built with a root in (0, 4).
+                assert!(
+                    SturmSequence::new(&c.q).count(0.0, c.hi) > 0,
+                    "{}",
+                    set.name
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn scene_sets_take_the_renderers_polynomials() {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+        let set = scene_set(&root.join("scenes/accuracy/thin_tori.toml"), 16).unwrap();
+        assert_eq!(set.name, "scene:thin_tori");
+        assert_eq!(set.scene.as_ref().unwrap().camera.width, 16);
+        assert_eq!(set.scene.as_ref().unwrap().camera.height, 10);
+        assert!(!set.cases.is_empty());
+        assert!(set.cases.iter().all(|c| c.q.degree() == 4 && c.hi > 0.0));
+    }
+}
