@@ -1,5 +1,9 @@
 //! Lights and the radiance they send to a point.
 
+mod emit;
+
+pub use emit::Emission;
+
 use crate::math::Vec3;
 use crate::sampling::warp;
 
