@@ -10,7 +10,8 @@ use serde::Deserialize;
 
 use super::shapes::{self, ShapeFile, ShapeKind};
 use super::{
-    Camera, Integrator, RenderSettings, Scene, headlight, load_obj, locate, scene_name, suggest,
+    Camera, Integrator, PhotonSettings, RenderSettings, Scene, headlight, load_obj, locate,
+    scene_name, suggest,
 };
 use crate::error::{Error, Result};
 use crate::geometry::{Box3, Shape};
@@ -66,6 +67,15 @@ struct RenderFile {
     /// The root finder for analytic surfaces, by its stable name.
     method: Option<String>,
     tolerance: Option<f64>,
+    photons: Option<PhotonsFile>,
+}
+
+/// `photons = { count, radius }`: the caustic photon pass.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PhotonsFile {
+    count: Option<u32>,
+    radius: Option<f32>,
 }
 
 #[derive(Deserialize)]
@@ -412,7 +422,22 @@ pub(super) fn load(path: &Path) -> Result<Scene> {
             Some(IntegratorFile::Whitted) | None => Integrator::Whitted,
             Some(IntegratorFile::Path) => Integrator::Path,
         },
+        photons: match &file.render.photons {
+            Some(p) => PhotonSettings {
+                count: p.count.unwrap_or(defaults.photons.count),
+                radius: p.radius.or(defaults.photons.radius),
+            },
+            None => defaults.photons,
+        },
     };
+    if let Some(radius) = render.photons.radius
+        && !(radius > 0.0 && radius.is_finite())
+    {
+        return Err(check.error(
+            "render.photons.radius",
+            format!("expected a number > 0, found {radius}"),
+        ));
+    }
     if !(render.min_weight >= 0.0 && render.min_weight < 1.0) {
         return Err(check.error(
             "render.min_weight",

@@ -201,6 +201,7 @@ fn toml_scene_settings_and_transforms() {
             min_weight: 1e-3,
             filter: crate::sampling::Filter::BOX,
             integrator: Integrator::Whitted,
+            photons: super::PhotonSettings::default(),
         }
     );
     assert_eq!(scene.background, Vec3::new(0.1, 0.2, 0.3));
