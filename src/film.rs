@@ -1,7 +1,7 @@
 //! The film: per-pixel f64 sums and sample counts, so averages do not depend
 //! on the order samples arrive in.
 
-use crate::math::Vec3;
+use crate::math::{LUMINANCE, Vec3};
 
 /// What one camera sample measured.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -80,9 +80,6 @@ impl Pixel {
         self.luminance[1] += y * y;
     }
 }
-
-/// Luminance weights (Rec. 709).
-const LUMINANCE: Vec3 = Vec3::new(0.2126, 0.7152, 0.0722);
 
 /// A half-open rectangle of pixels, [x0, x1) × [y0, y1), row 0 at the top.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]

@@ -66,6 +66,9 @@ enum Command {
         /// Write ray counts and time as JSON.
         #[arg(long)]
         stats: Option<PathBuf>,
+        /// Photons for caustics (overrides the scene's `render.photons.count`; 0: none).
+        #[arg(long)]
+        photons: Option<u32>,
         /// Spawn every kind of ray, whatever the scene calls for (to measure what
         /// the render plan saves).
         #[arg(long)]
@@ -207,9 +210,13 @@ fn run(command: Command) -> anyhow::Result<()> {
             backend,
             threads,
             stats,
+            photons,
             all_effects,
         } => {
-            let scene = Scene::load(&scene)?;
+            let mut scene = Scene::load(&scene)?;
+            if let Some(count) = photons {
+                scene.render.photons.count = count;
+            }
             let output = output.unwrap_or_else(|| PathBuf::from(format!("out/{}.exr", scene.name)));
             prepare_output(&output)?;
             let threads = threads.map(|n| n as usize);

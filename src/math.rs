@@ -29,6 +29,10 @@ impl Ray {
 /// Marks "no geometry" / "no primitive" in hit records, as Embree does.
 pub const INVALID_ID: u32 = u32::MAX;
 
+/// Rec. 709 luminance weights: how bright a colour looks, for choosing by
+/// brightness (lights by power, adaptive sampling by disagreement).
+pub const LUMINANCE: Vec3 = Vec3::new(0.2126, 0.7152, 0.0722);
+
 /// The nearest hit of a ray: distance, which geometry and primitive, the
 /// barycentric (u, v) and the unnormalised geometric normal.
 #[derive(Clone, Copy, Debug, PartialEq)]

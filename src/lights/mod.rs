@@ -9,6 +9,10 @@ mod pick;
 
 pub use pick::{LightPick, LightPicker};
 
+mod emit;
+
+pub use emit::Emission;
+
 use crate::math::Vec3;
 use crate::sampling::warp;
 
@@ -160,25 +164,6 @@ impl Light {
     /// A point or directional light: one direction reaches it, no bounce can.
     pub fn is_delta(&self) -> bool {
         matches!(self, Light::Point { .. } | Light::Directional { .. })
-    }
-
-    /// Emitted power, up to a constant factor shared by all area lights: what
-    /// light sampling picks lights by. Zero for point and directional lights,
-    /// which are sampled every time.
-    pub fn area_power(&self) -> f32 {
-        let luminance = |c: Vec3| c.dot(Vec3::new(0.2126, 0.7152, 0.0722));
-        match self {
-            Light::Point { .. } | Light::Directional { .. } => 0.0,
-            Light::Sphere {
-                radius, radiance, ..
-            } => luminance(*radiance) * 4.0 * std::f32::consts::PI * radius * radius,
-            Light::Triangle {
-                edge1,
-                edge2,
-                radiance,
-                ..
-            } => luminance(*radiance) * 0.5 * edge1.cross(*edge2).length(),
-        }
     }
 }
 

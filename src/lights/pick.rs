@@ -6,6 +6,7 @@
 use std::collections::HashMap;
 
 use super::Light;
+use crate::math::{Bounds, LUMINANCE};
 
 /// The lights of one shading point's estimate.
 pub struct LightPick {
@@ -35,7 +36,8 @@ impl LightPicker {
         let cdf = lights[deltas..]
             .iter()
             .map(|l| {
-                total += l.area_power().max(0.0);
+                // An area light's power does not depend on the scene's bounds.
+                total += l.power(Bounds::EMPTY).dot(LUMINANCE).max(0.0);
                 total
             })
             .collect();

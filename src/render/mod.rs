@@ -2,6 +2,7 @@
 
 mod adaptive;
 mod path;
+pub mod photon;
 mod plan;
 mod tally;
 mod whitted;
@@ -12,6 +13,7 @@ use std::time::Instant;
 use rayon::prelude::*;
 
 pub use path::PathTracer;
+pub use photon::PhotonMap;
 pub use plan::Plan;
 pub use tally::{Node, RayKind, RayStats, Tally};
 pub use whitted::Whitted;
@@ -72,14 +74,17 @@ pub fn render(scene: &Scene, accel: &Accel, options: &RenderOptions) -> Result<R
              and no more than the scene's max_spp"
         )));
     }
-    let integrator = Tracer::new(scene, accel, options.all_effects);
+    let plan = plan(scene, options.all_effects);
+    let pool = thread_pool(options.threads)?;
+    let (caustics, photon_rays) =
+        pool.install(|| photon_pass(scene, accel, &plan, options.progress));
+    let integrator = Tracer::new(scene, accel, plan, caustics.as_ref());
     let tiles: Vec<(usize, usize)> = (0..height.div_ceil(TILE))
         .flat_map(|ty| (0..width.div_ceil(TILE)).map(move |tx| (tx * TILE, ty * TILE)))
         .collect();
 
     let progress = progress_bar(options.progress, (width * height) as u64);
-    let rays_done = AtomicU64::new(0);
-    let pool = thread_pool(options.threads)?;
+    let rays_done = AtomicU64::new(photon_rays.total());
     let results: Vec<(Vec<Pixel>, RayStats)> = pool.install(|| {
         tiles
             .par_iter()
@@ -115,7 +120,7 @@ pub fn render(scene: &Scene, accel: &Accel, options: &RenderOptions) -> Result<R
     accel.check()?;
 
     let mut film = Film::new(width, height);
-    let mut stats = RayStats::default();
+    let mut stats = photon_rays;
     for (&(x0, y0), (pixels, tile_stats)) in tiles.iter().zip(results) {
         let tile_width = (x0 + TILE).min(width) - x0;
         for (i, pixel) in pixels.into_iter().enumerate() {
@@ -130,6 +135,32 @@ pub fn render(scene: &Scene, accel: &Accel, options: &RenderOptions) -> Result<R
     })
 }
 
+/// The caustic photon map when the plan calls for it, and the photon rays it
+/// took; run on the render's pool. With `report`, says on stderr what it built.
+fn photon_pass(
+    scene: &Scene,
+    accel: &Accel,
+    plan: &Plan,
+    report: bool,
+) -> (Option<PhotonMap>, RayStats) {
+    if !plan.photon {
+        return (None, RayStats::default());
+    }
+    let start = Instant::now();
+    let settings = scene.render.photons;
+    let radius = settings.radius(scene.bounds());
+    let (map, counts) = PhotonMap::build(scene, accel, settings.count, radius, plan.max_depth);
+    if report {
+        eprintln!(
+            "photon map: {} of {} photons stored, radius {radius:.4}, {:.2} s",
+            counts.stored,
+            counts.emitted,
+            start.elapsed().as_secs_f64()
+        );
+    }
+    (Some(map), counts.rays)
+}
+
 /// The integrator the scene asks for.
 enum Tracer<'a> {
     Whitted(Whitted<'a>),
@@ -137,11 +168,25 @@ enum Tracer<'a> {
 }
 
 impl<'a> Tracer<'a> {
-    fn new(scene: &'a Scene, accel: &'a Accel, all_effects: bool) -> Tracer<'a> {
-        let plan = plan(scene, all_effects);
+    fn new(
+        scene: &'a Scene,
+        accel: &'a Accel,
+        plan: Plan,
+        caustics: Option<&'a PhotonMap>,
+    ) -> Tracer<'a> {
         match scene.render.integrator {
-            Integrator::Whitted => Tracer::Whitted(Whitted { scene, accel, plan }),
-            Integrator::Path => Tracer::Path(PathTracer { scene, accel, plan }),
+            Integrator::Whitted => Tracer::Whitted(Whitted {
+                scene,
+                accel,
+                plan,
+                caustics,
+            }),
+            Integrator::Path => Tracer::Path(PathTracer {
+                scene,
+                accel,
+                plan,
+                caustics,
+            }),
         }
     }
 
@@ -212,7 +257,9 @@ pub fn explain(
             most - 1
         )));
     }
-    let integrator = Tracer::new(scene, accel, all_effects);
+    let plan = plan(scene, all_effects);
+    let (caustics, _) = thread_pool(None)?.install(|| photon_pass(scene, accel, &plan, false));
+    let integrator = Tracer::new(scene, accel, plan, caustics.as_ref());
     let filter = scene.render.filter.sampler()?;
     let frame = scene.camera.frame();
     let (ray, weight, mut rng) =

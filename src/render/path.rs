@@ -4,12 +4,19 @@
 //! an area light, and Russian roulette after a few bounces. The background
 //! and emissive shapes that are not sampled lights are reached by BSDF
 //! sampling alone.
+//!
+//! With a photon pass, caustics (light → specular → diffuse) come from the
+//! photon map, gathered at every vertex that stores photons. A path that
+//! leaves such a vertex and reaches a light through mirrors and glass alone is
+//! then a caustic the map already counted, so its emission is left out: each
+//! path is counted once, and the fireflies such paths cause are gone.
 
 use super::Plan;
+use super::photon::{self, PhotonMap};
 use super::tally::{Node, RayKind, Tally};
 use crate::accel::Accel;
 use crate::film::Sample;
-use crate::math::{Hit, Ray, Vec3, offset};
+use crate::math::{Ray, Vec3, offset};
 use crate::sampling::Rng;
 use crate::sampling::mis::power_heuristic;
 use crate::scene::{Interaction, Scene};
@@ -22,6 +29,8 @@ pub struct PathTracer<'a> {
     pub scene: &'a Scene,
     pub accel: &'a Accel,
     pub plan: Plan,
+    /// The caustic photons, when the plan has a photon pass.
+    pub caustics: Option<&'a PhotonMap>,
 }
 
 /// The shading point a path is at, as light sampling needs it.
@@ -44,6 +53,9 @@ impl PathTracer<'_> {
         // when light sampling there could also have found what the ray hits: the
         // two strategies' MIS weights must then sum to one.
         let mut sampled_from: Option<(Vec3, f32)> = None;
+        // Whether the path's last non-specular vertex gathered caustic photons:
+        // a light reached from it through specular bounces alone is in the map.
+        let mut gathered = false;
         let path = tally.mark();
         for depth in 0..=self.plan.max_depth {
             tally.count(kind, depth);
@@ -64,14 +76,27 @@ impl PathTracer<'_> {
             let mut add = Vec3::ZERO;
             // Emitters shine from their front side only.
             if it.front && material.emits() {
-                let weight =
-                    sampled_from.map_or(1.0, |(from, pdf)| self.mis_weight(from, pdf, &hit, it.p));
-                add += beta * material.emission * weight;
+                let light = self.scene.light_picker.light_of(hit.geom_id, hit.prim_id);
+                if !(gathered && light.is_some()) {
+                    let weight = match (sampled_from, light) {
+                        (Some((from, bsdf_pdf)), Some((index, picked))) => {
+                            let light_pdf = picked * self.scene.lights[index].pdf(from, it.p);
+                            power_heuristic(1.0, bsdf_pdf, 1.0, light_pdf)
+                        }
+                        _ => 1.0,
+                    };
+                    add += beta * material.emission * weight;
+                }
             }
             let bsdf = Bsdf::from_material(material);
             // The BSDF tells inside from outside by the surface's own normal.
             let frame = Frame::from_normal(if it.front { it.n } else { -it.n });
             let wo = -ray.dir;
+            if let Some(map) = self.caustics
+                && photon::receives(&bsdf)
+            {
+                add += beta * map.caustic(it.p, it.n, |wi| bsdf.eval(&frame, wo, wi));
+            }
             let samples_lights = self.plan.shadow && !bsdf.is_delta();
             if samples_lights {
                 let vertex = Vertex {
@@ -103,6 +128,9 @@ impl PathTracer<'_> {
                 break;
             }
             sampled_from = (samples_lights && !s.delta).then_some((it.p, s.pdf));
+            if !s.delta {
+                gathered = self.caustics.is_some() && photon::receives(&bsdf);
+            }
             beta *= s.weight;
             if depth >= ROULETTE_AFTER {
                 let survive = beta.max_element().min(0.95);
@@ -121,19 +149,6 @@ impl PathTracer<'_> {
             depth,
             normal,
             albedo,
-        }
-    }
-
-    /// The MIS weight of an emitter that a bounce from `from` (BSDF density
-    /// `bsdf_pdf`) found at `point`: 1 unless it is a light that light
-    /// sampling picks too.
-    fn mis_weight(&self, from: Vec3, bsdf_pdf: f32, hit: &Hit, point: Vec3) -> f32 {
-        match self.scene.light_picker.light_of(hit.geom_id, hit.prim_id) {
-            Some((light, picked)) => {
-                let light_pdf = picked * self.scene.lights[light].pdf(from, point);
-                power_heuristic(1.0, bsdf_pdf, 1.0, light_pdf)
-            }
-            None => 1.0,
         }
     }
 

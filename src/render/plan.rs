@@ -1,11 +1,14 @@
 //! The render plan: which rays and passes a scene calls for. A diffuse scene
 //! spawns no reflection or refraction rays, a scene without lights no shadow
-//! rays; `sturmray info` prints the plan and `--stats` counts prove it.
+//! rays, a scene without a light → specular → diffuse path no photon pass;
+//! `sturmray info` prints the plan and `--stats` counts prove it.
 
 use std::fmt;
 
 use crate::scene::{Integrator, Scene};
-use crate::shading::MaterialKind;
+use crate::shading::{Bsdf, Material, MaterialKind};
+
+use super::photon;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Plan {
@@ -17,6 +20,9 @@ pub struct Plan {
     pub refraction: bool,
     /// Diffuse and glossy bounces: global illumination, by the path tracer.
     pub diffuse: bool,
+    /// The photon pass for caustics: photons from the lights through specular
+    /// surfaces to diffuse ones, gathered where the eye's rays meet them.
+    pub photon: bool,
     /// The depth limit of the ray tree.
     pub max_depth: u32,
     /// Every effect forced on: reflection and refraction rays from every surface,
@@ -36,13 +42,14 @@ impl Plan {
         for m in meshes.chain(scene.shapes.iter().map(|s| s.material)) {
             used[m as usize] = true;
         }
-        let uses = |kinds: &[MaterialKind]| {
+        let uses_where = |test: &dyn Fn(&Material) -> bool| {
             scene
                 .materials
                 .iter()
                 .zip(&used)
-                .any(|(m, &u)| u && kinds.contains(&m.kind))
+                .any(|(m, &u)| u && test(m))
         };
+        let uses = |kinds: &[MaterialKind]| uses_where(&|m| kinds.contains(&m.kind));
         let local = uses(&[
             MaterialKind::Diffuse,
             MaterialKind::Plastic,
@@ -61,6 +68,13 @@ impl Plan {
                     MaterialKind::Metal,
                     MaterialKind::Emissive,
                 ]),
+            // A caustic needs a light, a specular surface to bend its light and a
+            // diffuse one to catch it.
+            photon: deep
+                && !scene.lights.is_empty()
+                && scene.render.photons.count > 0
+                && uses_where(&|m| Bsdf::from_material(m).has_specular())
+                && uses_where(&|m| photon::receives(&Bsdf::from_material(m))),
             max_depth: scene.render.max_depth,
             forced: false,
         }
@@ -75,6 +89,7 @@ impl Plan {
             reflection: true,
             refraction: true,
             diffuse: true,
+            photon: true,
             max_depth,
             forced: true,
         }
@@ -92,13 +107,14 @@ impl fmt::Display for Plan {
         write!(
             f,
             "{} (depth {}{forced}): shadow rays {}, reflection rays {}, refraction rays {}, \
-             diffuse bounces {}, photon pass no",
+             diffuse bounces {}, photon pass {}",
             if self.diffuse { "path" } else { "whitted" },
             self.max_depth,
             on(self.shadow),
             on(self.reflection),
             on(self.refraction),
-            on(self.diffuse)
+            on(self.diffuse),
+            on(self.photon)
         )
     }
 }

@@ -52,6 +52,8 @@ pub enum RayKind {
     Refraction,
     /// A diffuse or glossy bounce of a path (global illumination).
     Diffuse,
+    /// A photon's flight from a light or a specular bounce (the caustic pass).
+    Photon,
 }
 
 /// One node of a sample's ray tree, for `explain`.
@@ -112,6 +114,7 @@ impl Tally {
             RayKind::Reflection => s.reflection += 1,
             RayKind::Refraction => s.refraction += 1,
             RayKind::Diffuse => s.diffuse += 1,
+            RayKind::Photon => s.photon += 1,
         }
         s.by_depth[(depth as usize).min(DEPTHS - 1)] += 1;
     }

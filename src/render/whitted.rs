@@ -2,9 +2,12 @@
 //! surfaces, and recursive specular reflection and Snell refraction at mirrors
 //! and dielectrics, down to a depth limit or until a branch's weight is too
 //! small to matter. Which of these rays exist at all is the plan's decision.
+//! Caustics come from the photon map, gathered at every diffuse hit of the
+//! tree: with the specular chains the tree follows from the eye, that covers
+//! L S+ D S* E.
 
-use super::Plan;
 use super::tally::{Node, RayKind, Tally};
+use super::{PhotonMap, Plan};
 use crate::accel::Accel;
 use crate::film::Sample;
 use crate::math::{Hit, Ray, Vec3, offset};
@@ -24,6 +27,8 @@ pub struct Whitted<'a> {
     pub scene: &'a Scene,
     pub accel: &'a Accel,
     pub plan: Plan,
+    /// The caustic photons, when the plan has a photon pass.
+    pub caustics: Option<&'a PhotonMap>,
 }
 
 impl Whitted<'_> {
@@ -125,6 +130,9 @@ impl Whitted<'_> {
             | MaterialKind::Emissive => {
                 if self.plan.shadow {
                     radiance += self.direct(it, material, wo, depth, weight, walk);
+                }
+                if let Some(map) = self.caustics {
+                    radiance += map.caustic(it.p, it.n, |wi| material.local_brdf(it.n, wo, wi));
                 }
                 if self.plan.forced {
                     // What a renderer without a plan pays: both branches, weighted by zero.

@@ -10,8 +10,8 @@ use serde::Deserialize;
 
 use super::shapes::{self, ShapeFile, ShapeKind};
 use super::{
-    Adaptive, Camera, Integrator, RenderSettings, Scene, headlight, load_obj, locate, scene_name,
-    suggest,
+    Adaptive, Camera, Integrator, PhotonSettings, RenderSettings, Scene, headlight, load_obj,
+    locate, scene_name, suggest,
 };
 use crate::error::{Error, Result};
 use crate::geometry::{Box3, Shape};
@@ -68,6 +68,7 @@ struct RenderFile {
     method: Option<String>,
     tolerance: Option<f64>,
     adaptive: Option<AdaptiveFile>,
+    photons: Option<PhotonsFile>,
 }
 
 #[derive(Deserialize)]
@@ -75,6 +76,14 @@ struct RenderFile {
 struct AdaptiveFile {
     max_spp: u32,
     threshold: f32,
+}
+
+/// `photons = { count, radius }`: the caustic photon pass.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PhotonsFile {
+    count: Option<u32>,
+    radius: Option<f32>,
 }
 
 #[derive(Deserialize)]
@@ -435,6 +444,13 @@ pub(super) fn load(path: &Path) -> Result<Scene> {
             max_spp: a.max_spp,
             threshold: a.threshold,
         }),
+        photons: match &file.render.photons {
+            Some(p) => PhotonSettings {
+                count: p.count.unwrap_or(defaults.photons.count),
+                radius: p.radius.or(defaults.photons.radius),
+            },
+            None => defaults.photons,
+        },
     };
     if let Some(a) = &render.adaptive {
         // Disagreement needs two samples to measure, and a round to grow by.
@@ -454,6 +470,14 @@ pub(super) fn load(path: &Path) -> Result<Scene> {
                 format!("expected a number > 0, found {}", a.threshold),
             ));
         }
+    }
+    if let Some(radius) = render.photons.radius
+        && !(radius > 0.0 && radius.is_finite())
+    {
+        return Err(check.error(
+            "render.photons.radius",
+            format!("expected a number > 0, found {radius}"),
+        ));
     }
     if !(render.min_weight >= 0.0 && render.min_weight < 1.0) {
         return Err(check.error(

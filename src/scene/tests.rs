@@ -202,6 +202,7 @@ fn toml_scene_settings_and_transforms() {
             filter: crate::sampling::Filter::BOX,
             integrator: Integrator::Whitted,
             adaptive: None,
+            photons: super::PhotonSettings::default(),
         }
     );
     assert_eq!(scene.background, Vec3::new(0.1, 0.2, 0.3));

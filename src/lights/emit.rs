@@ -1,0 +1,283 @@
+//! Lights as photon sources: the total flux each emits and one sampled ray of
+//! it, for the photon pass. Each light is sampled in proportion to its own
+//! emission, so every emitted photon of a light carries that light's whole
+//! power (the photon pass divides by the photon count).
+
+use std::f32::consts::PI;
+
+use super::{Light, basis};
+use crate::math::{Bounds, Vec3, gamma};
+use crate::sampling::warp;
+
+/// One photon leaving a light: where, which way, and the flux it carries when
+/// it alone stands for the light (the light's power, by sampling in proportion
+/// to emission).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Emission {
+    pub origin: Vec3,
+    /// The unit normal of the emitting surface at `origin`; zero for point and
+    /// directional lights, which are not geometry.
+    pub normal: Vec3,
+    /// A bound on the error of `origin` per axis, so the photon's ray leaves
+    /// the light's own geometry by `math::offset` as every spawned ray does.
+    pub error: Vec3,
+    pub dir: Vec3,
+    pub flux: Vec3,
+}
+
+/// A point on an area light, drawn uniformly by area.
+struct SurfacePoint {
+    p: Vec3,
+    /// Unit normal of the emitting side.
+    n: Vec3,
+    error: Vec3,
+}
+
+/// The disk through the scene's centre, perpendicular to the light, that a
+/// directional light's photons start from: it covers the scene's bounding
+/// sphere. Its radius is 0 for an empty scene.
+fn bounding_disk(bounds: Bounds) -> (Vec3, f32) {
+    if bounds.is_empty() {
+        return (Vec3::ZERO, 0.0);
+    }
+    (bounds.center(), 0.5 * bounds.diagonal().length())
+}
+
+impl Light {
+    /// The total flux the light emits (W per channel). A directional light
+    /// counts what crosses the scene's bounding disk: irradiance × its area.
+    pub fn power(&self, bounds: Bounds) -> Vec3 {
+        match self {
+            Light::Point { intensity, .. } => 4.0 * PI * *intensity,
+            Light::Directional { irradiance, .. } => {
+                let (_, radius) = bounding_disk(bounds);
+                *irradiance * (PI * radius * radius)
+            }
+            // A Lambertian emitter of radiance L sends π L per unit area.
+            Light::Sphere { radiance, .. } | Light::Triangle { radiance, .. } => {
+                PI * self.area() * *radiance
+            }
+        }
+    }
+
+    /// One photon of the light from four uniform numbers: u[0..2] place it,
+    /// u[2..4] aim it. None when the light emits nothing (a directional light
+    /// over an empty scene).
+    pub fn emit(&self, u: [f32; 4], bounds: Bounds) -> Option<Emission> {
+        let flux = self.power(bounds);
+        match self {
+            Light::Point { position, .. } => Some(Emission {
+                origin: *position,
+                normal: Vec3::ZERO,
+                error: Vec3::ZERO,
+                dir: warp::uniform_sphere([u[0], u[1]]),
+                flux,
+            }),
+            Light::Directional { direction, .. } => {
+                let (center, radius) = bounding_disk(bounds);
+                if radius <= 0.0 {
+                    return None;
+                }
+                // A uniform point of the disk, moved back out of the scene so the
+                // photon crosses all of it.
+                let dir = direction.normalize();
+                let (s, t) = basis(dir);
+                let [x, y] = warp::concentric_disk([u[0], u[1]]);
+                Some(Emission {
+                    origin: center + radius * (x * s + y * t - dir),
+                    normal: Vec3::ZERO,
+                    error: Vec3::ZERO,
+                    dir,
+                    flux,
+                })
+            }
+            Light::Sphere { .. } | Light::Triangle { .. } => {
+                let point = self.surface_point([u[0], u[1]])?;
+                // Cosine-weighted about the normal: the Lambertian emitter's own
+                // distribution, so every photon carries the same flux.
+                let local = warp::cosine_hemisphere([u[2], u[3]]);
+                let (s, t) = basis(point.n);
+                Some(Emission {
+                    origin: point.p,
+                    normal: point.n,
+                    error: point.error,
+                    dir: (local.x * s + local.y * t + local.z * point.n).normalize(),
+                    flux,
+                })
+            }
+        }
+    }
+
+    /// The emitting area of an area light (0 for point and directional lights).
+    pub(super) fn area(&self) -> f32 {
+        match self {
+            Light::Point { .. } | Light::Directional { .. } => 0.0,
+            Light::Sphere { radius, .. } => 4.0 * PI * radius * radius,
+            Light::Triangle { edge1, edge2, .. } => 0.5 * edge1.cross(*edge2).length(),
+        }
+    }
+
+    /// A point uniform in area on an area light, with the normal of its
+    /// emitting side; None for point and directional lights.
+    fn surface_point(&self, u: [f32; 2]) -> Option<SurfacePoint> {
+        Some(match self {
+            Light::Sphere { center, radius, .. } => {
+                let n = warp::uniform_sphere(u);
+                // c + r·n: a few roundings of terms as large as |c| + r.
+                let error = gamma(5) * (center.abs() + Vec3::splat(*radius));
+                SurfacePoint {
+                    p: *center + *radius * n,
+                    n,
+                    error,
+                }
+            }
+            Light::Triangle {
+                p0, edge1, edge2, ..
+            } => {
+                let (b1, b2) = warp::uniform_triangle(u);
+                let error = gamma(6) * (p0.abs() + edge1.abs() + edge2.abs());
+                SurfacePoint {
+                    p: *p0 + b1 * *edge1 + b2 * *edge2,
+                    n: edge1.cross(*edge2).normalize(),
+                    error,
+                }
+            }
+            Light::Point { .. } | Light::Directional { .. } => return None,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sampling::Rng;
+
+    fn bounds() -> Bounds {
+        Bounds {
+            min: Vec3::new(-1.0, -2.0, 0.0),
+            max: Vec3::new(3.0, 2.0, 2.0),
+        }
+    }
+
+    fn emissions(light: &Light, count: usize) -> Vec<Emission> {
+        let mut rng = Rng::for_sample(5, 1, 2);
+        (0..count)
+            .filter_map(|_| {
+                let [a, b] = rng.next_2d();
+                let [c, d] = rng.next_2d();
+                light.emit([a, b, c, d], bounds())
+            })
+            .collect()
+    }
+
+    fn close(a: Vec3, b: Vec3) -> bool {
+        (a - b).abs().max_element() <= 1e-5 * b.abs().max_element()
+    }
+
+    #[test]
+    fn powers_match_closed_forms() {
+        let point = Light::Point {
+            position: Vec3::ZERO,
+            intensity: Vec3::new(1.0, 2.0, 3.0),
+        };
+        assert!(close(
+            point.power(bounds()),
+            4.0 * PI * Vec3::new(1.0, 2.0, 3.0)
+        ));
+        let sphere = Light::Sphere {
+            center: Vec3::ONE,
+            radius: 0.5,
+            radiance: Vec3::splat(2.0),
+        };
+        // π L · 4π r².
+        assert!(close(sphere.power(bounds()), Vec3::splat(PI * 2.0 * PI)));
+        let triangle = Light::Triangle {
+            p0: Vec3::ZERO,
+            edge1: Vec3::new(2.0, 0.0, 0.0),
+            edge2: Vec3::new(0.0, 3.0, 0.0),
+            radiance: Vec3::splat(0.5),
+        };
+        // π L A, A = 3.
+        assert!(close(triangle.power(bounds()), Vec3::splat(PI * 0.5 * 3.0)));
+        let sun = Light::Directional {
+            direction: Vec3::new(0.0, 0.0, -2.0),
+            irradiance: Vec3::splat(4.0),
+        };
+        // The bounds' diagonal is 6, so the disk has radius 3.
+        assert!(close(sun.power(bounds()), Vec3::splat(4.0 * PI * 9.0)));
+        assert_eq!(sun.power(Bounds::EMPTY), Vec3::ZERO);
+        assert!(sun.emit([0.5; 4], Bounds::EMPTY).is_none());
+    }
+
+    #[test]
+    fn point_light_emits_every_way_evenly() {
+        let light = Light::Point {
+            position: Vec3::new(1.0, 2.0, 3.0),
+            intensity: Vec3::ONE,
+        };
+        let all = emissions(&light, 20_000);
+        let mean = all.iter().map(|e| e.dir).sum::<Vec3>() / all.len() as f32;
+        // Each component of a uniform direction has variance 1/3: σ of the mean ≈ 0.004.
+        assert!(mean.length() < 0.02, "{mean}");
+        for e in &all {
+            assert_eq!(e.origin, Vec3::new(1.0, 2.0, 3.0));
+            assert!((e.dir.length() - 1.0).abs() < 1e-5);
+        }
+    }
+
+    #[test]
+    fn sphere_light_emits_outward_from_its_surface() {
+        let center = Vec3::new(0.0, 1.0, 2.0);
+        let light = Light::Sphere {
+            center,
+            radius: 0.5,
+            radiance: Vec3::ONE,
+        };
+        let all = emissions(&light, 5_000);
+        let mut mean_cos = 0.0;
+        for e in &all {
+            assert!(((e.origin - center).length() - 0.5).abs() < 1e-5);
+            assert!(close(e.normal, (e.origin - center) / 0.5));
+            assert!(e.dir.dot(e.normal) > 0.0, "{e:?}");
+            mean_cos += e.dir.dot(e.normal) / all.len() as f32;
+        }
+        // Cosine-weighted: E[cos θ] = 2/3.
+        assert!((mean_cos - 2.0 / 3.0).abs() < 0.01, "{mean_cos}");
+    }
+
+    #[test]
+    fn triangle_light_emits_on_its_front_side_only() {
+        let light = Light::Triangle {
+            p0: Vec3::new(-0.5, -0.5, 1.0),
+            edge1: Vec3::new(0.0, 1.0, 0.0),
+            edge2: Vec3::new(1.0, 0.0, 0.0),
+            radiance: Vec3::ONE,
+        };
+        // edge1 × edge2 = -z: the triangle shines down.
+        for e in emissions(&light, 5_000) {
+            assert_eq!(e.normal, -Vec3::Z);
+            assert!(e.dir.z < 0.0, "{e:?}");
+            assert_eq!(e.origin.z, 1.0);
+            // Inside the triangle x + y ≤ 0 (from its corner, x' + y' ≤ 1).
+            let (x, y) = (e.origin.x + 0.5, e.origin.y + 0.5);
+            assert!(x >= 0.0 && y >= 0.0 && x + y <= 1.0 + 1e-6, "{e:?}");
+        }
+    }
+
+    #[test]
+    fn directional_photons_cross_the_whole_scene_along_the_light() {
+        let light = Light::Directional {
+            direction: Vec3::new(1.0, 0.0, -1.0),
+            irradiance: Vec3::ONE,
+        };
+        let dir = Vec3::new(1.0, 0.0, -1.0).normalize();
+        let (center, radius) = (bounds().center(), 3.0);
+        for e in emissions(&light, 2_000) {
+            assert!(close(e.dir, dir));
+            // Starts one radius behind the centre's plane, within the disk.
+            let back = e.origin - center;
+            assert!((back.dot(dir) + radius).abs() < 1e-4, "{e:?}");
+            assert!((back + radius * dir).length() <= radius * (1.0 + 1e-5));
+        }
+    }
+}

@@ -1,0 +1,228 @@
+//! The photon pass for caustics (Jensen's caustic photon map): photons leave
+//! the lights, follow specular bounces only, and are stored where they first
+//! reach a diffuse surface after at least one specular bounce (L S+ D paths).
+//! Direct light is the shadow rays' job, so photons that reach a diffuse
+//! surface straight from a light are not stored. The eye pass gathers the
+//! stored photons at its diffuse hits: density estimation over a disk of
+//! fixed radius.
+//!
+//! Photon i draws from its own random stream, keyed by (seed, i) on a stream
+//! no camera sample uses, and the map keeps emission order, so it is the same
+//! for any thread count.
+
+mod grid;
+
+use std::f32::consts::PI;
+
+use rayon::prelude::*;
+
+use grid::Grid;
+pub use grid::Photon;
+
+use super::tally::{RayKind, RayStats, Tally};
+use crate::accel::Accel;
+use crate::lights::Light;
+use crate::math::{Bounds, Ray, Vec3, offset};
+use crate::sampling::Rng;
+use crate::scene::Scene;
+use crate::shading::{Bsdf, Frame, Transport};
+
+/// The "pixel" of the photons' random streams: an index no image reaches, so
+/// photon i's stream never meets a camera sample's.
+const STREAM: u64 = u64::MAX;
+
+/// Photons traced per parallel task: enough to amortise scheduling.
+const CHUNK: u32 = 4096;
+
+/// Whether photons land on a surface with this BSDF: it has a diffuse lobe
+/// that reflects something. Glossy-only and specular surfaces do not store.
+pub fn receives(bsdf: &Bsdf) -> bool {
+    match bsdf {
+        Bsdf::Lambert { albedo } | Bsdf::Plastic { albedo, .. } => albedo.max_element() > 0.0,
+        _ => false,
+    }
+}
+
+/// The stored caustic photons and their gather radius.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PhotonMap {
+    grid: Grid,
+    radius: f32,
+}
+
+/// How the photon pass went, for reports.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct PhotonCounts {
+    pub emitted: u32,
+    pub stored: usize,
+    pub rays: RayStats,
+}
+
+impl PhotonMap {
+    /// Traces `count` photons through `scene`, following at most `max_depth`
+    /// specular bounces each, in parallel on the current rayon pool.
+    pub fn build(
+        scene: &Scene,
+        accel: &Accel,
+        count: u32,
+        radius: f32,
+        max_depth: u32,
+    ) -> (PhotonMap, PhotonCounts) {
+        let bounds = scene.bounds();
+        let lights = LightChoice::new(&scene.lights, bounds);
+        let tracer = Tracer {
+            scene,
+            accel,
+            bounds,
+            lights: &lights,
+            count,
+            max_depth,
+        };
+        let chunks: Vec<(Vec<Photon>, RayStats)> = (0..count.div_ceil(CHUNK))
+            .into_par_iter()
+            .map(|c| {
+                let mut tally = Tally::default();
+                let photons = (c * CHUNK..count.min((c + 1) * CHUNK))
+                    .filter_map(|i| tracer.trace(i, &mut tally))
+                    .collect();
+                (photons, tally.stats)
+            })
+            .collect();
+        let mut rays = RayStats::default();
+        let mut photons = Vec::new();
+        for (part, stats) in chunks {
+            photons.extend(part);
+            rays += stats;
+        }
+        let counts = PhotonCounts {
+            emitted: count,
+            stored: photons.len(),
+            rays,
+        };
+        let map = PhotonMap {
+            grid: Grid::new(photons, radius),
+            radius,
+        };
+        (map, counts)
+    }
+
+    /// The caustic radiance leaving a diffuse point p with unit normal n
+    /// (facing the viewer) towards the viewer, where `f(wi)` is the BRDF for
+    /// light arriving from wi: Σ flux · f(wi) / (π r²) over the photons within
+    /// the radius that arrived on n's side.
+    pub fn caustic(&self, p: Vec3, n: Vec3, f: impl Fn(Vec3) -> Vec3) -> Vec3 {
+        let mut sum = Vec3::ZERO;
+        self.grid.for_each_near(p, |ph| {
+            // The same side of a thin surface, and light from above it.
+            if ph.n.dot(n) > 0.0 && ph.wi.dot(n) > 0.0 {
+                sum += ph.flux * f(ph.wi);
+            }
+        });
+        sum / (PI * self.radius * self.radius)
+    }
+
+    pub fn radius(&self) -> f32 {
+        self.radius
+    }
+
+    pub fn len(&self) -> usize {
+        self.grid.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.grid.is_empty()
+    }
+}
+
+/// Lights picked in proportion to their power (the sum of its channels).
+struct LightChoice<'a> {
+    lights: &'a [Light],
+    /// Running sums of the powers; the last is the total.
+    cdf: Vec<f32>,
+}
+
+impl<'a> LightChoice<'a> {
+    fn new(lights: &'a [Light], bounds: Bounds) -> LightChoice<'a> {
+        let cdf = lights
+            .iter()
+            .scan(0.0, |sum, l| {
+                *sum += l.power(bounds).element_sum();
+                Some(*sum)
+            })
+            .collect();
+        LightChoice { lights, cdf }
+    }
+
+    /// The light for uniform `u` and the probability of picking it; None if
+    /// no light emits anything.
+    fn pick(&self, u: f32) -> Option<(&'a Light, f32)> {
+        let total = *self.cdf.last()?;
+        if total <= 0.0 {
+            return None;
+        }
+        let target = u * total;
+        let i = self
+            .cdf
+            .partition_point(|&c| c <= target)
+            .min(self.cdf.len() - 1);
+        let below = if i == 0 { 0.0 } else { self.cdf[i - 1] };
+        Some((&self.lights[i], (self.cdf[i] - below) / total))
+    }
+}
+
+struct Tracer<'a> {
+    scene: &'a Scene,
+    accel: &'a Accel,
+    bounds: Bounds,
+    lights: &'a LightChoice<'a>,
+    count: u32,
+    max_depth: u32,
+}
+
+impl Tracer<'_> {
+    /// Photon `index`: where it is stored, if it makes a caustic.
+    fn trace(&self, index: u32, tally: &mut Tally) -> Option<Photon> {
+        let mut rng = Rng::for_sample(self.scene.render.seed, STREAM, index);
+        let (light, probability) = self.lights.pick(rng.next_f32())?;
+        let [a, b] = rng.next_2d();
+        let [c, d] = rng.next_2d();
+        let e = light.emit([a, b, c, d], self.bounds)?;
+        // Each photon stands for 1/count of the light's share of the emission.
+        let mut flux = e.flux / (probability * self.count as f32);
+        let mut ray = Ray::new(offset(e.origin, e.error, e.normal, e.dir), e.dir);
+        let mut depth = 0;
+        loop {
+            tally.count(RayKind::Photon, depth);
+            let hit = self.accel.intersect(&ray);
+            if !hit.is_hit() {
+                return None;
+            }
+            let it = self.scene.interaction(&ray, &hit);
+            let bsdf = Bsdf::from_material(&self.scene.materials[it.material as usize]);
+            let wo = -ray.dir;
+            if receives(&bsdf) {
+                // Straight from the light (depth 0) is direct light: not a caustic.
+                return (depth > 0).then_some(Photon {
+                    p: it.p,
+                    wi: wo,
+                    n: it.n,
+                    flux,
+                });
+            }
+            if !bsdf.is_delta() || depth >= self.max_depth {
+                return None;
+            }
+            let frame = Frame::from_normal(if it.front { it.n } else { -it.n });
+            let u = [rng.next_f32(), rng.next_f32(), rng.next_f32()];
+            // Glass picks reflection or refraction by Fresnel; flux is not
+            // rescaled by refraction (importance transport).
+            let s = bsdf.sample_with(&frame, wo, u, Transport::Importance)?;
+            flux *= s.weight;
+            if flux.max_element() <= 0.0 {
+                return None;
+            }
+            ray = Ray::new(offset(it.p, it.error, it.n, s.wi), s.wi);
+            depth += 1;
+        }
+    }
+}
