@@ -18,6 +18,22 @@ pub struct Sample {
     pub albedo: Vec3,
 }
 
+impl Sample {
+    /// Keeps NaN and infinite values off the film: a sample whose radiance or
+    /// weight is not finite counts as black (pbrt-v4 does the same). Returns
+    /// whether it had to; the render counts those, so they are seen, not hidden.
+    pub fn sanitize(&mut self) -> bool {
+        if self.radiance.is_finite() && self.weight.is_finite() {
+            return false;
+        }
+        self.radiance = Vec3::ZERO;
+        if !self.weight.is_finite() {
+            self.weight = 0.0;
+        }
+        true
+    }
+}
+
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Pixel {
     /// Σ weight · radiance.
@@ -68,6 +84,19 @@ fn average(sum: [f64; 3], n: u32) -> [f32; 3] {
 }
 
 impl Pixel {
+    /// Adds another film's sums for the same pixel (more samples of it).
+    pub fn merge(&mut self, o: &Pixel) {
+        let add = |a: &mut [f64; 3], b: [f64; 3]| a.iter_mut().zip(b).for_each(|(x, y)| *x += y);
+        add(&mut self.radiance, o.radiance);
+        self.weight += o.weight;
+        add(&mut self.normal, o.normal);
+        add(&mut self.albedo, o.albedo);
+        self.depth = self.depth.min(o.depth);
+        self.samples += o.samples;
+        self.luminance[0] += o.luminance[0];
+        self.luminance[1] += o.luminance[1];
+    }
+
     pub fn add(&mut self, s: &Sample) {
         accumulate(&mut self.radiance, s.radiance * s.weight);
         self.weight += f64::from(s.weight);
@@ -147,6 +176,22 @@ impl Film {
             region,
             pixels: vec![Pixel::default(); region.area()],
         }
+    }
+
+    /// The pixel at image coordinates (x, y), which must lie in the region.
+    pub fn pixel(&self, x: usize, y: usize) -> &Pixel {
+        &self.pixels[self.index(x, y)]
+    }
+
+    pub fn pixel_mut(&mut self, x: usize, y: usize) -> &mut Pixel {
+        let i = self.index(x, y);
+        &mut self.pixels[i]
+    }
+
+    fn index(&self, x: usize, y: usize) -> usize {
+        let r = self.region;
+        debug_assert!((r.x0..r.x1).contains(&x) && (r.y0..r.y1).contains(&y));
+        (y - r.y0) * r.width() + (x - r.x0)
     }
 
     pub fn layers(&self) -> Layers {

@@ -7,10 +7,15 @@ use std::process::ExitCode;
 use anyhow::Context;
 use clap::{Parser, Subcommand, ValueEnum};
 
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 use sturmray::accel::{Accel, Backend};
 use sturmray::error::Error;
 use sturmray::io;
-use sturmray::render::{RayKind, RenderOptions, render};
+
+use sturmray::film::Region;
+use sturmray::render::job::{self, Part};
+use sturmray::render::{RayKind, RenderOptions, merge};
 use sturmray::report::bench;
 use sturmray::scene::Scene;
 
@@ -73,6 +78,28 @@ enum Command {
         /// the render plan saves).
         #[arg(long)]
         all_effects: bool,
+        /// Render band I of N horizontal bands of whole rows (I from 0), with its
+        /// film state beside the EXR, for `merge`.
+        #[arg(long, value_parser = parse_tile, conflicts_with = "crop")]
+        tile: Option<(usize, usize)>,
+        /// Render only [x0, x1) x [y0, y1), with its film state beside the EXR.
+        #[arg(long, value_parser = parse_crop)]
+        crop: Option<Region>,
+        /// The animation frame (cameras with `[[camera.keys]]`).
+        #[arg(long, default_value_t = 0)]
+        frame: u32,
+        /// Continue an interrupted render from the film state beside the output.
+        #[arg(long)]
+        resume: bool,
+    },
+    /// Merge the EXRs of tiles or crops (their film states beside them) into
+    /// the whole image; parts of one region with different seeds add up.
+    Merge {
+        /// The whole image to write.
+        output: PathBuf,
+        /// The parts (each with its .state beside it).
+        #[arg(required = true)]
+        parts: Vec<PathBuf>,
     },
     /// Print the backend in use, the objects, triangle count, lights and settings.
     Info {
@@ -147,6 +174,28 @@ enum Command {
     },
 }
 
+fn parse_tile(text: &str) -> Result<(usize, usize), String> {
+    let parsed = text.split_once('/').and_then(|(i, n)| {
+        Some((
+            i.trim().parse::<usize>().ok()?,
+            n.trim().parse::<usize>().ok()?,
+        ))
+    });
+    parsed.ok_or_else(|| format!("expected I/N with whole numbers, found {text:?}"))
+}
+
+fn parse_crop(text: &str) -> Result<Region, String> {
+    let numbers: Vec<usize> = text
+        .split(',')
+        .map(|s| s.trim().parse::<usize>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| format!("expected x0,y0,x1,y1 with whole numbers, found {text:?}"))?;
+    match numbers[..] {
+        [x0, y0, x1, y1] => Ok(Region { x0, y0, x1, y1 }),
+        _ => Err(format!("expected four numbers x0,y0,x1,y1, found {text:?}")),
+    }
+}
+
 fn parse_pixel(text: &str) -> Result<(usize, usize), String> {
     let (x, y) = text
         .split_once(',')
@@ -168,6 +217,9 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     match run(cli.command) {
         Ok(()) => ExitCode::SUCCESS,
+        // 128 + SIGINT, as shells report a process a Ctrl-C ended; the image and
+        // film state so far are written.
+        Err(err) if err.is::<Interrupted>() => ExitCode::from(130),
         Err(err) => {
             // The chain without repeats: an error's own text often includes its source's.
             let mut message = String::new();
@@ -191,6 +243,18 @@ fn main() -> ExitCode {
     }
 }
 
+/// A render stopped by SIGINT or SIGTERM after writing what it had.
+#[derive(Debug)]
+struct Interrupted;
+
+impl std::fmt::Display for Interrupted {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("interrupted")
+    }
+}
+
+impl std::error::Error for Interrupted {}
+
 /// Creates the parent folder of an output file, so `out/` need not exist.
 fn prepare_output(path: &Path) -> Result<(), Error> {
     match path.parent() {
@@ -212,7 +276,25 @@ fn run(command: Command) -> anyhow::Result<()> {
             stats,
             photons,
             all_effects,
+            tile,
+            crop,
+            frame,
+            resume,
         } => {
+            // Caught from the start: the first signal stops the render after its
+            // current pass (its first, if the signal comes while loading); a
+            // second one ends the process at once.
+            let interrupt = Arc::new(AtomicBool::new(false));
+            let flag = interrupt.clone();
+            // The first signal stops the render after its current pass; a second
+            // one ends the process at once.
+            ctrlc::set_handler(move || {
+                if flag.swap(true, Ordering::Relaxed) {
+                    std::process::exit(130);
+                }
+                eprintln!("\ninterrupted: finishing this pass, then writing the image so far");
+            })
+            .map_err(|e| Error::Internal(format!("cannot catch signals: {e}")))?;
             let mut scene = Scene::load(&scene)?;
             if let Some(count) = photons {
                 scene.render.photons.count = count;
@@ -226,44 +308,60 @@ fn run(command: Command) -> anyhow::Result<()> {
                 spp,
                 progress: true,
                 all_effects,
+                interrupt: Some(interrupt),
+                ..RenderOptions::default()
             };
-            let result = render(&scene, &accel, &options)?;
-            let layers = result.film.layers();
-            let (width, height) = (result.film.width, result.film.height);
-            let image = io::exr::ImageLayers {
-                width,
-                height,
-                beauty: &layers.beauty,
-                depth: &layers.depth,
-                normal: &layers.normal,
-                albedo: &layers.albedo,
+            let part = match (tile, crop) {
+                (Some((index, count)), _) => Part::Tile { index, count },
+                (None, Some(region)) => Part::Crop(region),
+                (None, None) => Part::Whole,
             };
-            let spp = spp.unwrap_or(scene.render.spp);
-            let attributes = [
-                ("sturmray.spp", spp.to_string()),
-                ("sturmray.seed", scene.render.seed.to_string()),
-            ];
-            io::exr::write_exr(&output, &image, &attributes)?;
-            let preview = output.with_extension("png");
-            io::png::write_png_preview(&preview, width, height, &layers.beauty)?;
+            let written = job::run(&scene, &accel, part, frame, resume, &output, options)?;
+            let result = &written.output;
+            let r = result.film.region;
             if let Some(path) = stats {
                 prepare_output(&path)?;
                 let json = serde_json::json!({
                     "rays": result.stats,
                     "seconds": result.seconds,
-                    "width": width,
-                    "height": height,
-                    "spp": spp,
+                    "width": r.width(),
+                    "height": r.height(),
+                    "spp": written.spp,
+                    "nonfinite_samples": result.nonfinite,
                 });
                 std::fs::write(&path, format!("{json:#}\n")).map_err(|e| Error::io(&path, e))?;
             }
+            if result.nonfinite > 0 {
+                eprintln!(
+                    "warning: {} samples had NaN or infinite radiance and were counted as black",
+                    result.nonfinite
+                );
+            }
+            let state = written
+                .state
+                .as_ref()
+                .map_or(String::new(), |p| format!(", film state {}", p.display()));
             eprintln!(
-                "wrote {} and {} ({width}x{height}, {spp} spp, {:.2} s, {:.2} Mrays/s)",
+                "wrote {} and {}{state} ({}x{}, {} of {} spp, {:.2} s, {:.2} Mrays/s)",
                 output.display(),
-                preview.display(),
+                written.preview.display(),
+                r.width(),
+                r.height(),
+                result.samples_done,
+                written.spp,
                 result.seconds,
                 result.stats.total() as f64 / result.seconds / 1e6
             );
+            if !result.complete {
+                eprintln!("interrupted: continue with the same command and --resume");
+                return Err(Interrupted.into());
+            }
+            Ok(())
+        }
+        Command::Merge { output, parts } => {
+            prepare_output(&output)?;
+            let summary = merge::merge(&output, &parts)?;
+            eprintln!("wrote {}: {summary}", output.display());
             Ok(())
         }
         Command::Info {

@@ -12,18 +12,22 @@ use std::io::Cursor;
 use std::path::Path;
 
 use exr::prelude::{
-    AnyChannel, AnyChannels, AttributeValue, Encoding, FlatSamples, Image, Layer, LayerAttributes,
-    ReadChannels, ReadLayers, Text, Vec2, WritableImage,
+    AnyChannel, AnyChannels, AttributeValue, Encoding, FlatSamples, Image, IntegerBounds, Layer,
+    LayerAttributes, ReadChannels, ReadLayers, Text, Vec2, WritableImage,
 };
 
 use crate::error::{Error, Result};
 
 /// The layers of a rendered image, row-major with row 0 at the top. Every
-/// slice holds `width * height` pixels.
+/// slice holds `width * height` pixels: the data window, at `origin` in a
+/// display window of size `display` (the whole image; a tile or crop is a
+/// part of it).
 #[derive(Clone, Copy, Debug)]
 pub struct ImageLayers<'a> {
     pub width: usize,
     pub height: usize,
+    pub origin: (usize, usize),
+    pub display: (usize, usize),
     pub beauty: &'a [[f32; 3]],
     pub depth: &'a [f32],
     pub normal: &'a [[f32; 3]],
@@ -59,7 +63,18 @@ pub fn write_exr(path: &Path, layers: &ImageLayers, attributes: &[(&str, String)
         }
     }
 
-    let mut attrs = LayerAttributes::default();
+    let (x0, y0) = layers.origin;
+    let (dw, dh) = layers.display;
+    if x0 + w > dw || y0 + h > dh {
+        return Err(bad(format!(
+            "the data window {w}x{h} at ({x0}, {y0}) leaves the display window {dw}x{dh}"
+        )));
+    }
+    let position = |v: usize| i32::try_from(v).map_err(|_| bad(format!("{v} is too large")));
+    let mut attrs = LayerAttributes {
+        layer_position: Vec2(position(x0)?, position(y0)?),
+        ..LayerAttributes::default()
+    };
     for (i, (name, value)) in attributes.iter().enumerate() {
         // EXR names are NUL-terminated, values length-prefixed.
         if name.is_empty() || name.contains('\0') || !name.is_ascii() || !value.is_ascii() {
@@ -108,7 +123,8 @@ pub fn write_exr(path: &Path, layers: &ImageLayers, attributes: &[(&str, String)
         Encoding::SMALL_LOSSLESS,
         AnyChannels::sort(channels.into_iter().collect()),
     );
-    let image = Image::from_layer(layer);
+    let mut image = Image::from_layer(layer);
+    image.attributes.display_window = IntegerBounds::new(Vec2(0, 0), Vec2(dw, dh));
 
     // Written to memory first so the header can be put in canonical order
     // before anything reaches the disk.
@@ -286,6 +302,8 @@ mod tests {
         ImageLayers {
             width: w,
             height: h,
+            origin: (0, 0),
+            display: (w, h),
             beauty: &p.beauty,
             depth: &p.depth,
             normal: &p.normal,
@@ -432,6 +450,8 @@ mod tests {
         let l = ImageLayers {
             width: 0,
             height: 0,
+            origin: (0, 0),
+            display: (0, 0),
             beauty: &[],
             depth: &[],
             normal: &[],

@@ -1,13 +1,16 @@
 //! Rendering: the tile loop over rayon, camera sampling, and statistics.
 
-mod adaptive;
+pub mod job;
+pub mod merge;
+mod passes;
 mod path;
 pub mod photon;
 mod plan;
 mod tally;
 mod whitted;
 
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::Instant;
 
 use rayon::prelude::*;
@@ -21,7 +24,7 @@ pub use whitted::Whitted;
 use crate::accel::Accel;
 use crate::accel::embree::enable_flush_to_zero;
 use crate::error::{Error, Result};
-use crate::film::{Film, Pixel, Sample};
+use crate::film::{Film, Pixel, Region, Sample};
 use crate::math::{Hit, Ray};
 use crate::sampling::{FilterSampler, Rng, stratified_2d};
 use crate::scene::{CameraFrame, Integrator, Scene};
@@ -37,12 +40,26 @@ pub struct RenderOptions {
     pub progress: bool,
     /// Turns every effect on, whatever the scene calls for (to measure what the plan saves).
     pub all_effects: bool,
+    /// Renders only this part of the image (a tile or crop); `None` renders it all.
+    pub region: Option<Region>,
+    /// Continues from a film state: its samples are kept, the render takes
+    /// the rest. It must hold `region` and `samples_done` full passes.
+    pub resume: Option<(Film, u32)>,
+    /// Checked after each pass: once set, the render stops and returns what it has.
+    pub interrupt: Option<Arc<AtomicBool>>,
 }
 
 pub struct RenderOutput {
     pub film: Film,
     pub stats: RayStats,
     pub seconds: f64,
+    /// Sample indices 0..samples_done were taken (or, with adaptive sampling,
+    /// decided on) for every pixel; less than the target if interrupted.
+    pub samples_done: u32,
+    /// Whether every pass ran.
+    pub complete: bool,
+    /// Samples whose radiance was NaN or infinite, counted as black.
+    pub nonfinite: u64,
 }
 
 /// Tiles are squares of this many pixels a side: small enough to balance two
@@ -65,6 +82,13 @@ pub fn render(scene: &Scene, accel: &Accel, options: &RenderOptions) -> Result<R
     if spp == 0 {
         return Err(Error::Input("--spp must be at least 1".into()));
     }
+    let region = options.region.unwrap_or(Region::whole(width, height));
+    if region.x0 >= region.x1 || region.y0 >= region.y1 || region.x1 > width || region.y1 > height {
+        return Err(Error::Input(format!(
+            "the region [{}, {}) x [{}, {}) is empty or outside the {width}x{height} image",
+            region.x0, region.x1, region.y0, region.y1
+        )));
+    }
     let frame = scene.camera.frame();
     let filter = scene.render.filter.sampler()?;
     let adaptive = scene.render.adaptive.as_ref();
@@ -74,64 +98,110 @@ pub fn render(scene: &Scene, accel: &Accel, options: &RenderOptions) -> Result<R
              and no more than the scene's max_spp"
         )));
     }
+    let (mut film, from) = match &options.resume {
+        Some((film, done)) => (film.clone(), *done),
+        None => (Film::of_region(width, height, region), 0),
+    };
+    if (film.width, film.height, film.region) != (width, height, region) {
+        return Err(Error::Input(
+            "the film state to resume holds another image size or region".into(),
+        ));
+    }
     let plan = plan(scene, options.all_effects);
     let pool = thread_pool(options.threads)?;
     let (caustics, photon_rays) =
         pool.install(|| photon_pass(scene, accel, &plan, options.progress));
     let integrator = Tracer::new(scene, accel, plan, caustics.as_ref());
-    let tiles: Vec<(usize, usize)> = (0..height.div_ceil(TILE))
-        .flat_map(|ty| (0..width.div_ceil(TILE)).map(move |tx| (tx * TILE, ty * TILE)))
+    let tiles: Vec<Region> = (region.y0..region.y1)
+        .step_by(TILE)
+        .flat_map(|y0| {
+            (region.x0..region.x1).step_by(TILE).map(move |x0| Region {
+                x0,
+                y0,
+                x1: (x0 + TILE).min(region.x1),
+                y1: (y0 + TILE).min(region.y1),
+            })
+        })
         .collect();
 
-    let progress = progress_bar(options.progress, (width * height) as u64);
+    let passes = passes::passes(spp, adaptive, from);
+    let total = passes
+        .iter()
+        .map(|r| u64::from(r.end - r.start))
+        .sum::<u64>();
+    let progress = progress_bar(options.progress, total * region.area() as u64);
     let rays_done = AtomicU64::new(photon_rays.total());
-    let results: Vec<(Vec<Pixel>, RayStats)> = pool.install(|| {
-        tiles
-            .par_iter()
-            .map(|&(x0, y0)| {
-                let (x1, y1) = ((x0 + TILE).min(width), (y0 + TILE).min(height));
-                let mut pixels = Vec::with_capacity((x1 - x0) * (y1 - y0));
-                let mut tally = Tally::default();
-                for y in y0..y1 {
-                    for x in x0..x1 {
-                        pixels.push(adaptive::sample_pixel(spp, adaptive, |k| {
-                            let (ray, weight, mut rng) =
-                                camera_ray(scene, &frame, &filter, (x, y), k, spp);
-                            let mut sample = integrator.sample(&ray, &mut rng, &mut tally);
-                            sample.weight = weight;
-                            sample
-                        }));
+    let mut stats = photon_rays;
+    let (mut samples_done, mut nonfinite) = (from, 0);
+    for range in passes {
+        let film_ref = &film;
+        let results: Vec<(Vec<Pixel>, RayStats, u64)> = pool.install(|| {
+            tiles
+                .par_iter()
+                .map(|tile| {
+                    let mut tally = Tally::default();
+                    let mut bad = 0;
+                    let mut pixels = Vec::with_capacity(tile.area());
+                    for y in tile.y0..tile.y1 {
+                        for x in tile.x0..tile.x1 {
+                            let mut pixel = *film_ref.pixel(x, y);
+                            bad += passes::sample_pass(
+                                &mut pixel,
+                                range.clone(),
+                                spp,
+                                adaptive,
+                                |k| {
+                                    let (ray, weight, mut rng) =
+                                        camera_ray(scene, &frame, &filter, (x, y), k, spp);
+                                    let mut sample = integrator.sample(&ray, &mut rng, &mut tally);
+                                    sample.weight = weight;
+                                    sample
+                                },
+                            );
+                            pixels.push(pixel);
+                        }
                     }
-                }
-                let stats = tally.stats;
-                let done = rays_done.fetch_add(stats.total(), Ordering::Relaxed) + stats.total();
-                if let Some(bar) = &progress {
-                    bar.inc(pixels.len() as u64);
-                    let mrays = done as f64 / start.elapsed().as_secs_f64() / 1e6;
-                    bar.set_message(format!("{mrays:.2} Mrays/s"));
-                }
-                (pixels, stats)
-            })
-            .collect()
-    });
+                    let stats = tally.stats;
+                    let done =
+                        rays_done.fetch_add(stats.total(), Ordering::Relaxed) + stats.total();
+                    if let Some(bar) = &progress {
+                        bar.inc(pixels.len() as u64 * u64::from(range.end - range.start));
+                        let mrays = done as f64 / start.elapsed().as_secs_f64() / 1e6;
+                        bar.set_message(format!("{mrays:.2} Mrays/s"));
+                    }
+                    (pixels, stats, bad)
+                })
+                .collect()
+        });
+        accel.check()?;
+        for (tile, (pixels, tile_stats, bad)) in tiles.iter().zip(results) {
+            for (i, pixel) in pixels.into_iter().enumerate() {
+                *film.pixel_mut(tile.x0 + i % tile.width(), tile.y0 + i / tile.width()) = pixel;
+            }
+            stats += tile_stats;
+            nonfinite += bad;
+        }
+        samples_done = range.end;
+        // Checked after a pass, so an interrupt always keeps some work.
+        if options
+            .interrupt
+            .as_ref()
+            .is_some_and(|i| i.load(Ordering::Relaxed))
+        {
+            break;
+        }
+    }
     if let Some(bar) = progress {
         bar.finish_and_clear();
     }
-    accel.check()?;
-
-    let mut film = Film::new(width, height);
-    let mut stats = photon_rays;
-    for (&(x0, y0), (pixels, tile_stats)) in tiles.iter().zip(results) {
-        let tile_width = (x0 + TILE).min(width) - x0;
-        for (i, pixel) in pixels.into_iter().enumerate() {
-            film.pixels[(y0 + i / tile_width) * width + x0 + i % tile_width] = pixel;
-        }
-        stats += tile_stats;
-    }
+    let target = adaptive.map_or(spp, |a| a.max_spp.max(spp));
     Ok(RenderOutput {
         film,
         stats,
         seconds: start.elapsed().as_secs_f64(),
+        samples_done,
+        complete: samples_done == target,
+        nonfinite,
     })
 }
 

@@ -1,0 +1,224 @@
+//! A render as a command runs it: which part of the image (whole, `--tile
+//! I/N` or `--crop`), resuming from a film state, stopping on an interrupt,
+//! and the files it leaves: the EXR (with the region, samples, seed and scene
+//! hash in its header), a PNG preview, and the film state beside them for
+//! pieces and interrupted renders, which `--resume` and `merge` read.
+
+use std::path::{Path, PathBuf};
+
+use super::{RenderOptions, RenderOutput, render};
+use crate::accel::Accel;
+use crate::error::{Error, Result};
+use crate::film::{Film, Region};
+use crate::io::state::{StateHeader, read_state, write_state};
+use crate::io::{exr, png};
+use crate::scene::Scene;
+
+/// Which part of the image a command renders.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Part {
+    Whole,
+    /// Band `index` of `count` horizontal bands of whole rows.
+    Tile {
+        index: usize,
+        count: usize,
+    },
+    Crop(Region),
+}
+
+impl Part {
+    /// The pixels of a width × height image this part holds.
+    pub fn region(self, width: usize, height: usize) -> Result<Region> {
+        match self {
+            Part::Whole => Ok(Region::whole(width, height)),
+            Part::Tile { index, count } => {
+                if count == 0 || index >= count || count > height {
+                    return Err(Error::Input(format!(
+                        "--tile {index}/{count}: expected I/N with 0 <= I < N <= {height} (the image's rows)"
+                    )));
+                }
+                Ok(Region {
+                    x0: 0,
+                    x1: width,
+                    y0: index * height / count,
+                    y1: (index + 1) * height / count,
+                })
+            }
+            Part::Crop(r) => {
+                if r.x0 >= r.x1 || r.y0 >= r.y1 || r.x1 > width || r.y1 > height {
+                    return Err(Error::Input(format!(
+                        "--crop {},{},{},{}: expected x0 < x1 <= {width} and y0 < y1 <= {height}",
+                        r.x0, r.y0, r.x1, r.y1
+                    )));
+                }
+                Ok(r)
+            }
+        }
+    }
+}
+
+/// The film state beside an output EXR: `out.exr` → `out.state`.
+pub fn state_path(output: &Path) -> PathBuf {
+    output.with_extension("state")
+}
+
+/// What a render command wrote.
+pub struct Written {
+    pub output: RenderOutput,
+    pub spp: u32,
+    pub preview: PathBuf,
+    /// The film state, when one was written (pieces and interrupted renders).
+    pub state: Option<PathBuf>,
+}
+
+/// Renders `part` of the scene into `output` (.exr), resuming from the state
+/// beside it when `resume` is set. `options.region` and `options.resume` are
+/// filled in here.
+pub fn run(
+    scene: &Scene,
+    accel: &Accel,
+    part: Part,
+    frame: u32,
+    resume: bool,
+    output: &Path,
+    mut options: RenderOptions,
+) -> Result<Written> {
+    let (width, height) = (scene.camera.width as usize, scene.camera.height as usize);
+    let region = part.region(width, height)?;
+    let spp = options.spp.unwrap_or(scene.render.spp);
+    let header = StateHeader {
+        width,
+        height,
+        region,
+        spp,
+        samples_done: 0,
+        seed: scene.render.seed,
+        scene_hash: scene.content_hash(),
+        frame,
+    };
+    let state = state_path(output);
+    if resume {
+        let (saved, film) = read_state(&state)?;
+        let done = saved.samples_done;
+        let expected = StateHeader {
+            samples_done: done,
+            ..header.clone()
+        };
+        if saved != expected {
+            return Err(Error::Input(format!(
+                "--resume: {} is from another render (it holds {}; this render is {})",
+                state.display(),
+                describe(&saved),
+                describe(&expected)
+            )));
+        }
+        options.resume = Some((film, done));
+    }
+    options.region = Some(region);
+    let out = render(scene, accel, &options)?;
+    let header = StateHeader {
+        samples_done: out.samples_done,
+        ..header
+    };
+    let preview = write_image(output, &out.film, &header)?;
+    let state = (part != Part::Whole || !out.complete || resume).then_some(state);
+    if let Some(path) = &state {
+        write_state(path, &header, &out.film)?;
+    }
+    Ok(Written {
+        output: out,
+        spp,
+        preview,
+        state,
+    })
+}
+
+fn describe(h: &StateHeader) -> String {
+    let r = h.region;
+    format!(
+        "{}x{} region [{}, {}) x [{}, {}), {} spp, seed {}, frame {}, scene {}",
+        h.width,
+        h.height,
+        r.x0,
+        r.x1,
+        r.y0,
+        r.y1,
+        h.spp,
+        h.seed,
+        h.frame,
+        &h.scene_hash[..h.scene_hash.len().min(12)]
+    )
+}
+
+/// Writes the EXR (data window = the region, display window = the whole image)
+/// and its PNG preview; returns the preview's path.
+pub fn write_image(output: &Path, film: &Film, header: &StateHeader) -> Result<PathBuf> {
+    let layers = film.layers();
+    let r = film.region;
+    let image = exr::ImageLayers {
+        width: r.width(),
+        height: r.height(),
+        origin: (r.x0, r.y0),
+        display: (film.width, film.height),
+        beauty: &layers.beauty,
+        depth: &layers.depth,
+        normal: &layers.normal,
+        albedo: &layers.albedo,
+    };
+    let attributes = [
+        ("sturmray.spp", header.spp.to_string()),
+        ("sturmray.samples_done", header.samples_done.to_string()),
+        ("sturmray.seed", header.seed.to_string()),
+        ("sturmray.scene_hash", header.scene_hash.clone()),
+        ("sturmray.frame", header.frame.to_string()),
+        (
+            "sturmray.region",
+            format!("{},{},{},{}", r.x0, r.y0, r.x1, r.y1),
+        ),
+    ];
+    exr::write_exr(output, &image, &attributes)?;
+    let preview = output.with_extension("png");
+    png::write_png_preview(&preview, r.width(), r.height(), &layers.beauty)?;
+    Ok(preview)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tiles_are_bands_that_cover_the_image() {
+        let bands: Vec<Region> = (0..3)
+            .map(|index| Part::Tile { index, count: 3 }.region(10, 7).unwrap())
+            .collect();
+        assert_eq!(bands[0].y0, 0);
+        assert_eq!(bands[2].y1, 7);
+        for pair in bands.windows(2) {
+            assert_eq!(pair[0].y1, pair[1].y0);
+        }
+        assert!(
+            bands
+                .iter()
+                .all(|b| b.x0 == 0 && b.x1 == 10 && b.area() > 0)
+        );
+        for bad in [
+            Part::Tile { index: 3, count: 3 },
+            Part::Tile { index: 0, count: 0 },
+            Part::Tile { index: 0, count: 8 },
+            Part::Crop(Region {
+                x0: 2,
+                y0: 0,
+                x1: 2,
+                y1: 1,
+            }),
+            Part::Crop(Region {
+                x0: 0,
+                y0: 0,
+                x1: 11,
+                y1: 1,
+            }),
+        ] {
+            assert!(bad.region(10, 7).is_err(), "{bad:?}");
+        }
+    }
+}

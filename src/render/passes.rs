@@ -1,0 +1,157 @@
+//! A render runs in progressive passes, each taking a range of sample indices
+//! for every pixel, so an interrupted render can stop between passes and
+//! resume where it stopped. A pixel sums its samples in index order whatever
+//! the passes, so the split never changes the image.
+//!
+//! With adaptive supersampling a pass is one round of `spp` samples: after
+//! its base samples a pixel takes further rounds while its own samples
+//! disagree (the standard error of their mean luminance above the threshold
+//! times the mean), up to `max_spp`. The decision uses nothing but the
+//! pixel's own sums, which the film state keeps, so it does not depend on
+//! threads, tiles or interruptions.
+
+use std::ops::Range;
+
+use crate::film::{Pixel, Sample};
+use crate::scene::Adaptive;
+
+/// Below this mean luminance the threshold counts as absolute: a dark pixel's
+/// relative error would otherwise ask for samples nobody can see.
+const FLOOR: f64 = 0.05;
+
+/// How many passes a render without adaptive sampling is split into (fewer
+/// when it has fewer samples): enough that an interrupt loses little work.
+const PASSES: u32 = 8;
+
+/// The sample ranges of a render's passes, from sample `from` on.
+pub fn passes(spp: u32, adaptive: Option<&Adaptive>, from: u32) -> Vec<Range<u32>> {
+    let (step, limit) = match adaptive {
+        Some(a) => (spp, a.max_spp.max(spp)),
+        None => (spp.div_ceil(PASSES).max(1), spp),
+    };
+    (0..limit)
+        .step_by(step as usize)
+        .map(|k| k..(k + step).min(limit))
+        .filter(|r| r.start >= from)
+        .collect()
+}
+
+/// Adds samples `range` to a pixel (`take(k)` traces sample k), unless
+/// adaptive sampling finds it has converged, or it stopped in an earlier pass.
+/// Returns how many samples had non-finite radiance (counted as black).
+pub fn sample_pass(
+    pixel: &mut Pixel,
+    range: Range<u32>,
+    spp: u32,
+    adaptive: Option<&Adaptive>,
+    mut take: impl FnMut(u32) -> Sample,
+) -> u64 {
+    if let Some(a) = adaptive
+        && range.start >= spp
+        && (pixel.samples < range.start || converged(pixel, a))
+    {
+        return 0;
+    }
+    let mut nonfinite = 0;
+    for k in range {
+        let mut sample = take(k);
+        nonfinite += u64::from(sample.sanitize());
+        pixel.add(&sample);
+    }
+    nonfinite
+}
+
+/// Whether a pixel's samples agree well enough to stop.
+fn converged(pixel: &Pixel, a: &Adaptive) -> bool {
+    let n = f64::from(pixel.samples);
+    // Σy and Σy² are in f64: the variance subtracts them.
+    let [sum, sum2] = pixel.luminance;
+    let mean = sum / n;
+    let variance = ((sum2 - sum * mean) / (n - 1.0)).max(0.0);
+    (variance / n).sqrt() <= f64::from(a.threshold) * mean.abs().max(FLOOR)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::Vec3;
+
+    fn sample(y: f32) -> Sample {
+        Sample {
+            radiance: Vec3::splat(y),
+            weight: 1.0,
+            depth: 1.0,
+            normal: Vec3::Z,
+            albedo: Vec3::ONE,
+        }
+    }
+
+    const ADAPTIVE: Adaptive = Adaptive {
+        max_spp: 64,
+        threshold: 0.01,
+    };
+
+    /// Every pass of a render over one pixel.
+    fn run(spp: u32, adaptive: Option<&Adaptive>, take: impl Fn(u32) -> Sample) -> Pixel {
+        let mut pixel = Pixel::default();
+        for range in passes(spp, adaptive, 0) {
+            sample_pass(&mut pixel, range, spp, adaptive, &take);
+        }
+        pixel
+    }
+
+    #[test]
+    fn passes_cover_every_sample_once() {
+        assert_eq!(passes(3, None, 0), vec![0..1, 1..2, 2..3]);
+        assert_eq!(
+            passes(20, None, 0),
+            vec![0..3, 3..6, 6..9, 9..12, 12..15, 15..18, 18..20]
+        );
+        assert_eq!(passes(20, None, 9), vec![9..12, 12..15, 15..18, 18..20]);
+        assert_eq!(passes(4, Some(&ADAPTIVE), 0).len(), 16);
+        assert_eq!(passes(4, Some(&ADAPTIVE), 60), vec![60..64]);
+    }
+
+    #[test]
+    fn agreeing_samples_stop_at_the_base_count() {
+        assert_eq!(run(4, Some(&ADAPTIVE), |_| sample(0.5)).samples, 4);
+    }
+
+    #[test]
+    fn disagreeing_samples_get_more_up_to_the_limit() {
+        // An edge: half the samples see 0, half see 1.
+        assert_eq!(
+            run(4, Some(&ADAPTIVE), |k| sample((k % 2) as f32)).samples,
+            64
+        );
+        // A milder disagreement stops in between, at a whole number of rounds.
+        let mild = Adaptive {
+            threshold: 0.1,
+            ..ADAPTIVE
+        };
+        let pixel = run(4, Some(&mild), |k| sample(1.0 + (k % 2) as f32));
+        assert!(pixel.samples > 4 && pixel.samples < 64, "{}", pixel.samples);
+        assert_eq!(pixel.samples % 4, 0);
+    }
+
+    #[test]
+    fn without_adaptive_every_sample_is_taken_in_order() {
+        let pixel = run(5, None, |k| sample(k as f32));
+        assert_eq!(pixel.samples, 5);
+        let mut direct = Pixel::default();
+        (0..5).for_each(|k| direct.add(&sample(k as f32)));
+        assert_eq!(pixel, direct);
+    }
+
+    #[test]
+    fn non_finite_radiance_is_counted_and_kept_off_the_film() {
+        let mut pixel = Pixel::default();
+        let bad = sample_pass(&mut pixel, 0..4, 4, None, |k| {
+            sample([f32::NAN, f32::INFINITY, 1.0, 2.0][k as usize])
+        });
+        assert_eq!(bad, 2);
+        assert_eq!(pixel.samples, 4);
+        assert!(pixel.radiance.iter().all(|c| c.is_finite()));
+        assert_eq!(pixel.radiance[0], 3.0);
+    }
+}
