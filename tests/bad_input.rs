@@ -106,7 +106,13 @@ fn cases() -> Vec<Case> {
             "unreadable MTL (a folder)",
             obj("m.obj", b"mtllib folder.obj\n"),
             RENDER_M,
-            &["folder.obj", "directory"],
+            &["m.obj:1", "folder.obj", "directory"],
+        ),
+        case(
+            "mtllib without a file name",
+            obj("m.obj", b"mtllib\n"),
+            RENDER_M,
+            &["m.obj:1", "expected a file name after `mtllib`"],
         ),
         case(
             "MTL colour of two numbers (tobj panics on it)",

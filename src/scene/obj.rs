@@ -157,11 +157,20 @@ impl Reader<'_> {
 
     fn material_library(&mut self, rest: &str) -> Result<()> {
         let dir = self.path.parent().unwrap_or(Path::new("."));
-        let file: PathBuf = dir.join(rest.trim());
+        let name = rest.trim();
+        if name.is_empty() {
+            return Err(self.error("expected a file name after `mtllib`"));
+        }
+        let file: PathBuf = dir.join(name);
         if !file.exists() {
             return Err(self.error(format!("material library {} not found", file.display())));
         }
-        for m in &mtl::load(&file)? {
+        // A library that cannot be read is named with the line that asks for it.
+        let materials = mtl::load(&file).map_err(|e| match e {
+            Error::Io { .. } => self.error(e.to_string()),
+            other => other,
+        })?;
+        for m in &materials {
             let index = self.materials.len() as u32;
             self.material_names.insert(m.name.clone(), index);
             self.materials.push(Material::from_mtl(m));
