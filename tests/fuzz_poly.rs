@@ -163,7 +163,10 @@ proptest! {
     ///
     /// `make fuzz` still fails here within seconds (reported on issue #6, for
     /// poly::solve): t²(-1 + 834.7t + t⁴ + 2t⁶) on (0, 0.5], a double root
-    /// on the open end a and a simple one at 0.0011980, gives no root at all.
+    /// on the open end a and a simple one at 0.0011980, gives no root at all;
+    /// 576 - 384t - 1256t² - 580t³ + 6.25t⁴ + 60.25t⁵ + 14t⁶ + t⁷ on
+    /// (-4.5, -4], with a multiple root at b = -4, gives it twice, as
+    /// -4.000244140625 and -4.
     ///
     /// Also found above degree 8 (see MAX_RANDOM_DEGREE): in -2t² + 5t³ +
     /// 153.3t⁵ + 909.9t⁶ + 759.2t⁸ - t⁹ + 259.9t¹¹ on (-inf, inf] the chain
