@@ -249,6 +249,14 @@ fn cases() -> Vec<Case> {
             &["line 24, lights[1].radius", "> 0"],
         ),
         case(
+            "absurdly large sphere light",
+            scene_plus(
+                "[[lights]]\ntype = \"sphere\"\ncenter = [0, 0, 1]\nradius = 3e38\nradiance = [1, 1, 1]\n",
+            ),
+            RENDER,
+            &["line 24, lights[1].radius", "at most 1e18"],
+        ),
+        case(
             "spp = 0 in the scene",
             scene_with("spp = 1", "spp = 0"),
             RENDER,

@@ -8,8 +8,14 @@ mod fuzz_common;
 use std::path::PathBuf;
 
 use proptest::prelude::*;
+use sturmray::accel::{Accel, Backend};
 use sturmray::error::Error;
+use sturmray::render::{RenderOptions, render};
 use sturmray::scene::{Scene, load_obj};
+
+fn fail(e: Error) -> TestCaseError {
+    TestCaseError::fail(e.to_string())
+}
 
 /// A scratch folder per test (cases of one test run one after another).
 fn scratch(name: &str) -> PathBuf {
@@ -206,6 +212,9 @@ fn apply(text: &mut String, edit: &Edit) {
 proptest! {
     #![proptest_config(fuzz_common::config(300))]
 
+    /// A small scene that loads also builds and renders (on one thread, every
+    /// effect on): values the loader accepts must not break Embree or the
+    /// integrators.
     #[test]
     fn fuzz_scene_parser(edits in prop::collection::vec(edit(), 0..6)) {
         let dir = scratch("scene");
@@ -216,7 +225,20 @@ proptest! {
         }
         let path = dir.join("s.toml");
         std::fs::write(&path, &text).unwrap();
-        check_load(Scene::load(&path), &["s.toml", "m.obj", "none.obj"])?;
+        let loaded = Scene::load(&path);
+        let scene = loaded.as_ref().ok().cloned();
+        check_load(loaded, &["s.toml", "m.obj", "none.obj"])?;
+        // Small enough to take milliseconds.
+        let small = |s: &Scene| {
+            let samples = s.render.adaptive.as_ref().map_or(s.render.spp, |a| a.max_spp);
+            u64::from(s.camera.width) * u64::from(s.camera.height) * u64::from(samples) <= 64 * 64 * 8
+        };
+        if let Some(scene) = scene.filter(small) {
+            let accel = Accel::build(&scene, Backend::Embree, Some(1)).map_err(fail)?;
+            let options = RenderOptions { threads: Some(1), spp: None, progress: false, all_effects: true };
+            let out = render(&scene, &accel, &options).map_err(fail)?;
+            prop_assert!(out.film.pixels.iter().all(|p| p.radiance.iter().all(|c| c.is_finite())));
+        }
     }
 }
 

@@ -583,10 +583,13 @@ pub(super) fn load(path: &Path) -> Result<Scene> {
             LightFile::Sphere(l) => {
                 let center = check.finite(&key("center"), l.center)?;
                 let radiance = check.colour(&key("radiance"), l.radiance)?;
-                if !(l.radius > 0.0 && l.radius.is_finite()) {
+                if !(l.radius > 0.0 && f64::from(l.radius) <= MAX_COORDINATE) {
                     return Err(check.error(
                         &key("radius"),
-                        format!("expected a number > 0, found {}", l.radius),
+                        format!(
+                            "expected a number > 0 and at most {MAX_COORDINATE:e}, found {}",
+                            l.radius
+                        ),
                     ));
                 }
                 let material = scene.light_material(index, radiance);
