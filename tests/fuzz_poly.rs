@@ -167,7 +167,7 @@ proptest! {
     /// 576 - 384t - 1256t² - 580t³ + 6.25t⁴ + 60.25t⁵ + 14t⁶ + t⁷ on
     /// (-4.5, -4], with a multiple root at b = -4, gives it twice, as
     /// -4.000244140625 and -4; a degree-7 product with roots 2 and 3.5 (of
-    /// multiplicity 4 or more) on (0, 9.52] gives 3.5 twice, as 3.50009 and
+    /// multiplicity 4) on (0, 9.52] gives 3.5 twice, as 3.50009 and
     /// 3.50035.
     ///
     /// Also found above degree 8 (see MAX_RANDOM_DEGREE): in -2t² + 5t³ +
