@@ -211,7 +211,7 @@ proptest! {
         }
         for &t in found {
             // A root exactly on the open end a can come out as a itself when p
-            // has multiple roots: found by this test with (t-2)³(t-2.5)²·... on
+            // has multiple roots: found by this test with (t-2)³(t-2.5)² on
             // (2, 2.5] (reported on issue #6, for poly::solve); allowed only
             // when a is an exact root.
             let at_a = t == a && root_at_a;
