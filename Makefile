@@ -13,10 +13,12 @@ RELEASE_BIN := target/release/sturmray
 EMBREE4_DIR := $(CURDIR)/embree4
 EMBREE4_TARGET := target/embree4
 
-.PHONY: setup render test test-rust test-python lint bench scenes clean embree4 test-embree4
+.PHONY: setup render test test-rust test-python lint bench scenes clean embree4 test-embree4 \
+	fuzz check-memory
 
-setup: $(VENV)/.installed
-	@missing=""; for p in $(APT_PACKAGES); do \
+# Installs those of the Debian packages $(1) that are missing (none: no apt-get at all).
+define apt_install
+	@missing=""; for p in $(1); do \
 	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q "install ok installed" || missing="$$missing $$p"; \
 	done; \
 	if [ -n "$$missing" ]; then \
@@ -24,6 +26,10 @@ setup: $(VENV)/.installed
 	  SUDO=$$( [ "$$(id -u)" = 0 ] || echo sudo ); \
 	  $$SUDO apt-get update -qq && DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -qq $$missing; \
 	fi
+endef
+
+setup: $(VENV)/.installed
+	$(call apt_install,$(APT_PACKAGES))
 	@command -v cargo >/dev/null || { echo "cargo not found: install Rust (https://rustup.rs)"; exit 1; }
 
 # python3-venv must exist before the venv; the stamp is rebuilt when requirements change.
@@ -66,6 +72,48 @@ test-embree4: setup embree4
 bench: setup
 	cargo build --release
 	$(RELEASE_BIN) bench --json out/bench.json
+
+# Property-based fuzzing (proptest on stable Rust), not part of `make test` or
+# CI: each target runs FUZZ_CASES fresh random cases, or stops after
+# FUZZ_SECONDS (four targets: at most 4 x 60 s). A failure is shrunk, printed
+# and kept in tests/<crate>.proptest-regressions, which `cargo test` replays.
+FUZZ_CASES ?= 1000000
+FUZZ_SECONDS ?= 60
+FUZZ_TARGETS := fuzz_input:fuzz_scene_parser fuzz_input:fuzz_obj_loader \
+	fuzz_poly:fuzz_poly_parser fuzz_poly:fuzz_root_finder
+
+fuzz:
+	cargo test --no-run --test fuzz_input --test fuzz_poly
+	@failed=""; for target in $(FUZZ_TARGETS); do \
+	  crate=$${target%%:*}; name=$${target##*:}; \
+	  echo "fuzz $$name: $(FUZZ_CASES) cases or $(FUZZ_SECONDS) s"; \
+	  PROPTEST_CASES=$(FUZZ_CASES) timeout $(FUZZ_SECONDS) \
+	    cargo test -q --test $$crate -- --exact $$name; \
+	  status=$$?; \
+	  if [ $$status = 124 ]; then echo "$$name: no failure in $(FUZZ_SECONDS) s"; \
+	  elif [ $$status != 0 ]; then failed="$$failed $$name"; fi; \
+	done; \
+	if [ -n "$$failed" ]; then echo "fuzz failures:$$failed"; exit 1; fi
+
+# The Embree (FFI) unit tests under valgrind, then peak memory of a 5M-triangle
+# mesh and of 100k analytic shapes (generated under scenes/generated/). valgrind
+# and GNU time are installed here, not by `make setup`, so `make test` does not
+# pay for them. The flush-to-zero test is left out: valgrind does not model the
+# MXCSR FTZ/DAZ bits.
+VALGRIND := valgrind --leak-check=full --show-leak-kinds=all \
+	--errors-for-leak-kinds=definite,indirect --num-callers=40
+check-memory: setup
+	$(call apt_install,valgrind time)
+	@mkdir -p out
+	cargo test --lib --no-run
+	bin=$$(cargo test --lib --no-run --message-format=json | python3 -c 'import json, sys; \
+	  print(*[m["executable"] for m in map(json.loads, sys.stdin) \
+	    if m.get("reason") == "compiler-artifact" and m["target"]["kind"] == ["lib"] \
+	    and m.get("executable")])'); \
+	$(VALGRIND) --log-file=out/valgrind-ffi.log $$bin accel::embree::tests --test-threads=1
+	python3 tools/valgrind_check.py out/valgrind-ffi.log
+	cargo build
+	python3 tools/memory_report.py $(DEV_BIN) --limit-gib 24
 
 # Regenerates the OBJ/MTL files under scenes/ (deterministic; they are committed).
 scenes:

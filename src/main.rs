@@ -255,14 +255,36 @@ impl std::fmt::Display for Interrupted {
 
 impl std::error::Error for Interrupted {}
 
-/// Creates the parent folder of an output file, so `out/` need not exist.
+/// Creates the parent folder of an output file, so `out/` need not exist, and
+/// makes sure the file can be written before any work is done, so a long
+/// render is not lost at the end: an existing file is opened for writing
+/// (not truncated), a new one is created and removed again.
 fn prepare_output(path: &Path) -> Result<(), Error> {
-    match path.parent() {
-        Some(dir) if !dir.as_os_str().is_empty() => {
-            std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))
-        }
-        _ => Ok(()),
+    if let Some(dir) = path.parent()
+        && !dir.as_os_str().is_empty()
+    {
+        std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
     }
+    let existed = path.exists();
+    std::fs::OpenOptions::new()
+        .write(true)
+        .create(true)
+        .truncate(false)
+        .open(path)
+        .map_err(|e| Error::io(path, e))?;
+    if !existed {
+        std::fs::remove_file(path).map_err(|e| Error::io(path, e))?;
+    }
+    Ok(())
+}
+
+/// Loads a scene and prints its warnings, once per command.
+fn load(path: &Path) -> Result<Scene, Error> {
+    let scene = Scene::load(path)?;
+    for warning in &scene.warnings {
+        eprintln!("sturmray: warning: {warning}");
+    }
+    Ok(scene)
 }
 
 fn run(command: Command) -> anyhow::Result<()> {
@@ -286,8 +308,6 @@ fn run(command: Command) -> anyhow::Result<()> {
             // second one ends the process at once.
             let interrupt = Arc::new(AtomicBool::new(false));
             let flag = interrupt.clone();
-            // The first signal stops the render after its current pass; a second
-            // one ends the process at once.
             ctrlc::set_handler(move || {
                 if flag.swap(true, Ordering::Relaxed) {
                     std::process::exit(130);
@@ -295,12 +315,18 @@ fn run(command: Command) -> anyhow::Result<()> {
                 eprintln!("\ninterrupted: finishing this pass, then writing the image so far");
             })
             .map_err(|e| Error::Internal(format!("cannot catch signals: {e}")))?;
-            let mut scene = Scene::load(&scene)?;
+            let mut scene = load(&scene)?;
             if let Some(count) = photons {
                 scene.render.photons.count = count;
             }
             let output = output.unwrap_or_else(|| PathBuf::from(format!("out/{}.exr", scene.name)));
-            prepare_output(&output)?;
+            let preview = output.with_extension("png");
+            for path in [Some(&output), Some(&preview), stats.as_ref()]
+                .into_iter()
+                .flatten()
+            {
+                prepare_output(path)?;
+            }
             let threads = threads.map(|n| n as usize);
             let accel = Accel::build(&scene, backend.into(), threads)?;
             let options = RenderOptions {
@@ -320,7 +346,6 @@ fn run(command: Command) -> anyhow::Result<()> {
             let result = &written.output;
             let r = result.film.region;
             if let Some(path) = stats {
-                prepare_output(&path)?;
                 let json = serde_json::json!({
                     "rays": result.stats,
                     "seconds": result.seconds,
@@ -368,7 +393,7 @@ fn run(command: Command) -> anyhow::Result<()> {
             scene: path,
             backend,
         } => {
-            let scene = Scene::load(&path)?;
+            let scene = load(&path)?;
             let accel = Accel::build(&scene, backend.into(), None)?;
             print!("{}", sturmray::report::info::describe(&scene, &accel));
             Ok(())
@@ -380,7 +405,7 @@ fn run(command: Command) -> anyhow::Result<()> {
             all_effects,
             backend,
         } => {
-            let scene = Scene::load(&scene)?;
+            let scene = load(&scene)?;
             let accel = Accel::build(&scene, backend.into(), None)?;
             let (result, tree) =
                 sturmray::render::explain(&scene, &accel, pixel, sample, all_effects)?;
@@ -414,11 +439,11 @@ fn run(command: Command) -> anyhow::Result<()> {
             out,
             backend,
         } => {
-            let scene = Scene::load(&scene)?;
+            let scene = load(&scene)?;
             let rays = io::npy::read_rays(&rays)?;
+            prepare_output(&out)?;
             let accel = Accel::build(&scene, backend.into(), None)?;
             let hits = sturmray::render::trace_all(&accel, &rays, None)?;
-            prepare_output(&out)?;
             io::npy::write_hits(&out, &hits)?;
             Ok(())
         }

@@ -8,6 +8,7 @@ use std::path::{Path, PathBuf};
 
 use serde::Deserialize;
 
+use super::obj::MAX_COORDINATE;
 use super::shapes::{self, ShapeFile, ShapeKind};
 use super::{
     Adaptive, Camera, Integrator, PhotonSettings, RenderSettings, Scene, headlight, load_obj,
@@ -220,6 +221,20 @@ struct DirectionalFile {
     irradiance: [f32; 3],
 }
 
+/// What a render holds per pixel: the film's f64 sums (`film::Pixel`, 88
+/// bytes) and the f32 layers written out (beauty, depth, normal, albedo: 40).
+pub(super) const FILM_BYTES_PER_PIXEL: u64 = 128;
+
+/// The machine's memory in bytes, where the system says (Linux), so an image
+/// whose film cannot be allocated is refused at load instead of aborting the
+/// render. None elsewhere: then only the limit on each side applies.
+fn physical_memory() -> Option<u64> {
+    let info = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = info.lines().find(|l| l.starts_with("MemTotal:"))?;
+    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib * 1024)
+}
+
 /// Reports the problems of one scene file, each named by its line and key.
 struct Check<'a> {
     path: &'a Path,
@@ -235,11 +250,19 @@ impl Check<'_> {
         }
     }
 
+    /// A position or vector within [`MAX_COORDINATE`].
     fn finite(&self, key: &str, v: [f32; 3]) -> Result<Vec3> {
-        if v.iter().all(|x| x.is_finite() && x.abs() < 1e18) {
-            Ok(Vec3::from(v))
+        self.finite64(key, v.map(f64::from)).map(|v| v.as_vec3())
+    }
+
+    fn finite64(&self, key: &str, v: [f64; 3]) -> Result<DVec3> {
+        if v.iter().all(|x| x.abs() <= MAX_COORDINATE) {
+            Ok(DVec3::from(v))
         } else {
-            Err(self.error(key, format!("expected finite numbers, found {v:?}")))
+            Err(self.error(
+                key,
+                format!("expected finite numbers of size at most {MAX_COORDINATE:e}, found {v:?}"),
+            ))
         }
     }
 
@@ -283,6 +306,23 @@ impl Check<'_> {
                     format!("expected 1 to {MAX_SIDE} pixels, found {side}"),
                 ));
             }
+        }
+        let bytes = u64::from(c.width) * u64::from(c.height) * FILM_BYTES_PER_PIXEL;
+        if let Some(memory) = physical_memory()
+            && bytes > memory
+        {
+            const GIB: f64 = (1u64 << 30) as f64;
+            return Err(self.error(
+                "camera",
+                format!(
+                    "a {}x{} image needs {:.1} GiB for its film ({FILM_BYTES_PER_PIXEL} bytes \
+                     per pixel), more than this machine's {:.1} GiB of memory",
+                    c.width,
+                    c.height,
+                    bytes as f64 / GIB,
+                    memory as f64 / GIB
+                ),
+            ));
         }
         Ok(Camera {
             eye,
@@ -345,14 +385,8 @@ impl Check<'_> {
 
     fn transform(&self, index: usize, t: &TransformFile) -> Result<DAffine3> {
         let key = |field: &str| format!("objects[{index}].transform.{field}");
-        let vector = |field: &str, v: Option<[f64; 3]>| {
-            let v = DVec3::from(v.unwrap_or([0.0; 3]));
-            if v.is_finite() && v.abs().max_element() < 1e18 {
-                Ok(v)
-            } else {
-                Err(self.error(&key(field), format!("expected finite numbers, found {v}")))
-            }
-        };
+        let vector =
+            |field: &str, v: Option<[f64; 3]>| self.finite64(&key(field), v.unwrap_or([0.0; 3]));
         let translate = vector("translate", t.translate)?;
         let rotate = vector("rotate", t.rotate)?;
         let scale = match t.scale {
@@ -498,6 +532,7 @@ pub(super) fn load(path: &Path) -> Result<Scene> {
         shapes: Vec::new(),
         lights: Vec::new(),
         light_picker: LightPicker::default(),
+        warnings: Vec::new(),
     };
     for (name, m) in &file.materials {
         scene.materials.push(check.material(name, m)?);
@@ -525,10 +560,13 @@ pub(super) fn load(path: &Path) -> Result<Scene> {
                     };
                     check.error(&key, message)
                 })?;
-            let clip = shape.clip.as_ref().map(|c| Box3 {
-                min: DVec3::from(c.min),
-                max: DVec3::from(c.max),
-            });
+            let clip = match &shape.clip {
+                Some(c) => Some(Box3 {
+                    min: check.finite64(&format!("{key}.clip.min"), c.min)?,
+                    max: check.finite64(&format!("{key}.clip.max"), c.max)?,
+                }),
+                None => None,
+            };
             let to_world = check.transform(index, &shape.transform)?;
             let shape = Shape::new(surface, to_world, clip.or(default_clip), material, solver)
                 .map_err(|e| check.error(&key, e))?;
@@ -541,7 +579,13 @@ pub(super) fn load(path: &Path) -> Result<Scene> {
         let material = check.material_index(index, &mesh.material, &file.materials)?;
         let transform = check.transform(index, &mesh.transform)?;
         let first = scene.meshes.len();
-        scene.add_obj(load_obj(&dir.join(&mesh.file))?, material);
+        let obj_path = dir.join(&mesh.file);
+        // A file that cannot be read is named with the line that asks for it.
+        let obj = load_obj(&obj_path).map_err(|e| match e {
+            Error::Io { .. } => check.error(&format!("objects[{index}].file"), e),
+            other => other,
+        })?;
+        scene.add_obj(&obj_path, obj, material);
         let matrix = DMat4::from(transform).as_mat4();
         for m in &mut scene.meshes[first..] {
             m.transform(&matrix);
@@ -563,10 +607,13 @@ pub(super) fn load(path: &Path) -> Result<Scene> {
             LightFile::Sphere(l) => {
                 let center = check.finite(&key("center"), l.center)?;
                 let radiance = check.colour(&key("radiance"), l.radiance)?;
-                if !(l.radius > 0.0 && l.radius.is_finite()) {
+                if !(l.radius > 0.0 && f64::from(l.radius) <= MAX_COORDINATE) {
                     return Err(check.error(
                         &key("radius"),
-                        format!("expected a number > 0, found {}", l.radius),
+                        format!(
+                            "expected a number > 0 and at most {MAX_COORDINATE:e}, found {}",
+                            l.radius
+                        ),
                     ));
                 }
                 let material = scene.light_material(index, radiance);

@@ -132,6 +132,9 @@ pub struct Scene {
     pub lights: Vec<Light>,
     /// Which lights a shading point samples, and which light a hit found.
     pub light_picker: LightPicker,
+    /// Problems that do not stop a render (degenerate triangles), for the CLI
+    /// to print once: the library itself prints nothing.
+    pub warnings: Vec<String>,
 }
 
 impl Scene {
@@ -160,8 +163,9 @@ impl Scene {
             shapes: Vec::new(),
             lights: Vec::new(),
             light_picker: LightPicker::default(),
+            warnings: Vec::new(),
         };
-        scene.add_obj(load_obj(path)?, None);
+        scene.add_obj(path, load_obj(path)?, None);
         let bounds = scene.bounds();
         if bounds.is_empty() {
             return Err(Error::Mesh {
@@ -176,8 +180,18 @@ impl Scene {
         Ok(scene)
     }
 
-    /// Appends an OBJ's meshes; `material` replaces its own materials when given.
-    pub(crate) fn add_obj(&mut self, obj: ObjFile, material: Option<u32>) {
+    /// Appends the meshes of the OBJ at `path`; `material` replaces its own
+    /// materials when given.
+    pub(crate) fn add_obj(&mut self, path: &Path, obj: ObjFile, material: Option<u32>) {
+        if obj.degenerate > 0 {
+            self.warnings.push(format!(
+                "{}: {} degenerate triangle{} (zero area) skipped: never hit, but kept so \
+                 triangle numbers do not shift",
+                path.display(),
+                obj.degenerate,
+                if obj.degenerate == 1 { "" } else { "s" }
+            ));
+        }
         let offset = self.materials.len() as u32;
         self.materials.extend(obj.materials);
         let mut default = None;

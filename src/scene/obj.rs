@@ -5,6 +5,8 @@
 //! contract numbers triangles in file order within each `o`/`g` object.
 //! Polygons are fan-triangulated (v0, vi, vi+1), as embreex users and tobj do.
 
+mod mtl;
+
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
@@ -18,10 +20,28 @@ use crate::shading::Material;
 pub struct ObjFile {
     pub meshes: Vec<Mesh>,
     pub materials: Vec<Material>,
+    /// Triangles of zero area (repeated or collinear corners). They stay in the
+    /// meshes, so triangle numbers never shift, and Embree never hits them.
+    pub degenerate: usize,
 }
 
-/// Coordinates beyond this are refused: they overflow f32 arithmetic in the BVH.
-const MAX_COORDINATE: f32 = 1e18;
+/// Coordinates (OBJ vertices, TOML positions, translations, clip boxes) above
+/// this in size are refused: squared, as the BVH and the intersection tests
+/// square them, they must stay within f32 (about 3.4e38).
+pub(super) const MAX_COORDINATE: f64 = 1e18;
+
+/// Reads a text file, naming the line of the first byte that is not UTF-8.
+pub(super) fn read_text(path: &Path) -> Result<String> {
+    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    String::from_utf8(bytes).map_err(|e| {
+        let valid = &e.as_bytes()[..e.utf8_error().valid_up_to()];
+        Error::Mesh {
+            path: path.to_owned(),
+            line: valid.iter().filter(|&&b| b == b'\n').count() + 1,
+            message: "not UTF-8 text".into(),
+        }
+    })
+}
 
 struct Reader<'a> {
     path: &'a Path,
@@ -36,6 +56,7 @@ struct Reader<'a> {
     local: Vec<u32>,
     /// The inverse for the current mesh: local index → global index.
     globals: Vec<u32>,
+    degenerate: usize,
 }
 
 impl Reader<'_> {
@@ -57,7 +78,7 @@ impl Reader<'_> {
             *value = word
                 .parse::<f32>()
                 .map_err(|_| self.error(format!("expected a number, found `{word}`")))?;
-            if !value.is_finite() || value.abs() > MAX_COORDINATE {
+            if !value.is_finite() || f64::from(value.abs()) > MAX_COORDINATE {
                 return Err(self.error(format!(
                     "coordinate `{word}` is not a finite number below {MAX_COORDINATE:e}"
                 )));
@@ -103,6 +124,10 @@ impl Reader<'_> {
             }
             n += 1;
             if n >= 3 {
+                let [a, b, c] = corners.map(|i| self.mesh.positions[i as usize]);
+                if (b - a).cross(c - a) == Vec3::ZERO {
+                    self.degenerate += 1;
+                }
                 self.mesh.triangles.push(corners);
                 self.mesh.materials.push(self.current_material);
             }
@@ -132,14 +157,18 @@ impl Reader<'_> {
 
     fn material_library(&mut self, rest: &str) -> Result<()> {
         let dir = self.path.parent().unwrap_or(Path::new("."));
-        let file: PathBuf = dir.join(rest.trim());
-        let (materials, _) = tobj::load_mtl(&file).map_err(|err| {
-            let why = if file.is_file() {
-                format!("malformed material library {}: {err}", file.display())
-            } else {
-                format!("material library {} not found", file.display())
-            };
-            self.error(why)
+        let name = rest.trim();
+        if name.is_empty() {
+            return Err(self.error("expected a file name after `mtllib`"));
+        }
+        let file: PathBuf = dir.join(name);
+        if !file.exists() {
+            return Err(self.error(format!("material library {} not found", file.display())));
+        }
+        // A library that cannot be read is named with the line that asks for it.
+        let materials = mtl::load(&file).map_err(|e| match e {
+            Error::Io { .. } => self.error(e.to_string()),
+            other => other,
         })?;
         for m in &materials {
             let index = self.materials.len() as u32;
@@ -169,7 +198,7 @@ impl Reader<'_> {
 
 /// Reads an OBJ file and the MTL libraries it names.
 pub fn load_obj(path: &Path) -> Result<ObjFile> {
-    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let text = read_text(path)?;
     let stem = path
         .file_stem()
         .map_or_else(|| "mesh".into(), |s| s.to_string_lossy().into_owned());
@@ -187,6 +216,7 @@ pub fn load_obj(path: &Path) -> Result<ObjFile> {
         },
         local: Vec::new(),
         globals: Vec::new(),
+        degenerate: 0,
     };
     for (number, line) in text.lines().enumerate() {
         r.line = number + 1;
@@ -222,5 +252,6 @@ pub fn load_obj(path: &Path) -> Result<ObjFile> {
     Ok(ObjFile {
         meshes: r.meshes,
         materials: r.materials,
+        degenerate: r.degenerate,
     })
 }

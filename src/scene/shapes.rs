@@ -55,10 +55,14 @@ pub(super) type FieldError = (&'static str, String);
 
 fn positive(name: &'static str, v: Option<f64>, meaning: &str) -> Result<f64, FieldError> {
     let v = v.ok_or(("", format!("missing `{name}` ({meaning})")))?;
-    if v > 0.0 && v.is_finite() && v < 1e18 {
+    if v > 0.0 && v <= super::obj::MAX_COORDINATE {
         Ok(v)
     } else {
-        Err((name, format!("expected a finite number > 0, found {v}")))
+        let max = super::obj::MAX_COORDINATE;
+        Err((
+            name,
+            format!("expected a number > 0 and at most {max:e}, found {v}"),
+        ))
     }
 }
 
@@ -219,15 +223,22 @@ pub(super) fn surface(
                 "missing `a` (a symmetric 3×3 matrix, as rows)".to_string(),
             ))?;
             let m = DMat3::from_cols_array_2d(&a).transpose();
+            let b = DVec3::from(f.b.unwrap_or([0.0; 3]));
+            let c = f.c.unwrap_or(0.0);
+            for (name, finite) in [
+                ("a", m.is_finite()),
+                ("b", b.is_finite()),
+                ("c", c.is_finite()),
+            ] {
+                if !finite {
+                    return Err((name, "expected finite numbers".into()));
+                }
+            }
             let scale = m.to_cols_array().iter().fold(1.0f64, |s, v| s.max(v.abs()));
             if !m.abs_diff_eq(m.transpose(), 1e-12 * scale) {
                 return Err(("a", "the matrix must be symmetric".into()));
             }
-            let surface = Surface::Quadric(crate::geometry::Quadric {
-                a: m,
-                b: DVec3::from(f.b.unwrap_or([0.0; 3])),
-                c: f.c.unwrap_or(0.0),
-            });
+            let surface = Surface::Quadric(crate::geometry::Quadric { a: m, b, c });
             (surface, None)
         }
         Torus => {

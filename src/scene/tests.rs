@@ -117,6 +117,9 @@ fn degenerate_triangles_keep_their_index() {
     );
     let scene = Scene::load(&path).unwrap();
     assert_eq!(scene.meshes[0].triangles, vec![[0, 0, 1], [0, 1, 2]]);
+    assert_eq!(load_obj(&path).unwrap().degenerate, 1);
+    assert_eq!(scene.warnings.len(), 1, "{:?}", scene.warnings);
+    assert!(scene.warnings[0].contains("d.obj: 1 degenerate triangle (zero area)"));
 }
 
 #[test]

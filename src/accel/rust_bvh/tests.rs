@@ -23,6 +23,7 @@ fn mesh_scene(positions: Vec<Vec3>, triangles: Vec<[u32; 3]>) -> Scene {
         shapes: Vec::new(),
         lights: Vec::new(),
         light_picker: Default::default(),
+        warnings: Vec::new(),
     }
 }
 

@@ -96,6 +96,7 @@ pub fn bumpy_sphere(triangles: usize) -> Scene {
         shapes: Vec::new(),
         lights: vec![light],
         light_picker: Default::default(),
+        warnings: Vec::new(),
     };
     scene.gather_emitters();
     scene
