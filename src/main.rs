@@ -120,6 +120,9 @@ enum Command {
         /// As `render --all-effects`.
         #[arg(long)]
         all_effects: bool,
+        /// The animation frame, as `render --frame`.
+        #[arg(long, default_value_t = 0)]
+        frame: u32,
         #[arg(long, value_enum, default_value = "embree")]
         backend: BackendArg,
     },
@@ -319,6 +322,7 @@ fn run(command: Command) -> anyhow::Result<()> {
             if let Some(count) = photons {
                 scene.render.photons.count = count;
             }
+            scene.camera.go_to_frame(frame);
             let output = output.unwrap_or_else(|| PathBuf::from(format!("out/{}.exr", scene.name)));
             let preview = output.with_extension("png");
             for path in [Some(&output), Some(&preview), stats.as_ref()]
@@ -404,8 +408,10 @@ fn run(command: Command) -> anyhow::Result<()> {
             sample,
             all_effects,
             backend,
+            frame,
         } => {
-            let scene = load(&scene)?;
+            let mut scene = load(&scene)?;
+            scene.camera.go_to_frame(frame);
             let accel = Accel::build(&scene, backend.into(), None)?;
             let (result, tree) =
                 sturmray::render::explain(&scene, &accel, pixel, sample, all_effects)?;

@@ -268,3 +268,106 @@ fn an_interrupted_render_resumes_to_the_identical_image() {
     assert_eq!(out.status.code(), Some(2));
     assert!(stderr(&out).contains("cut.state"), "{}", stderr(&out));
 }
+
+/// docs/farm.md's Slurm recipe without a cluster: the array task script run
+/// with SLURM_ARRAY_TASK_ID set in a loop, then the merge script, gives the
+/// image a single render gives.
+#[test]
+fn the_slurm_recipe_tiles_and_merges_to_the_whole_image() {
+    let dir = scratch("slurm");
+    scene(&dir, 2);
+    ok(&dir, &["render", "s.toml", "-o", "whole.exr"]);
+    let tools = Path::new(env!("CARGO_MANIFEST_DIR")).join("tools/farm");
+    let run = |script: &str, task: Option<usize>| {
+        let mut command = Command::new("bash");
+        command
+            .arg(tools.join(script))
+            .current_dir(&dir)
+            .env("STURMRAY", env!("CARGO_BIN_EXE_sturmray"))
+            .env("SCENE", "s.toml")
+            .env("TILES", "3")
+            .env("OUT", "parts")
+            .env("IMAGE", "merged.exr")
+            .env("SLURM_CPUS_PER_TASK", "1");
+        if let Some(task) = task {
+            command.env("SLURM_ARRAY_TASK_ID", task.to_string());
+        }
+        let out = command.output().unwrap();
+        assert!(out.status.success(), "{script} {task:?}: {}", stderr(&out));
+    };
+    for task in 0..3 {
+        run("slurm_render.sh", Some(task));
+    }
+    // A requeued task (its state exists) resumes and rewrites the same part.
+    let before = std::fs::read(dir.join("parts/part-1.exr")).unwrap();
+    run("slurm_render.sh", Some(1));
+    assert!(std::fs::read(dir.join("parts/part-1.exr")).unwrap() == before);
+    run("slurm_merge.sh", None);
+    let whole = std::fs::read(dir.join("whole.exr")).unwrap();
+    let merged = std::fs::read(dir.join("merged.exr")).unwrap();
+    assert!(
+        whole == merged,
+        "the Slurm recipe's image differs from the whole render"
+    );
+}
+
+#[test]
+fn frames_of_a_camera_path_differ_and_are_recorded() {
+    let dir = scratch("frames");
+    scene(&dir, 1);
+    let text = std::fs::read_to_string(dir.join("s.toml")).unwrap();
+    let keys = "[[camera.keys]]\nframe = 0\neye = [0, -3, 2]\nlook_at = [0, 0, 0]\n\
+                [[camera.keys]]\nframe = 10\neye = [3, 0, 2]\nlook_at = [0, 0, 0]\n";
+    write(
+        &dir,
+        "s.toml",
+        &text.replace("[render]", &format!("{keys}[render]")),
+    );
+    for frame in ["0", "5"] {
+        let out = format!("f{frame}.exr");
+        ok(
+            &dir,
+            &[
+                "render", "s.toml", "--frame", frame, "-o", &out, "--tile", "0/1",
+            ],
+        );
+    }
+    let attributes = |f: &str| sturmray::io::exr::read_exr_attributes(&dir.join(f)).unwrap();
+    assert!(attributes("f5.exr").contains(&("sturmray.frame".into(), "5".into())));
+    let hash = |f: &str| {
+        attributes(f)
+            .into_iter()
+            .find(|(k, _)| k == "sturmray.scene_hash")
+            .unwrap()
+            .1
+    };
+    assert_ne!(hash("f0.exr"), hash("f5.exr"), "the camera moved");
+    let beauty = |f: &str| sturmray::io::exr::read_exr(&dir.join(f)).unwrap().2;
+    assert_ne!(beauty("f0.exr"), beauty("f5.exr"));
+    // Frames do not merge with each other.
+    let out = sturmray(&dir, &["merge", "m.exr", "f0.exr", "f5.exr"]);
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+}
+
+#[test]
+fn one_thread_and_many_give_the_same_bytes() {
+    let dir = scratch("threads");
+    scene(&dir, 4);
+    // Adaptive sampling too: its decisions are each pixel's own.
+    let text = std::fs::read_to_string(dir.join("s.toml")).unwrap();
+    write(
+        &dir,
+        "a.toml",
+        &text.replace(
+            "spp = 4",
+            "spp = 4\nadaptive = { max_spp = 16, threshold = 0.05 }",
+        ),
+    );
+    for scene in ["s.toml", "a.toml"] {
+        ok(&dir, &["render", scene, "-o", "one.exr", "--threads", "1"]);
+        ok(&dir, &["render", scene, "-o", "many.exr", "--threads", "3"]);
+        let one = std::fs::read(dir.join("one.exr")).unwrap();
+        let many = std::fs::read(dir.join("many.exr")).unwrap();
+        assert!(one == many, "{scene}: 1 and 3 threads differ");
+    }
+}

@@ -2,8 +2,18 @@
 
 use crate::math::{Bounds, Ray, Vec3};
 
+/// Where the camera is at one frame of an animation.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CameraKey {
+    pub frame: u32,
+    pub eye: Vec3,
+    pub look_at: Vec3,
+}
+
 #[derive(Clone, Debug, PartialEq)]
 pub struct Camera {
+    /// A keyframed path, frames increasing; empty for a still camera.
+    pub keys: Vec<CameraKey>,
     pub eye: Vec3,
     pub look_at: Vec3,
     pub up: Vec3,
@@ -27,6 +37,7 @@ impl Default for Camera {
     /// At (0, 0, 1) looking at the origin, 40° vertical field of view, 640×480.
     fn default() -> Self {
         Camera {
+            keys: Vec::new(),
             eye: Vec3::Z,
             look_at: Vec3::ZERO,
             up: Vec3::Y,
@@ -38,6 +49,27 @@ impl Default for Camera {
 }
 
 impl Camera {
+    /// Moves the camera to `frame` of its path: linear between the keys around
+    /// it, held at the first and last key outside them. The path is then
+    /// spent (a frame's scene is a still), so equal frames hash equally.
+    pub fn go_to_frame(&mut self, frame: u32) {
+        let keys = std::mem::take(&mut self.keys);
+        let after = keys.partition_point(|k| k.frame <= frame);
+        let (eye, look_at) = match (
+            after.checked_sub(1).map(|i| keys[i]),
+            keys.get(after).copied(),
+        ) {
+            (Some(a), Some(b)) => {
+                let t = (frame - a.frame) as f32 / (b.frame - a.frame) as f32;
+                (a.eye.lerp(b.eye, t), a.look_at.lerp(b.look_at, t))
+            }
+            (Some(k), None) | (None, Some(k)) => (k.eye, k.look_at),
+            (None, None) => return,
+        };
+        self.eye = eye;
+        self.look_at = look_at;
+    }
+
     /// Frames `bounds` from the front, slightly above and to the right, with a
     /// vertical field of view of 40 degrees.
     pub fn framing(bounds: Bounds, width: u32, height: u32) -> Camera {
@@ -55,6 +87,7 @@ impl Camera {
         let distance = 1.1 * radius / half_narrow.sin();
         let dir = Vec3::new(0.35, 0.3, 1.0).normalize();
         Camera {
+            keys: Vec::new(),
             eye: center + distance * dir,
             look_at: center,
             up: Vec3::Y,
@@ -95,6 +128,7 @@ mod tests {
 
     fn camera() -> Camera {
         Camera {
+            keys: Vec::new(),
             eye: Vec3::new(0.0, 0.0, 5.0),
             look_at: Vec3::ZERO,
             up: Vec3::Y,
@@ -139,5 +173,37 @@ mod tests {
             let angle = forward.angle_between(corner - cam.eye);
             assert!(angle < half, "corner {corner} at {angle} rad");
         }
+    }
+
+    #[test]
+    fn a_keyframed_camera_moves_linearly_and_holds_at_the_ends() {
+        let key = |frame, x: f32| CameraKey {
+            frame,
+            eye: Vec3::new(x, 0.0, 5.0),
+            look_at: Vec3::new(x, 0.0, 0.0),
+        };
+        let path = Camera {
+            keys: vec![key(10, 0.0), key(20, 4.0), key(30, 2.0)],
+            ..camera()
+        };
+        for (frame, x) in [
+            (0, 0.0),
+            (10, 0.0),
+            (15, 2.0),
+            (20, 4.0),
+            (25, 3.0),
+            (30, 2.0),
+            (99, 2.0),
+        ] {
+            let mut c = path.clone();
+            c.go_to_frame(frame);
+            assert_eq!(c.eye, Vec3::new(x, 0.0, 5.0), "frame {frame}");
+            assert_eq!(c.look_at.x, x);
+            assert!(c.keys.is_empty());
+        }
+        // A still camera stays where it is.
+        let mut still = camera();
+        still.go_to_frame(7);
+        assert_eq!(still, camera());
     }
 }

@@ -11,8 +11,8 @@ use serde::Deserialize;
 use super::obj::MAX_COORDINATE;
 use super::shapes::{self, ShapeFile, ShapeKind};
 use super::{
-    Adaptive, Camera, Integrator, PhotonSettings, RenderSettings, Scene, headlight, load_obj,
-    locate, scene_name, suggest,
+    Adaptive, Camera, CameraKey, Integrator, PhotonSettings, RenderSettings, Scene, headlight,
+    load_obj, locate, scene_name, suggest,
 };
 use crate::error::{Error, Result};
 use crate::geometry::{Box3, Shape};
@@ -49,6 +49,17 @@ struct CameraFile {
     fov: f32,
     width: u32,
     height: u32,
+    /// A camera path: where the camera is at some frames (`render --frame K`).
+    #[serde(default)]
+    keys: Vec<CameraKeyFile>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct CameraKeyFile {
+    frame: u32,
+    eye: [f32; 3],
+    look_at: [f32; 3],
 }
 
 fn y_up() -> [f32; 3] {
@@ -324,7 +335,33 @@ impl Check<'_> {
                 ),
             ));
         }
+        let mut keys = Vec::with_capacity(c.keys.len());
+        for (i, k) in c.keys.iter().enumerate() {
+            let key = |field: &str| format!("camera.keys[{i}].{field}");
+            let (eye, look_at) = (
+                self.finite(&key("eye"), k.eye)?,
+                self.finite(&key("look_at"), k.look_at)?,
+            );
+            if eye == look_at {
+                return Err(self.error(&key("look_at"), "must differ from eye"));
+            }
+            if keys
+                .last()
+                .is_some_and(|last: &CameraKey| last.frame >= k.frame)
+            {
+                return Err(self.error(
+                    &key("frame"),
+                    format!("frames must increase, found {} after a later one", k.frame),
+                ));
+            }
+            keys.push(CameraKey {
+                frame: k.frame,
+                eye,
+                look_at,
+            });
+        }
         Ok(Camera {
+            keys,
             eye,
             look_at,
             up,

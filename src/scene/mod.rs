@@ -12,7 +12,7 @@ mod suggest;
 
 use std::path::Path;
 
-pub use camera::{Camera, CameraFrame};
+pub use camera::{Camera, CameraFrame, CameraKey};
 pub use interaction::Interaction;
 pub use obj::{ObjFile, load_obj};
 
