@@ -7,6 +7,7 @@ use std::collections::HashMap;
 
 use super::Light;
 use crate::math::{Bounds, LUMINANCE};
+use crate::sampling::Discrete;
 
 /// The lights of one shading point's estimate.
 pub struct LightPick {
@@ -20,9 +21,8 @@ pub struct LightPick {
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct LightPicker {
     deltas: usize,
-    /// Cumulative power of the area lights, which follow the deltas; the last
-    /// entry is the total.
-    cdf: Vec<f32>,
+    /// The area lights, which follow the deltas, by power.
+    area: Discrete,
     /// The area light each emissive primitive is, by (geom_id, prim_id).
     emitters: HashMap<(u32, u32), u32>,
 }
@@ -32,18 +32,15 @@ impl LightPicker {
     /// `emitters` names the geometry of each area light.
     pub fn new(lights: &[Light], emitters: HashMap<(u32, u32), u32>) -> LightPicker {
         let deltas = lights.iter().take_while(|l| l.is_delta()).count();
-        let mut total = 0.0;
-        let cdf = lights[deltas..]
-            .iter()
-            .map(|l| {
-                // An area light's power does not depend on the scene's bounds.
-                total += l.power(Bounds::EMPTY).dot(LUMINANCE).max(0.0);
-                total
-            })
-            .collect();
+        // An area light's power does not depend on the scene's bounds.
+        let area = Discrete::new(
+            lights[deltas..]
+                .iter()
+                .map(|l| l.power(Bounds::EMPTY).dot(LUMINANCE)),
+        );
         LightPicker {
             deltas,
-            cdf,
+            area,
             emitters,
         }
     }
@@ -52,22 +49,8 @@ impl LightPicker {
     pub fn pick(&self, u: f32) -> LightPick {
         LightPick {
             delta: 0..self.deltas,
-            area: self.pick_area(u),
+            area: self.area.sample(u).map(|(i, p)| (self.deltas + i, p)),
         }
-    }
-
-    fn pick_area(&self, u: f32) -> Option<(usize, f32)> {
-        let total = *self.cdf.last()?;
-        if total <= 0.0 {
-            return None;
-        }
-        let target = u * total;
-        let i = self
-            .cdf
-            .partition_point(|&c| c <= target)
-            .min(self.cdf.len() - 1);
-        let below = if i == 0 { 0.0 } else { self.cdf[i - 1] };
-        Some((self.deltas + i, (self.cdf[i] - below) / total))
     }
 
     /// The light a hit on primitive (geom_id, prim_id) found, with the
@@ -75,15 +58,13 @@ impl LightPicker {
     /// sampled light.
     pub fn light_of(&self, geom_id: u32, prim_id: u32) -> Option<(usize, f32)> {
         let &light = self.emitters.get(&(geom_id, prim_id))?;
-        let i = light as usize - self.deltas;
-        let below = if i == 0 { 0.0 } else { self.cdf[i - 1] };
-        let total = *self.cdf.last()?;
-        Some((light as usize, (self.cdf[i] - below) / total))
+        let light = light as usize;
+        Some((light, self.area.probability(light - self.deltas)))
     }
 
     /// How many area lights there are.
     pub fn area_lights(&self) -> usize {
-        self.cdf.len()
+        self.area.len()
     }
 }
 

@@ -8,12 +8,14 @@
 //! so a sample depends only on (seed, pixel, sample index): DESIGN.md's
 //! determinism rule. Inputs called `u` are uniform numbers in [0, 1).
 
+mod discrete;
 pub mod filter;
 pub mod mis;
 mod rng;
 mod stratify;
 pub mod warp;
 
+pub use discrete::Discrete;
 pub use filter::{Filter, FilterSample, FilterSampler};
 pub use rng::Rng;
 pub use stratify::stratified_2d;

@@ -23,7 +23,7 @@ use super::tally::{RayKind, RayStats, Tally};
 use crate::accel::Accel;
 use crate::lights::Light;
 use crate::math::{Bounds, Ray, Vec3, offset};
-use crate::sampling::Rng;
+use crate::sampling::{Discrete, Rng};
 use crate::scene::Scene;
 use crate::shading::{Bsdf, Frame, Transport};
 
@@ -137,36 +137,21 @@ impl PhotonMap {
 /// Lights picked in proportion to their power (the sum of its channels).
 struct LightChoice<'a> {
     lights: &'a [Light],
-    /// Running sums of the powers; the last is the total.
-    cdf: Vec<f32>,
+    /// The lights by power (the sum of its channels).
+    power: Discrete,
 }
 
 impl<'a> LightChoice<'a> {
     fn new(lights: &'a [Light], bounds: Bounds) -> LightChoice<'a> {
-        let cdf = lights
-            .iter()
-            .scan(0.0, |sum, l| {
-                *sum += l.power(bounds).element_sum();
-                Some(*sum)
-            })
-            .collect();
-        LightChoice { lights, cdf }
+        let power = Discrete::new(lights.iter().map(|l| l.power(bounds).element_sum()));
+        LightChoice { lights, power }
     }
 
     /// The light for uniform `u` and the probability of picking it; None if
     /// no light emits anything.
     fn pick(&self, u: f32) -> Option<(&'a Light, f32)> {
-        let total = *self.cdf.last()?;
-        if total <= 0.0 {
-            return None;
-        }
-        let target = u * total;
-        let i = self
-            .cdf
-            .partition_point(|&c| c <= target)
-            .min(self.cdf.len() - 1);
-        let below = if i == 0 { 0.0 } else { self.cdf[i - 1] };
-        Some((&self.lights[i], (self.cdf[i] - below) / total))
+        let (i, p) = self.power.sample(u)?;
+        Some((&self.lights[i], p))
     }
 }
 
