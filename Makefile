@@ -54,8 +54,11 @@ lint:
 test-rust:
 	cargo test
 
+# The binary the Rust tests build (`cargo test --no-run` makes it for the
+# integration tests): `cargo build` would rebuild every dependency whose
+# features the dev-dependencies change, minutes for nothing.
 test-python:
-	cargo build
+	cargo test --no-run
 	STURMRAY_BIN=$(DEV_BIN) $(PYTHON) -m pytest tests -q
 
 embree4:
@@ -65,7 +68,7 @@ embree4:
 # target folder of their own (the binary finds the library through its rpath).
 test-embree4: setup embree4
 	EMBREE_DIR=$(EMBREE4_DIR) cargo test --target-dir $(EMBREE4_TARGET)
-	EMBREE_DIR=$(EMBREE4_DIR) cargo build --target-dir $(EMBREE4_TARGET)
+	EMBREE_DIR=$(EMBREE4_DIR) cargo test --no-run --target-dir $(EMBREE4_TARGET)
 	$(EMBREE4_TARGET)/debug/sturmray info scenes/knot.toml | grep -q "^backend    Embree 4\."
 	STURMRAY_BIN=$(EMBREE4_TARGET)/debug/sturmray $(PYTHON) -m pytest tests -q
 
