@@ -172,15 +172,9 @@ proptest! {
     /// 153.3t⁵ + 909.9t⁶ + 759.2t⁸ - t⁹ + 259.9t¹¹ on (-inf, inf] the chain
     /// misses the double root at 0, counts 4 roots and the solver reports 3,
     /// losing 0.1588 (`sturmray roots` prints a count of 4 beside 3 roots).
-    ///
-    /// Not sturm-illinois: this test found it returning a value 0.013 from
-    /// the root when its steps run out on a wide bracket (-2.7199 for
-    /// -2.7329 of -2 - 3t + 5t² + 2t⁴ + t⁵ - 7t⁶ + 302.2t⁷ + 4t¹⁰ - 4t¹¹ on
-    /// (-inf, inf]; reported on issue #6, for poly::solve). Add it back when
-    /// that is fixed.
     #[test]
-    fn fuzz_root_finder(c in polynomial(), (a, b) in interval(), m in 0usize..2) {
-        let method = [Method::SturmBisect, Method::SturmNewton][m];
+    fn fuzz_root_finder(c in polynomial(), (a, b) in interval(), m in 0usize..3) {
+        let method = [Method::SturmBisect, Method::SturmNewton, Method::SturmIllinois][m];
         let solver = Solver { method, ..Solver::default() };
         let p = Poly::new(&c);
         let mut out = [0.0; MAX_DEGREE];

@@ -546,6 +546,12 @@ impl Solver {
             }
             last_moved_lo = Some(moved_lo);
         }
+        // Secant steps can crawl from one end of a wide bracket (a steep
+        // high-degree polynomial) and use up their steps far from the root:
+        // bisection's steps always halve what is left.
+        if !self.narrow(lo, hi) {
+            return self.bisect(f, lo, hi, flo);
+        }
         closer_to_zero(lo, flo, hi, fhi)
     }
 
@@ -1271,6 +1277,23 @@ mod tests {
         // A tangent with no crossing: (t - 1)^2 + 1e-12 has no real root.
         let touch = Poly::new(&[1.0 + 1e-12, -2.0, 1.0]);
         assert_eq!(solver(Method::Yuksel).nearest(&touch, 0.0, 3.0), None);
+    }
+
+    #[test]
+    fn illinois_falls_back_to_bisection_when_its_steps_run_out() {
+        // Found by tests/fuzz_poly.rs: Illinois returned -2.7199 for the
+        // root -2.7329 on the root bound's wide bracket after 100 steps.
+        let p = Poly::new(&[
+            -2.0, -3.0, 5.0, 0.0, 2.0, 1.0, -7.0, 302.2, 0.0, 0.0, 4.0, -4.0,
+        ]);
+        let want = [-2.732864725128479, 0.49532316282557076, 3.2290574698979526];
+        let got = roots_of(
+            &solver(Method::SturmIllinois),
+            &p,
+            f64::NEG_INFINITY,
+            f64::INFINITY,
+        );
+        assert_near(&got, &want, 1e-11);
     }
 
     #[test]
