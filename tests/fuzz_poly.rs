@@ -160,9 +160,7 @@ proptest! {
     /// a root the exact path confirms.
     ///
     /// `make fuzz` still fails here within seconds (reported on issue #6, for
-    /// poly::solve): t²(-1 + 834.7t + t⁴ + 2t⁶) on (0, 0.5], a double root
-    /// on the open end a and a simple one at 0.0011980, gives no root at all;
-    /// 576 - 384t - 1256t² - 580t³ + 6.25t⁴ + 60.25t⁵ + 14t⁶ + t⁷ on
+    /// poly::solve): 576 - 384t - 1256t² - 580t³ + 6.25t⁴ + 60.25t⁵ + 14t⁶ + t⁷ on
     /// (-4.5, -4], with a multiple root at b = -4, gives it twice, as
     /// -4.000244140625 and -4; a degree-7 product with roots 2 and 3.5 (of
     /// multiplicity 4) on (0, 9.52] gives 3.5 twice, as 3.50009 and

@@ -1280,6 +1280,17 @@ mod tests {
     }
 
     #[test]
+    fn simple_root_beside_a_double_root_on_the_open_end() {
+        // t^2 (-1 + 834.7t + t^4 + 2t^6) on (0, 0.5]: found by
+        // tests/fuzz_poly.rs with no root at all for 0.0011980.
+        let p = Poly::new(&[0.0, 0.0, -1.0, 834.699808367765, 0.0, 0.0, 1.0, 0.0, 2.0]);
+        for m in STURM {
+            let got = roots_of(&solver(m), &p, 0.0, 0.5);
+            assert_near(&got, &[0.0011980354970546614], 1e-12);
+        }
+    }
+
+    #[test]
     fn illinois_falls_back_to_bisection_when_its_steps_run_out() {
         // Found by tests/fuzz_poly.rs: Illinois returned -2.7199 for the
         // root -2.7329 on the root bound's wide bracket after 100 steps.
