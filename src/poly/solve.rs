@@ -14,14 +14,18 @@
 //! reference for those). Roots of a cluster narrower than the tolerance
 //! cannot be told apart and are reported once.
 //!
-//! Nothing here allocates: Sturm chains and interval stacks are fixed arrays
-//! sized by [`MAX_DEGREE`], since every call runs per ray.
+//! Nothing on the rays' paths (`nearest`, `nearest_from`, `any`) allocates:
+//! Sturm chains and interval stacks are fixed arrays sized by
+//! [`MAX_DEGREE`], since every call runs per ray. `roots`, for the `roots`
+//! tool, checks each root it found and hands inputs f64 cannot settle to
+//! the exact path, which does allocate.
 
 use std::fmt;
 use std::str::FromStr;
 
 use crate::poly::MAX_DEGREE;
 use crate::poly::closed;
+use crate::poly::exact::exact_roots;
 use crate::poly::sturm::SturmSequence;
 use crate::poly::univariate::Poly;
 
@@ -151,18 +155,56 @@ impl Solver {
     /// <= 4 and falls back to sturm-newton above. Infinite ends are allowed:
     /// the search is clipped to Cauchy's bound on the roots. The zero
     /// polynomial has no isolated roots and reports none.
+    ///
+    /// On the Sturm path every root must prove itself: it lies in (a, b] and
+    /// p changes sign across it, and the roots found are as many as the
+    /// chain counts. Otherwise f64 could not settle the input (a root of
+    /// even multiplicity, which has no sign change; a multiple root on an
+    /// end; a chain that took noise for a remainder or a remainder for
+    /// noise) and the answer comes from the exact rational path, merged to
+    /// the tolerance as the Sturm path would report it.
     pub fn roots(&self, p: &Poly, a: f64, b: f64, out: &mut [f64; MAX_DEGREE]) -> usize {
         if !is_interval(a, b) {
             return 0;
         }
         if let Some(found) = self.direct_roots(p, a, b, f64::INFINITY) {
-            return self.closed_roots_in(&found, a, b, out);
+            return self.roots_in(&found, a, b, out);
         }
         let mut search = Search::EMPTY;
         if !search.prepare(p, a, b) {
             return 0;
         }
-        self.isolate_all(&search, out)
+        let n = self.isolate_all(&search, out);
+        let f0 = &search.seq.members()[0];
+        let proven = out[..n]
+            .iter()
+            .all(|&t| t > a && t <= b && self.crosses(f0, t));
+        // Every root proven a crossing, so p's signs at the ends must differ
+        // as often as there are roots: a chain that lost a root of 74 + 3t +
+        // 907.9t^3 + 6e-10t^4 - 170.2t^6 in (-1, 0] counted 0 between ends
+        // of opposite signs. An end where p's sign is rounding noise may be
+        // a root the count took or left by round-off: (t + 2.5)^2 (t - 0.5)^2
+        // lost its double root on b = -2.5.
+        let ends = sure_sign(f0, search.lo) * sure_sign(f0, search.hi);
+        let parity = ends != 0.0 && (ends < 0.0) == (n % 2 == 1);
+        if proven && parity && n == search.whole().count() {
+            return n;
+        }
+        let Some(exact) = exact_roots(p.coeffs(), a, b, self.tolerance) else {
+            return n; // a coefficient is not finite: no exact polynomial
+        };
+        let mut found = DirectRoots::default();
+        exact.iter().for_each(|&t| found.push(t));
+        self.roots_in(&found, a, b, out)
+    }
+
+    /// Whether f changes sign across t, within twice the tolerance, by
+    /// values larger than their rounding: then a root lies there, whatever
+    /// the chain's round-off. (Near a root of even multiplicity the computed
+    /// values are rounding noise of either sign.)
+    fn crosses(&self, f: &Poly, t: f64) -> bool {
+        let d = 2.0 * self.width_tol(t, t);
+        opposite(sure_sign(f, t - d), sure_sign(f, t + d))
     }
 
     /// The nearest root in (a, b): for camera and secondary rays. The
@@ -332,15 +374,10 @@ impl Solver {
         }
     }
 
-    /// Closed-form roots in (a, b], those closer than the tolerance to the
-    /// previous one merged into it, as the Sturm path would report them.
-    fn closed_roots_in(
-        &self,
-        found: &DirectRoots,
-        a: f64,
-        b: f64,
-        out: &mut [f64; MAX_DEGREE],
-    ) -> usize {
+    /// Roots found without the f64 Sturm chain that lie in (a, b], those
+    /// closer than the tolerance to the previous one merged into it, as the
+    /// Sturm path would report them.
+    fn roots_in(&self, found: &DirectRoots, a: f64, b: f64, out: &mut [f64; MAX_DEGREE]) -> usize {
         let mut n = 0;
         for &t in found.iter() {
             if t > a && t <= b && (n == 0 || t - out[n - 1] > self.width_tol(out[n - 1], t)) {
@@ -546,6 +583,12 @@ impl Solver {
             }
             last_moved_lo = Some(moved_lo);
         }
+        // Secant steps can crawl from one end of a wide bracket (a steep
+        // high-degree polynomial) and use up their steps far from the root:
+        // bisection's steps always halve what is left.
+        if !self.narrow(lo, hi) {
+            return self.bisect(f, lo, hi, flo);
+        }
         closer_to_zero(lo, flo, hi, fhi)
     }
 
@@ -612,8 +655,8 @@ impl Solver {
     }
 }
 
-/// Roots found without a Sturm chain (closed forms, derivative
-/// intervals), increasing; one of equal neighbours kept.
+/// Roots found without the f64 Sturm chain (closed forms, derivative
+/// intervals, the exact path), increasing; one of equal neighbours kept.
 #[derive(Clone, Copy, Debug, Default)]
 struct DirectRoots {
     roots: [f64; MAX_DEGREE],
@@ -776,6 +819,24 @@ fn negligible_above(p: &Poly, t_max: f64, rel: f64) -> usize {
     degree
 }
 
+/// The sign of f(x) as -1, 0 or 1, 0 unless the value computed by Horner's
+/// rule exceeds its rounding error bound, 2n eps times the sum of |c_i x^i|
+/// (Higham's bound is half that; the margin covers the bound's own
+/// rounding).
+fn sure_sign(f: &Poly, x: f64) -> f64 {
+    let (mut value, mut size) = (0.0, 0.0);
+    for &c in f.coeffs().iter().rev() {
+        value = value * x + c;
+        size = size * x.abs() + c.abs();
+    }
+    let bound = 2.0 * f.degree() as f64 * f64::EPSILON * size;
+    if value.abs() > bound {
+        value.signum()
+    } else {
+        0.0
+    }
+}
+
 /// Whether (a, b) is a non-empty interval; false for NaN ends.
 fn is_interval(a: f64, b: f64) -> bool {
     a < b
@@ -913,7 +974,9 @@ mod tests {
     #[test]
     fn repeated_roots_with_rounded_coefficients() {
         // Not exactly representable: the f64 polynomial's own roots moved by
-        // up to sqrt(eps); the count must still be the distinct count.
+        // up to eps^(1/k) for multiplicity k, a double root split into two
+        // simple ones or none. The f64 chain cannot tell, so `roots` reports
+        // the exact path's answer for the f64 polynomial.
         let cases: [(&[f64], &[f64]); 3] = [
             (&[0.1, 0.1, 0.3], &[0.1, 0.3]),
             (&[0.7, 0.7, 0.7], &[0.7]),
@@ -921,8 +984,13 @@ mod tests {
         ];
         for m in STURM {
             for (built, distinct) in cases {
-                let got = roots_of(&solver(m), &from_roots(1.0, built), -2.0, 4.0);
-                assert_near(&got, distinct, 1e-6);
+                let p = from_roots(1.0, built);
+                let got = roots_of(&solver(m), &p, -2.0, 4.0);
+                let exact = exact_roots(p.coeffs(), -2.0, 4.0, 0.0).unwrap();
+                assert_near(&got, &exact, 1e-12);
+                for g in got {
+                    assert!(distinct.iter().any(|d| (g - d).abs() < 1e-5), "{g}");
+                }
             }
         }
     }
@@ -1271,6 +1339,122 @@ mod tests {
         // A tangent with no crossing: (t - 1)^2 + 1e-12 has no real root.
         let touch = Poly::new(&[1.0 + 1e-12, -2.0, 1.0]);
         assert_eq!(solver(Method::Yuksel).nearest(&touch, 0.0, 3.0), None);
+    }
+
+    #[test]
+    fn every_root_is_a_crossing_or_comes_from_the_exact_path() {
+        // Found by tests/fuzz_poly.rs: roots on the open end a reported,
+        // a multiple root on b lost or reported twice, a quadruple root
+        // reported twice (the chain took noise for a remainder and counted
+        // two roots near it), a phantom root from a chain that divided by
+        // noise, and a root near -3.85e-5 reported as 0 (a remainder
+        // 60 times its error estimate taken for a gcd).
+        let cases: [(&[f64], f64, f64, &[f64]); 8] = [
+            // t^2 (t + 3)^2 (t - 3)
+            (&[0.0, 0.0, -27.0, -9.0, 3.0, 1.0], -3.0, -2.5, &[]),
+            // (t - 2)^3 (t - 2.5)^2
+            (&[-50.0, 115.0, -105.5, 48.25, -11.0, 1.0], 2.0, 2.5, &[2.5]),
+            (
+                &[-1728.0, -432.0, 396.0, 71.0, -33.0, -3.0, 1.0],
+                -5.0,
+                4.0,
+                &[-3.0, 4.0],
+            ),
+            // (t + 2.5)^2 (t - 0.5)^2
+            (&[1.5625, -5.0, 1.5, 4.0, 1.0], -5.0, -2.5, &[-2.5]),
+            (
+                &[576.0, -384.0, -1256.0, -580.0, 6.25, 60.25, 14.0, 1.0],
+                -4.5,
+                -4.0,
+                &[-4.0],
+            ),
+            // Roots 2 and 3.5 (of multiplicity 4) in the interval.
+            (
+                &[
+                    -750.3125, 182.21875, 629.34375, -367.9375, -3.25, 48.0, -12.5, 1.0,
+                ],
+                0.0,
+                9.517386142912624,
+                &[2.0, 3.5],
+            ),
+            (
+                &[
+                    -1.0,
+                    0.0,
+                    8.663053858603911e-11,
+                    0.0,
+                    -114.78162187541942,
+                    152.92263966434385,
+                ],
+                0.0,
+                1.0,
+                &[0.7692601072953948],
+            ),
+            (
+                &[
+                    1.4842386762401313e-12,
+                    -1.3329307065093328e-10,
+                    0.0,
+                    25.94724897905935,
+                ],
+                -0.5,
+                0.0,
+                &[-0.000038574896734644426],
+            ),
+        ];
+        for m in STURM {
+            for (c, a, b, want) in cases {
+                let got = roots_of(&solver(m), &Poly::new(c), a, b);
+                assert_near(&got, want, 1e-12);
+            }
+        }
+    }
+
+    #[test]
+    fn a_root_the_chain_lost_between_ends_of_opposite_signs() {
+        // Found by tests/fuzz_poly.rs: the tiny t^4 coefficient left the
+        // chain counting 0 roots in (-1, 0].
+        let p = Poly::new(&[
+            74.0708084071424,
+            3.0,
+            0.0,
+            907.9238821826626,
+            6.027905747477918e-10,
+            0.0,
+            -170.1871154478272,
+        ]);
+        for m in STURM {
+            let got = roots_of(&solver(m), &p, -1.0, 0.0);
+            assert_near(&got, &[-0.4290752462521165], 1e-12);
+        }
+    }
+
+    #[test]
+    fn simple_root_beside_a_double_root_on_the_open_end() {
+        // t^2 (-1 + 834.7t + t^4 + 2t^6) on (0, 0.5]: found by
+        // tests/fuzz_poly.rs with no root at all for 0.0011980.
+        let p = Poly::new(&[0.0, 0.0, -1.0, 834.699808367765, 0.0, 0.0, 1.0, 0.0, 2.0]);
+        for m in STURM {
+            let got = roots_of(&solver(m), &p, 0.0, 0.5);
+            assert_near(&got, &[0.0011980354970546614], 1e-12);
+        }
+    }
+
+    #[test]
+    fn illinois_falls_back_to_bisection_when_its_steps_run_out() {
+        // Found by tests/fuzz_poly.rs: Illinois returned -2.7199 for the
+        // root -2.7329 on the root bound's wide bracket after 100 steps.
+        let p = Poly::new(&[
+            -2.0, -3.0, 5.0, 0.0, 2.0, 1.0, -7.0, 302.2, 0.0, 0.0, 4.0, -4.0,
+        ]);
+        let want = [-2.732864725128479, 0.49532316282557076, 3.2290574698979526];
+        let got = roots_of(
+            &solver(Method::SturmIllinois),
+            &p,
+            f64::NEG_INFINITY,
+            f64::INFINITY,
+        );
+        assert_near(&got, &want, 1e-11);
     }
 
     #[test]

@@ -130,6 +130,13 @@ impl SturmSequence {
         // square-free p would.
         self.degenerate = true;
         self.extend(errs, 0.0);
+        // An exactly zero remainder still ends it on a common factor (every
+        // member of t^2 (-1 + 834.7t + t^4 + 2t^6)'s chain has the factor t):
+        // unreduced, all members vanish at its roots and the count there is 0.
+        let end = self.len - 1;
+        if self.last().degree() > 0 && self.reduce(end) {
+            self.use_reduced = true;
+        }
     }
 
     /// Appends -rem(f(i-1), f(i)) until a remainder is zero within
