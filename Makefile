@@ -14,7 +14,7 @@ EMBREE4_DIR := $(CURDIR)/embree4
 EMBREE4_TARGET := target/embree4
 
 .PHONY: setup render test test-rust test-python lint bench scenes clean embree4 test-embree4 \
-	fuzz check-memory
+	fuzz check-memory wrapper-overhead
 
 # Installs those of the Debian packages $(1) that are missing (none: no apt-get at all).
 define apt_install
@@ -75,6 +75,16 @@ test-embree4: setup embree4
 bench: setup
 	cargo build --release
 	$(RELEASE_BIN) bench --json out/bench.json
+
+# The Rust wrapper's overhead against Embree called from C on the same mesh and
+# rays, on one thread (issue #5's target: at most 5%): builds the C harness
+# (benches/c_harness) with cc, runs it and sturmray alternately
+# WRAPPER_ROUNDS times and fails if their hit checksums differ. Not part of
+# `make test` (tests/c_harness.rs checks the checksums there, without timing).
+WRAPPER_ROUNDS ?= 7
+wrapper-overhead: setup
+	cargo build --release
+	python3 tools/wrapper_overhead.py --bin $(RELEASE_BIN) --rounds $(WRAPPER_ROUNDS)
 
 # Property-based fuzzing (proptest on stable Rust), not part of `make test` or
 # CI: each target runs FUZZ_CASES fresh random cases, or stops after

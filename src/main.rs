@@ -160,6 +160,12 @@ enum Command {
         /// Backends to measure (repeatable; default: all).
         #[arg(long = "backend", value_enum)]
         backends: Vec<BackendArg>,
+        /// Instead: write each scene's mesh and rays into DIR for the C harness
+        /// (benches/c_harness) and print Embree's Mrays/s through the wrapper on
+        /// one thread, with a checksum of the hits (default scenes: the knot and
+        /// the largest generated mesh).
+        #[arg(long, value_name = "DIR", conflicts_with_all = ["json", "backends"])]
+        c_harness: Option<PathBuf>,
     },
     /// What accuracy costs in time: every root finder at tolerances 1e-2 to
     /// 1e-14 on the algebraic scenes and sets of hard polynomials, against the
@@ -470,6 +476,7 @@ fn run(command: Command) -> anyhow::Result<()> {
             json,
             scenes,
             backends,
+            c_harness,
         } => {
             let options = bench::Options {
                 quick,
@@ -477,6 +484,10 @@ fn run(command: Command) -> anyhow::Result<()> {
                 scene_root: PathBuf::from("scenes"),
                 backends: backends.into_iter().map(Backend::from).collect(),
             };
+            if let Some(dir) = c_harness {
+                return bench::c_harness::run(&options, &dir, &mut std::io::stdout().lock())
+                    .context("benchmark failed");
+            }
             let records = bench::run(&options).context("benchmark failed")?;
             print!("{}", bench::table(&records));
             print!("{}", bench::incoherent_ratios(&records));

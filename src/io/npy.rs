@@ -155,6 +155,31 @@ pub fn write_rays(path: &Path, rays: &[Ray]) -> Result<()> {
     })
 }
 
+/// Writes a triangle mesh for programs outside sturmray (the C harness under
+/// benches/): the positions as a (V, 3) float32 array, the triangles as a
+/// (T, 3) uint32 array of vertex indices, both little-endian, C order.
+pub fn write_mesh(
+    positions_path: &Path,
+    triangles_path: &Path,
+    positions: &[Vec3],
+    triangles: &[[u32; 3]],
+) -> Result<()> {
+    let header = header_bytes("'<f4'", &format!("({}, 3)", positions.len()));
+    write_file(positions_path, &header, |w| {
+        positions
+            .iter()
+            .flat_map(|p| p.to_array())
+            .try_for_each(|v| w.write_all(&v.to_le_bytes()))
+    })?;
+    let header = header_bytes("'<u4'", &format!("({}, 3)", triangles.len()));
+    write_file(triangles_path, &header, |w| {
+        triangles
+            .iter()
+            .flatten()
+            .try_for_each(|i| w.write_all(&i.to_le_bytes()))
+    })
+}
+
 /// Writes hits as one structured array of shape (N,) with the fields `t`,
 /// `geom_id`, `prim_id`, `u`, `v` and `ng` (3 × f32), which `np.load` reads
 /// as is. A miss is written as t = inf, both ids 4294967295 and zeros for u,
@@ -710,6 +735,31 @@ mod tests {
             assert_eq!(a.dir.x.to_bits(), b.dir.x.to_bits());
             assert_eq!(a.tnear.to_bits(), b.tnear.to_bits());
         }
+    }
+
+    #[test]
+    fn mesh_files_hold_the_positions_and_indices_in_order() {
+        let positions = [Vec3::new(0., 1., 2.), Vec3::new(-3., 4.5, 6.)];
+        let triangles = [[0, 1, 1], [1, 0, u32::MAX]];
+        let (p, t) = (temp("mesh-positions"), temp("mesh-triangles"));
+        write_mesh(&p, &t, &positions, &triangles).unwrap();
+        let (p_bytes, t_bytes) = (std::fs::read(&p).unwrap(), std::fs::read(&t).unwrap());
+        std::fs::remove_file(&p).unwrap();
+        std::fs::remove_file(&t).unwrap();
+
+        let (text, data) = split_header(&p_bytes).unwrap();
+        let h = parse_header(text).unwrap();
+        assert_eq!((h.descr, h.shape), (Lit::Str("<f4".into()), vec![2, 3]));
+        assert_eq!(data, f4(&[0., 1., 2., -3., 4.5, 6.]));
+        let (text, data) = split_header(&t_bytes).unwrap();
+        let h = parse_header(text).unwrap();
+        assert_eq!((h.descr, h.shape), (Lit::Str("<u4".into()), vec![2, 3]));
+        let indices: Vec<u8> = triangles
+            .iter()
+            .flatten()
+            .flat_map(|i| i.to_le_bytes())
+            .collect();
+        assert_eq!(data, indices);
     }
 
     #[test]

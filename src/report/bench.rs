@@ -1,6 +1,7 @@
 //! `sturmray bench`: Mrays/s per backend, ray kind and thread count, all on
 //! the same rays in the same run, plus BVH build time and memory.
 
+pub mod c_harness;
 mod workload;
 
 use std::path::PathBuf;
@@ -177,12 +178,13 @@ pub struct Options {
     pub backends: Vec<Backend>,
 }
 
+/// Rays per set and repetitions per measurement.
+fn sizes(quick: bool) -> (usize, usize) {
+    if quick { (100_000, 3) } else { (500_000, 3) }
+}
+
 pub fn run(options: &Options) -> Result<Vec<Record>> {
-    let (count, reps) = if options.quick {
-        (100_000, 3)
-    } else {
-        (500_000, 3)
-    };
+    let (count, reps) = sizes(options.quick);
     let scenes = if options.scenes.is_empty() {
         let files = workload::scene_files(&options.scene_root);
         workload::scenes(&files, workload::mesh_sizes(options.quick))?
