@@ -13,18 +13,14 @@ use glam::{DAffine3, DVec3};
 use sturmray::geometry::{Box3, Shape, Surface};
 use sturmray::poly::expr;
 use sturmray::poly::solve::{Method, Solver};
+use sturmray::sampling::Rng;
 
 /// Rays from a sphere of radius 6 around the origin towards points in the
-/// cube of half-size `half`: an xorshift sequence, so every run and every
+/// cube of half-size `half`, from a fixed seed, so every run and every
 /// shape gets the same directions.
 fn rays(n: usize, half: f64) -> Vec<(DVec3, DVec3)> {
-    let mut state = 0x2545_f491_4f6c_dd1d_u64;
-    let mut next = move || {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        (state >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut rng = Rng::for_sample(0x2545_f491, 0, 0);
+    let mut next = move || f64::from(rng.next_f32());
     (0..n)
         .map(|_| {
             let (u, v) = (std::f64::consts::TAU * next(), 2.0 * next() - 1.0);

@@ -12,6 +12,7 @@ use sturmray::poly::closed;
 use sturmray::poly::solve::{Method, Solver};
 use sturmray::poly::sturm::SturmSequence;
 use sturmray::poly::univariate::Poly;
+use sturmray::sampling::Rng;
 
 /// Q(t) of the ray o + t d (|d| = 1) against the torus about z with radii
 /// (major, minor): (|x|^2 + R^2 - r^2)^2 - 4 R^2 (x^2 + y^2).
@@ -36,13 +37,8 @@ fn torus(major: f64, minor: f64, o: [f64; 3], d: [f64; 3]) -> Poly {
 /// near the torus (R = 1, r = 0.3): about two thirds hit it, with 2 or 4
 /// roots; the rest miss.
 fn torus_rays(n: usize) -> Vec<Poly> {
-    let mut state = 0x9e37_79b9_7f4a_7c15_u64;
-    let mut next = move || {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        (state >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut rng = Rng::for_sample(0x9e37_79b9, 0, 0);
+    let mut next = move || f64::from(rng.next_f32());
     (0..n)
         .map(|_| {
             let (u, v) = (2.0 * std::f64::consts::PI * next(), 2.0 * next() - 1.0);

@@ -141,6 +141,11 @@ impl Region {
     pub fn area(&self) -> usize {
         self.width() * self.height()
     }
+
+    /// Non-empty and inside a width × height image.
+    pub fn fits(&self, width: usize, height: usize) -> bool {
+        self.x0 < self.x1 && self.y0 < self.y1 && self.x1 <= width && self.y1 <= height
+    }
 }
 
 /// The pixel sums of a region of a width × height image.

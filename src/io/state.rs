@@ -90,7 +90,7 @@ pub fn read_state(path: &Path) -> Result<(StateHeader, Film)> {
     let header: StateHeader =
         serde_json::from_slice(&rest[..end]).map_err(|e| bad(&format!("header: {e}")))?;
     let r = header.region;
-    if r.x0 >= r.x1 || r.y0 >= r.y1 || r.x1 > header.width || r.y1 > header.height {
+    if !r.fits(header.width, header.height) {
         return Err(bad("its region is empty or outside the image"));
     }
     let records = &rest[end + 1..];

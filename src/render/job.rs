@@ -45,7 +45,7 @@ impl Part {
                 })
             }
             Part::Crop(r) => {
-                if r.x0 >= r.x1 || r.y0 >= r.y1 || r.x1 > width || r.y1 > height {
+                if !r.fits(width, height) {
                     return Err(Error::Input(format!(
                         "--crop {},{},{},{}: expected x0 < x1 <= {width} and y0 < y1 <= {height}",
                         r.x0, r.y0, r.x1, r.y1

@@ -83,7 +83,7 @@ pub fn render(scene: &Scene, accel: &Accel, options: &RenderOptions) -> Result<R
         return Err(Error::Input("--spp must be at least 1".into()));
     }
     let region = options.region.unwrap_or(Region::whole(width, height));
-    if region.x0 >= region.x1 || region.y0 >= region.y1 || region.x1 > width || region.y1 > height {
+    if !region.fits(width, height) {
         return Err(Error::Input(format!(
             "the region [{}, {}) x [{}, {}) is empty or outside the {width}x{height} image",
             region.x0, region.x1, region.y0, region.y1
