@@ -86,15 +86,11 @@ fn from_roots(roots: &[(f64, u32)], scale: f64) -> Vec<f64> {
     c
 }
 
-/// Random polynomials only up to this degree. Above it the f64 chain misses
-/// multiple roots it should count, and a lost root of even multiplicity
-/// shows nowhere in f64 (no sign change, counts consistent): the product
-/// t²(t-0.5)^k(t-1.5)^l... of degree 14, 75937.5t² - 361968.75t³ + ... +
-/// t¹⁴, on (-3.5, 1] gave no root for the double root at 0 (issue #6, for
-/// poly::sturm). Phantom roots and miscounts above degree 8 (a phantom at
-/// -0.6333 of a degree-14 polynomial, a degree-11 count of 4 with 3 roots)
-/// now go to the exact path. poly::solve's own tests stop at 8 too.
-const MAX_RANDOM_DEGREE: usize = 8;
+/// Random polynomials up to the parser's limit: the f64 chain goes wrong
+/// more often at high degree (a lost double root at 0 of a degree-14
+/// product, a phantom at -0.6333, a degree-11 count of 4 with 3 roots), and
+/// `roots` must catch each such case and answer from the exact path.
+const MAX_RANDOM_DEGREE: usize = MAX_DEGREE;
 
 /// Random polynomials of degree 1 to MAX_RANDOM_DEGREE: free coefficients
 /// (zeros among them), and products with roots of multiplicity up to
@@ -106,19 +102,17 @@ fn polynomial() -> impl Strategy<Value = Vec<f64>> {
         1 => Just(0),
     ]
     .prop_map(f64::from);
-    // No coefficients many orders of magnitude below the others yet. Such
-    // a coefficient makes the f64 chain divide by a remainder's noise: the
-    // phantom root 0.6005 of -1 + 8.7e-11t² - 114.8t⁴ + 152.9t⁵ in (0, 1]
-    // is now caught (no sign change, so `roots` asks the exact path), but
-    // the chain of 74.07 - 5t² + 907.9t³ - t⁴ + 6.03e-10t⁵ - 170.2t⁷ counts
-    // 0 roots in (-1, 2] for the 2 at -0.4328 and 1.5264, and nothing in
-    // f64 shows they are lost (issue #6, for poly::sturm: the remainder-zero
-    // test needs per-coefficient error estimates). Add `1 => -1e-9..1e-9f64`
-    // back when that is fixed.
+    // Coefficients many orders of magnitude below the others make the f64
+    // chain divide by a remainder's noise: a phantom root 0.6005 of -1 +
+    // 8.7e-11t² - 114.8t⁴ + 152.9t⁵ in (0, 1], no roots counted for the two
+    // of 74.07 - 5t² + 907.9t³ - t⁴ + 6.03e-10t⁵ - 170.2t⁷ in (-1, 2], and
+    // roots of the trimmed polynomial reported for the input's (9e-10 off
+    // for t³(588.3 + 3t² - 3t³ - 2.7e-10t⁴) on (3.5, 6.5]).
     let free = prop::collection::vec(
         prop_oneof![
             4 => coefficient,
             2 => -1e3..1e3f64,
+            1 => -1e-9..1e-9f64,
         ],
         2..=MAX_RANDOM_DEGREE + 1,
     );
@@ -169,10 +163,12 @@ proptest! {
     /// root beside a double root on a lost, Illinois stopping 0.013 from a
     /// root; each has a unit test in poly::solve.
     ///
-    /// `make fuzz` still fails here (issue #6, for poly::sturm): when the
-    /// chain's remainder test misses gcd(p, p'), a root of even multiplicity
-    /// is neither counted nor seen as a sign change, e.g. the double root 3.5
-    /// of 75.03t + 64.31t² - 134.75t³ + 66.5t⁴ - 13.5t⁵ + t⁶ on (0.5, 4].
+    /// Then, with degrees up to the limit and tiny coefficients: the f64
+    /// chain missing gcd(p, p') (the double root 3.5 of 75.03t + 64.31t² -
+    /// 134.75t³ + 66.5t⁴ - 13.5t⁵ + t⁶ on (0.5, 4] neither counted nor seen
+    /// as a sign change) or losing two simple roots, with nothing in f64 to
+    /// show it. `roots` now checks its count against the exact Sturm count,
+    /// and refines a trimmed chain's roots on the input.
     #[test]
     fn fuzz_root_finder(c in polynomial(), (a, b) in interval(), m in 0usize..3) {
         let method = [Method::SturmBisect, Method::SturmNewton, Method::SturmIllinois][m];
