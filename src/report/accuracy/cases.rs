@@ -5,7 +5,8 @@
 //! ([`Shape::ray_polynomial`]) for camera rays through pixel centres, shape
 //! by shape in scanline order, so consecutive cases come from neighbouring
 //! rays (what a warm start exploits). Synthetic sets hold clustered and
-//! repeated roots, built from their roots in f64.
+//! repeated roots, built from their roots in f64, and coefficients at
+//! round-off size.
 
 use std::path::Path;
 
@@ -57,6 +58,7 @@ pub fn all_cases(root: &Path, width: u32, synthetic: usize) -> Result<Vec<CaseSe
     let mut sets = hard_cases(root, width)?;
     sets.push(clustered(synthetic));
     sets.push(repeated(synthetic));
+    sets.push(noisy(synthetic));
     Ok(sets)
 }
 
@@ -157,6 +159,43 @@ pub fn repeated(n: usize) -> CaseSet {
     }
 }
 
+/// Degree 3 to 10, random coefficients of 0.1 to 10 in size times a
+/// leading scale, where each lower one is, with odds of 1 in 3, at
+/// round-off size instead (1e-12 to 1e-8 of the largest): a coefficient
+/// that is zero in exact arithmetic, such as an odd one for a ray through a
+/// torus's centre, but not after rounding. Such terms push remainders of
+/// the f64 chain down to their own noise.
+pub fn noisy(n: usize) -> CaseSet {
+    let mut rng = Rng::for_sample(0x0015e, 0, 0);
+    let cases = (0..n)
+        .map(|_| {
+            let degree = 3 + (rng.next_u64() % 8) as usize;
+            let scale = lead(&mut rng);
+            let mut c: Vec<f64> = (0..=degree)
+                .map(|_| scale * 10f64.powf(2.0 * f64::from(rng.next_f32()) - 1.0))
+                .collect();
+            let largest = c.iter().fold(0.0, |m: f64, x| m.max(x.abs()));
+            for ci in &mut c[..degree] {
+                if rng.next_u64().is_multiple_of(3) {
+                    *ci = largest * 10f64.powf(-12.0 + 4.0 * f64::from(rng.next_f32()));
+                }
+                if rng.next_u64().is_multiple_of(2) {
+                    *ci = -*ci;
+                }
+            }
+            Case {
+                q: Poly::new(&c),
+                hi: 4.0,
+            }
+        })
+        .collect();
+    CaseSet {
+        name: "noisy".into(),
+        cases,
+        scene: None,
+    }
+}
+
 /// A leading coefficient of either sign, 1e-3 to 1e3 in size.
 fn lead(rng: &mut Rng) -> f64 {
     let size = 10f64.powf(6.0 * f64::from(rng.next_f32()) - 3.0);
@@ -186,6 +225,14 @@ mod tests {
                 );
             }
         }
+        let noisy = noisy(50);
+        assert_eq!(noisy.cases.len(), 50);
+        let tiny = |c: &Case| {
+            let largest = c.q.max_abs_coeff();
+            c.q.coeffs().iter().any(|x| x.abs() < 1e-7 * largest)
+        };
+        assert!(noisy.cases.iter().all(|c| (3..=10).contains(&c.q.degree())));
+        assert!(noisy.cases.iter().filter(|c| tiny(c)).count() > 25);
     }
 
     #[test]

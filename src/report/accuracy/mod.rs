@@ -46,7 +46,7 @@ pub struct Study {
 }
 
 impl Study {
-    /// Every scene of [`cases::SCENES`] and both synthetic sets, every
+    /// Every scene of [`cases::SCENES`] and the synthetic sets, every
     /// finder at every tolerance. `quick` takes fewer rays and passes: a
     /// run under a minute in a release build.
     pub fn standard(root: &Path, quick: bool) -> Result<Study> {
