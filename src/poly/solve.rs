@@ -201,7 +201,7 @@ impl Solver {
     /// values are rounding noise of either sign.)
     fn crosses(&self, f: &Poly, t: f64) -> bool {
         let d = 2.0 * self.width_tol(t, t);
-        opposite(sure_sign(f, t - d), sure_sign(f, t + d))
+        opposite(f.sure_sign(t - d), f.sure_sign(t + d))
     }
 
     /// The nearest root in (a, b): for camera and secondary rays. The
@@ -861,24 +861,6 @@ fn without_negligible_terms(p: &Poly, t_max: f64, rel: f64) -> Poly {
         }
     }
     Poly::from_array(out, degree)
-}
-
-/// The sign of f(x) as -1, 0 or 1, 0 unless the value computed by Horner's
-/// rule exceeds its rounding error bound, 2n eps times the sum of |c_i x^i|
-/// (Higham's bound is half that; the margin covers the bound's own
-/// rounding).
-fn sure_sign(f: &Poly, x: f64) -> f64 {
-    let (mut value, mut size) = (0.0, 0.0);
-    for &c in f.coeffs().iter().rev() {
-        value = value * x + c;
-        size = size * x.abs() + c.abs();
-    }
-    let bound = 2.0 * f.degree() as f64 * f64::EPSILON * size;
-    if value.abs() > bound {
-        value.signum()
-    } else {
-        0.0
-    }
 }
 
 /// Whether (a, b) is a non-empty interval; false for NaN ends.

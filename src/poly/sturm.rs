@@ -30,6 +30,7 @@
 //! way, against 21 and 15 when the chain simply stopped.
 
 use crate::poly::MAX_DEGREE;
+use crate::poly::closed;
 use crate::poly::univariate::Poly;
 
 const SLOTS: usize = MAX_DEGREE + 1;
@@ -167,7 +168,8 @@ impl SturmSequence {
 
     /// Fills `reduced` with f_i / f_end for i <= end; false if some division
     /// leaves more than round-off, i.e. f_end is not a common factor and
-    /// dividing by it would move roots.
+    /// dividing by it would move roots, or if f0 does not vanish at the
+    /// multiple roots f_end claims.
     fn reduce(&mut self, end: usize) -> bool {
         let g = self.members[end];
         for i in 0..=end {
@@ -177,7 +179,30 @@ impl SturmSequence {
             }
             self.reduced[i] = q.normalized();
         }
-        true
+        self.vanishes_at_roots_of(&g)
+    }
+
+    /// Whether f0 vanishes, as far as its rounding can tell, at each real
+    /// root of g, the multiple roots the chain claims (or changes sign
+    /// within 1e-9 relative of it, as at a triple root). A close pair of
+    /// simple roots can leave remainders the noise test takes for zero:
+    /// -1.58e-12 + 0.00103t^2 + ... has roots at +-3.9e-5 and a chain
+    /// ending on t, yet f0(0) is a sure -1.58e-12. Checked for the usual
+    /// gcds of degree 1 and 2 (their roots by the quadratic formula); a
+    /// larger one is trusted.
+    fn vanishes_at_roots_of(&self, g: &Poly) -> bool {
+        let c = g.coeffs();
+        let mut roots = [0.0; 4];
+        let n = match g.degree() {
+            1 => closed::quadratic(c[0], c[1], 0.0, &mut roots),
+            2 => closed::quadratic(c[0], c[1], c[2], &mut roots),
+            _ => return true,
+        };
+        let f0 = &self.members[0];
+        roots[..n].iter().all(|&x| {
+            let w = 1e-9 * x.abs().max(1.0);
+            f0.sure_sign(x) == 0.0 || f0.sure_sign(x - w) * f0.sure_sign(x + w) < 0.0
+        })
     }
 
     /// Whether the chain first ended in a non-constant member that is not a
@@ -422,6 +447,28 @@ mod tests {
             let k = f64::from(k);
             assert_eq!(seq.count(k - 0.5, k + 0.5), 1, "root {k}");
         }
+    }
+
+    #[test]
+    fn a_close_pair_is_not_taken_for_a_double_root() {
+        // Roots at -3.9125607e-5 and 3.9125610e-5 (and -1.87): the noise
+        // test ends the chain on a multiple of t, but p(0) is a sure
+        // -1.58e-12, so t is no common factor.
+        let p = Poly::new(&[
+            -1.5783205787060105e-12,
+            -2.8140203284834676e-15,
+            0.0010310340323827231,
+            3.072718962051449e-13,
+            0.0016849853024417558,
+            1.1574654431513486e-13,
+            -0.00014559549132515595,
+            0.00022470707171015652,
+        ]);
+        let seq = SturmSequence::new(&p);
+        assert_eq!(seq.gcd().degree(), 0);
+        assert_eq!(seq.count(-1.0, 1.0), 2);
+        assert_eq!(seq.count(0.0, 1.0), 1);
+        assert_eq!(seq.count(-1e-4, -1e-5), 1);
     }
 
     #[test]

@@ -100,6 +100,24 @@ impl Poly {
         (value, slope)
     }
 
+    /// The sign of p(x) as -1, 0 or 1, 0 unless the value computed by
+    /// Horner's rule exceeds its rounding error bound, 2n eps times the sum
+    /// of |c_i x^i| (Higham's bound is half that; the margin covers the
+    /// bound's own rounding).
+    pub(crate) fn sure_sign(&self, x: f64) -> f64 {
+        let (mut value, mut size) = (0.0, 0.0);
+        for &c in self.coeffs().iter().rev() {
+            value = value * x + c;
+            size = size * x.abs() + c.abs();
+        }
+        let bound = 2.0 * self.degree as f64 * f64::EPSILON * size;
+        if value.abs() > bound {
+            value.signum()
+        } else {
+            0.0
+        }
+    }
+
     pub fn derivative(&self) -> Poly {
         if self.degree == 0 {
             return Poly::ZERO;
