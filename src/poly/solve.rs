@@ -163,8 +163,9 @@ impl Solver {
     /// multiplicity has no sign change, and a remainder of pure round-off
     /// that passes for a true one (or the reverse) loses or invents roots
     /// with nothing in f64 to show it (the double root 3.5 of a sextic, two
-    /// simple roots of a degree-11 chain with a 9e-10 coefficient). Otherwise the answer comes from the exact rational
-    /// path, merged to the tolerance as the Sturm path would report it.
+    /// simple roots of a degree-11 chain with a 9e-10 coefficient).
+    /// Otherwise the answer comes from the exact rational path, merged to
+    /// the tolerance as the Sturm path would report it.
     /// The count costs about 0.3 ms at degree 8 (1.4 ms at 16) in a release
     /// build, which the `roots` tool can afford and a ray cannot.
     pub fn roots(&self, p: &Poly, a: f64, b: f64, out: &mut [f64; MAX_DEGREE]) -> usize {
