@@ -17,8 +17,9 @@
 //! the chain.
 //!
 //! A zero remainder is then checked: the last member g must divide every
-//! member (then p has multiple roots, and counting uses the chain divided by
-//! g, which stays exact at them). If g does not, the test misjudged a
+//! member, and p must vanish within its rounding at g's real roots (then p
+//! has multiple roots, and counting uses the chain divided by g, which
+//! stays exact at them). If g does not, the test misjudged a
 //! remainder. An earlier member that divides all before it is the gcd (a
 //! remainder of pure round-off was taken for a true one; the error estimate
 //! is a typical size, not a bound). Failing that, a small true remainder
