@@ -105,28 +105,17 @@ fn resize(scene: &mut Scene, width: u32) {
 /// Degree 4 to 10 with a cluster of 2 to 4 roots, 1e-2 to 1e-9 apart (a ray
 /// through a thin shell or grazing a fold), among other roots in (0, 4).
 pub fn clustered(n: usize) -> CaseSet {
-    let mut rng = Rng::for_sample(0x0c10_57e5, 0, 0);
-    let cases = (0..n)
-        .map(|_| {
-            let degree = 4 + (rng.next_u64() % 7) as usize;
-            let size = 2 + (rng.next_u64() % 3) as usize;
-            let gap = 10f64.powf(-2.0 - 7.0 * f64::from(rng.next_f32()));
-            let centre = 0.2 + 3.0 * f64::from(rng.next_f32());
-            let mut roots: Vec<f64> = (0..size).map(|k| centre + gap * k as f64).collect();
-            while roots.len() < degree {
-                roots.push(-1.0 + 6.0 * f64::from(rng.next_f32()));
-            }
-            Case {
-                q: from_roots(lead(&mut rng), &roots),
-                hi: 4.0,
-            }
-        })
-        .collect();
-    CaseSet {
-        name: "clustered".into(),
-        cases,
-        scene: None,
-    }
+    synthetic("clustered", 0x0c10_57e5, n, |rng, _| {
+        let degree = 4 + (rng.next_u64() % 7) as usize;
+        let size = 2 + (rng.next_u64() % 3) as usize;
+        let gap = 10f64.powf(-2.0 - 7.0 * f64::from(rng.next_f32()));
+        let centre = 0.2 + 3.0 * f64::from(rng.next_f32());
+        let mut roots: Vec<f64> = (0..size).map(|k| centre + gap * k as f64).collect();
+        while roots.len() < degree {
+            roots.push(-1.0 + 6.0 * f64::from(rng.next_f32()));
+        }
+        from_roots(lead(rng), &roots)
+    })
 }
 
 /// Degree 2 to 10 with one root of multiplicity 2 to 4 (a tangent ray, a
@@ -135,28 +124,17 @@ pub fn clustered(n: usize) -> CaseSet {
 /// half at decimals (rounding splits the root into a cluster or a complex
 /// pair: the exact reference decides which).
 pub fn repeated(n: usize) -> CaseSet {
-    let mut rng = Rng::for_sample(0x4e9, 0, 0);
-    let cases = (0..n)
-        .map(|i| {
-            let multiplicity = 2 + (rng.next_u64() % 3) as usize;
-            let others = (rng.next_u64() % 7) as usize;
-            let step = (1 + rng.next_u64() % 15) as f64;
-            let root = if i % 2 == 0 { step / 4.0 } else { step / 5.0 };
-            let mut roots = vec![root; multiplicity];
-            for _ in 0..others {
-                roots.push(-1.0 + 6.0 * f64::from(rng.next_f32()));
-            }
-            Case {
-                q: from_roots(lead(&mut rng), &roots),
-                hi: 4.0,
-            }
-        })
-        .collect();
-    CaseSet {
-        name: "repeated".into(),
-        cases,
-        scene: None,
-    }
+    synthetic("repeated", 0x4e9, n, |rng, i| {
+        let multiplicity = 2 + (rng.next_u64() % 3) as usize;
+        let others = (rng.next_u64() % 7) as usize;
+        let step = (1 + rng.next_u64() % 15) as f64;
+        let root = if i % 2 == 0 { step / 4.0 } else { step / 5.0 };
+        let mut roots = vec![root; multiplicity];
+        for _ in 0..others {
+            roots.push(-1.0 + 6.0 * f64::from(rng.next_f32()));
+        }
+        from_roots(lead(rng), &roots)
+    })
 }
 
 /// Degree 3 to 10, random coefficients of 0.1 to 10 in size times a
@@ -166,31 +144,43 @@ pub fn repeated(n: usize) -> CaseSet {
 /// torus's centre, but not after rounding. Such terms push remainders of
 /// the f64 chain down to their own noise.
 pub fn noisy(n: usize) -> CaseSet {
-    let mut rng = Rng::for_sample(0x0015e, 0, 0);
+    synthetic("noisy", 0x0015e, n, |rng, _| {
+        let degree = 3 + (rng.next_u64() % 8) as usize;
+        let scale = lead(rng);
+        let mut c: Vec<f64> = (0..=degree)
+            .map(|_| scale * 10f64.powf(2.0 * f64::from(rng.next_f32()) - 1.0))
+            .collect();
+        let largest = c.iter().fold(0.0, |m: f64, x| m.max(x.abs()));
+        for ci in &mut c[..degree] {
+            if rng.next_u64().is_multiple_of(3) {
+                *ci = largest * 10f64.powf(-12.0 + 4.0 * f64::from(rng.next_f32()));
+            }
+            if rng.next_u64().is_multiple_of(2) {
+                *ci = -*ci;
+            }
+        }
+        Poly::new(&c)
+    })
+}
+
+/// A synthetic set of `n` polynomials from `make(rng, index)`, each solved
+/// on (0, 4), drawn from a generator seeded by `seed` so every run of the
+/// study sees the same cases.
+fn synthetic(
+    name: &str,
+    seed: u64,
+    n: usize,
+    mut make: impl FnMut(&mut Rng, usize) -> Poly,
+) -> CaseSet {
+    let mut rng = Rng::for_sample(seed, 0, 0);
     let cases = (0..n)
-        .map(|_| {
-            let degree = 3 + (rng.next_u64() % 8) as usize;
-            let scale = lead(&mut rng);
-            let mut c: Vec<f64> = (0..=degree)
-                .map(|_| scale * 10f64.powf(2.0 * f64::from(rng.next_f32()) - 1.0))
-                .collect();
-            let largest = c.iter().fold(0.0, |m: f64, x| m.max(x.abs()));
-            for ci in &mut c[..degree] {
-                if rng.next_u64().is_multiple_of(3) {
-                    *ci = largest * 10f64.powf(-12.0 + 4.0 * f64::from(rng.next_f32()));
-                }
-                if rng.next_u64().is_multiple_of(2) {
-                    *ci = -*ci;
-                }
-            }
-            Case {
-                q: Poly::new(&c),
-                hi: 4.0,
-            }
+        .map(|i| Case {
+            q: make(&mut rng, i),
+            hi: 4.0,
         })
         .collect();
     CaseSet {
-        name: "noisy".into(),
+        name: name.into(),
         cases,
         scene: None,
     }
