@@ -11,7 +11,7 @@ use common::{scratch, write};
 use sturmray::accel::{Accel, Backend};
 use sturmray::math::{Hit, Ray, Vec3};
 use sturmray::render::{RenderOptions, render};
-use sturmray::sampling::Rng;
+use sturmray::report::bench::incoherent_rays;
 use sturmray::scene::Scene;
 
 /// Relative tolerance on t, and absolute on the barycentrics u, v, for triangle
@@ -32,23 +32,6 @@ fn scene_file(relative: &str) -> Scene {
 
 fn build(scene: &Scene, backend: Backend) -> Accel {
     Accel::build(scene, backend, Some(2)).unwrap()
-}
-
-/// Rays from random points in the scene's bounds (grown by 10% each side) in
-/// uniformly random directions.
-fn random_rays(scene: &Scene, count: usize, seed: u64) -> Vec<Ray> {
-    let b = scene.bounds();
-    let (lo, size) = (b.min - 0.1 * b.diagonal(), 1.2 * b.diagonal());
-    let mut rng = Rng::for_sample(seed, 0, 0);
-    (0..count)
-        .map(|_| {
-            let o = lo + size * Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32());
-            let z = 2.0 * rng.next_f32() - 1.0;
-            let phi = std::f32::consts::TAU * rng.next_f32();
-            let r = (1.0 - z * z).max(0.0).sqrt();
-            Ray::new(o, Vec3::new(r * phi.cos(), r * phi.sin(), z))
-        })
-        .collect()
 }
 
 /// Rays through the centres of a `n`×`n` grid of the camera's pixels.
@@ -136,7 +119,7 @@ fn shadow_rays(rays: &[Ray], hits: &[Hit], target: Vec3) -> Vec<Ray> {
 #[test]
 fn random_rays_through_the_cornell_box_agree() {
     let scene = scene_file("scenes/cornell.toml");
-    let rays = random_rays(&scene, 20_000, 1);
+    let rays = incoherent_rays(scene.bounds(), 20_000, 1);
     let hits = assert_backends_agree(&scene, &rays, "cornell random");
     // The rays start inside and around a closed-ish box: most hit something.
     let hit = hits.iter().filter(|h| h.is_hit()).count();
@@ -203,7 +186,7 @@ transform = {{ translate = [0.0004, 0.00009, 0.00017] }}
     let scene = Scene::load(&write(&dir, "tiny.toml", &text)).unwrap();
     let size = scene.bounds().diagonal().max_element();
     assert!(size < 1e-3, "the scene is {size} across");
-    let mut rays = random_rays(&scene, 5_000, 2);
+    let mut rays = incoherent_rays(scene.bounds(), 5_000, 2);
     rays.extend(camera_rays(&scene, 48));
     let hits = assert_backends_agree(&scene, &rays, "tiny");
     let near = hits.iter().filter(|h| h.is_hit() && h.t < 1e-4).count();

@@ -12,7 +12,7 @@ use serde::Serialize;
 
 use crate::accel::{Accel, Backend};
 use crate::error::Result;
-use crate::math::{Hit, Ray, Vec3, offset};
+use crate::math::{Bounds, Hit, Ray, Vec3, offset};
 use crate::render::thread_pool;
 use crate::sampling::Rng;
 use crate::scene::Scene;
@@ -42,6 +42,27 @@ struct RaySets {
     shadow: Vec<Ray>,
 }
 
+/// `count` rays from random points in `bounds` (grown by 10% each side) in
+/// uniformly random directions, from the generator seeded by `seed`: the
+/// benchmark's incoherent rays, and the backend tests' random rays.
+pub fn incoherent_rays(bounds: Bounds, count: usize, seed: u64) -> Vec<Ray> {
+    let (lo, size) = (
+        bounds.min - 0.1 * bounds.diagonal(),
+        1.2 * bounds.diagonal(),
+    );
+    let mut rng = Rng::for_sample(seed, 0, 0);
+    (0..count)
+        .map(|_| {
+            let o = lo + size * Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32());
+            // Uniform on the sphere: z uniform in [-1, 1], angle uniform.
+            let z = 2.0 * rng.next_f32() - 1.0;
+            let phi = std::f32::consts::TAU * rng.next_f32();
+            let r = (1.0 - z * z).max(0.0).sqrt();
+            Ray::new(o, Vec3::new(r * phi.cos(), r * phi.sin(), z))
+        })
+        .collect()
+}
+
 fn ray_sets(scene: &Scene, accel: &Accel, count: usize) -> RaySets {
     let frame = scene.camera.frame();
     // A grid of `count` rays spread over the whole image, row by row: with fewer
@@ -57,21 +78,7 @@ fn ray_sets(scene: &Scene, accel: &Accel, count: usize) -> RaySets {
         .collect();
 
     let bounds = scene.bounds();
-    let (lo, size) = (
-        bounds.min - 0.1 * bounds.diagonal(),
-        1.2 * bounds.diagonal(),
-    );
-    let mut rng = Rng::for_sample(0x5eed, 0, 0);
-    let incoherent = (0..count)
-        .map(|_| {
-            let o = lo + size * Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32());
-            // Uniform on the sphere: z uniform in [-1, 1], angle uniform.
-            let z = 2.0 * rng.next_f32() - 1.0;
-            let phi = std::f32::consts::TAU * rng.next_f32();
-            let r = (1.0 - z * z).max(0.0).sqrt();
-            Ray::new(o, Vec3::new(r * phi.cos(), r * phi.sin(), z))
-        })
-        .collect();
+    let incoherent = incoherent_rays(bounds, count, 0x5eed);
 
     // Shadow rays go towards the first light, or straight up without one.
     let overhead = crate::lights::Incident {

@@ -12,11 +12,11 @@ use super::obj::MAX_COORDINATE;
 use super::shapes::{self, ShapeFile, ShapeKind};
 use super::{
     Adaptive, Camera, CameraKey, Integrator, PhotonSettings, RenderSettings, Scene, headlight,
-    load_obj, locate, scene_name, suggest,
+    load_obj, locate, suggest,
 };
 use crate::error::{Error, Result};
 use crate::geometry::{Box3, Shape};
-use crate::lights::{Light, LightPicker};
+use crate::lights::Light;
 use crate::math::Vec3;
 use crate::poly::solve::{Method, Solver};
 use crate::shading::{Material, MaterialKind};
@@ -559,18 +559,8 @@ pub(super) fn load(path: &Path) -> Result<Scene> {
     if render.spp == 0 {
         return Err(check.error("render.spp", "expected at least 1 sample per pixel"));
     }
-    let mut scene = Scene {
-        name: scene_name(path),
-        camera: Camera::default(),
-        render,
-        background: check.colour("background", file.background.unwrap_or([0.0; 3]))?,
-        materials: Vec::new(),
-        meshes: Vec::new(),
-        shapes: Vec::new(),
-        lights: Vec::new(),
-        light_picker: LightPicker::default(),
-        warnings: Vec::new(),
-    };
+    let background = check.colour("background", file.background.unwrap_or([0.0; 3]))?;
+    let mut scene = Scene::empty(path, render, background);
     for (name, m) in &file.materials {
         scene.materials.push(check.material(name, m)?);
     }

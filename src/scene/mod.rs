@@ -152,19 +152,25 @@ impl Scene {
 
     /// A bare OBJ as a scene: a camera framing its bounds, a point light near
     /// the camera, grey diffuse for faces without a material.
-    fn from_obj(path: &Path) -> Result<Scene> {
-        let mut scene = Scene {
+    /// A scene named after the file at `path`, with nothing in it yet: the
+    /// loaders fill it.
+    fn empty(path: &Path, render: RenderSettings, background: Vec3) -> Scene {
+        Scene {
             name: scene_name(path),
             camera: Camera::default(),
-            render: RenderSettings::default(),
-            background: Vec3::splat(0.05),
+            render,
+            background,
             materials: Vec::new(),
             meshes: Vec::new(),
             shapes: Vec::new(),
             lights: Vec::new(),
             light_picker: LightPicker::default(),
             warnings: Vec::new(),
-        };
+        }
+    }
+
+    fn from_obj(path: &Path) -> Result<Scene> {
+        let mut scene = Scene::empty(path, RenderSettings::default(), Vec3::splat(0.05));
         scene.add_obj(path, load_obj(path)?, None);
         let bounds = scene.bounds();
         if bounds.is_empty() {
