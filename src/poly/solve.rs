@@ -403,7 +403,7 @@ impl Solver {
             } else if self.narrow(br.lo, br.hi) || top + 2 > stack.len() {
                 midpoint(br.lo, br.hi)
             } else {
-                let (left, right) = split(seq, br);
+                let (left, right) = split(seq, br, self.halve(br.lo, br.hi));
                 for half in [right, left] {
                     if half.count() > 0 {
                         stack[top] = half;
@@ -436,7 +436,7 @@ impl Solver {
             if self.narrow(br.lo, br.hi) {
                 return Some(strictly_inside(midpoint(br.lo, br.hi), a, b));
             }
-            let (left, right) = split(seq, br);
+            let (left, right) = split(seq, br, self.halve(br.lo, br.hi));
             if left.count() > 0 {
                 br = left;
                 excluded = 0;
@@ -476,7 +476,7 @@ impl Solver {
             if opposite(flo, fhi) {
                 return self.refine_bracket(f, br.lo, br.hi, flo, fhi);
             }
-            let (left, right) = split(seq, br);
+            let (left, right) = split(seq, br, self.halve(br.lo, br.hi));
             br = if left.count() > 0 { left } else { right };
         }
         midpoint(br.lo, br.hi)
@@ -501,7 +501,7 @@ impl Solver {
             if self.narrow(lo, hi) {
                 break;
             }
-            let mid = midpoint(lo, hi);
+            let mid = self.halve(lo, hi);
             let fm = f.eval(mid);
             if fm == 0.0 {
                 return mid;
@@ -523,7 +523,7 @@ impl Solver {
     /// the bracket, not just the step, proves the accuracy.
     fn newton(&self, f: &Poly, mut lo: f64, mut hi: f64, mut flo: f64, mut fhi: f64) -> f64 {
         let lo_negative = flo < 0.0;
-        let mut x = midpoint(lo, hi);
+        let mut x = self.halve(lo, hi);
         let mut last_step = hi - lo;
         for _ in 0..self.max_iterations {
             let (fx, dfx) = f.eval_with_derivative(x);
@@ -548,7 +548,7 @@ impl Solver {
     fn newton_next(&self, x: f64, ratio: f64, lo: f64, hi: f64, last_step: f64) -> f64 {
         let next = x - ratio;
         if !(next > lo && next < hi) || 2.0 * ratio.abs() > last_step.abs() {
-            return midpoint(lo, hi);
+            return self.halve(lo, hi);
         }
         let half_tol = 0.5 * self.width_tol(lo, hi);
         if ratio.abs() >= half_tol {
@@ -607,7 +607,7 @@ impl Solver {
         let x = if x > lo && x < hi {
             x
         } else {
-            midpoint(lo, hi)
+            self.halve(lo, hi)
         };
         let half_tol = 0.5 * self.width_tol(lo, hi);
         x.max(lo + half_tol).min(hi - half_tol)
@@ -651,6 +651,19 @@ impl Solver {
     }
 
     /// The largest bracket width accepted around a root in [lo, hi].
+    /// Where to halve [lo, hi]: the midpoint, unless the bracket is too wide
+    /// for halvings to reach the tolerance within the step limit (a search
+    /// of (0, inf) clipped to a root bound of 1e100, say). Then the
+    /// midpoint of the ends' bit patterns, which halves the number of f64
+    /// values between them, so that some 64 halvings reach any root.
+    fn halve(&self, lo: f64, hi: f64) -> f64 {
+        if hi - lo <= WIDE_BRACKET * self.width_tol(lo, hi) {
+            midpoint(lo, hi)
+        } else {
+            bit_midpoint(lo, hi)
+        }
+    }
+
     fn width_tol(&self, lo: f64, hi: f64) -> f64 {
         self.tolerance * lo.abs().min(hi.abs()).max(1.0)
     }
@@ -705,8 +718,9 @@ struct Search {
     hi: f64,
 }
 
-/// Terms this small relative to the largest term on the interval are
-/// dropped before counting, but only when the full chain degenerated. A tiny
+/// Terms this small relative to others on the interval (see
+/// [`without_negligible_terms`]) are dropped before counting, but only when
+/// the full chain degenerated. A tiny
 /// leading coefficient (a ray close to an asymptotic direction of the
 /// surface) leaves the chain's last remainders at the size of that
 /// coefficient, below their round-off from about 1e-12 relative on; a tiny
@@ -744,7 +758,7 @@ impl Search {
         self.trimmed = false;
         if self.seq.is_degenerate() {
             let trimmed = without_negligible_terms(p, t_max, DEGENERATE_TRIM);
-            if trimmed != *p {
+            if trimmed != Poly::new(&p.coeffs()[..=degree]) {
                 self.input = *self.seq.squarefree();
                 self.seq.rebuild(&trimmed, trimmed.degree());
                 self.trimmed = true;
@@ -781,9 +795,8 @@ impl Search {
     }
 }
 
-/// Halves at the midpoint, with one more chain evaluation.
-fn split(seq: &SturmSequence, br: Bracket) -> (Bracket, Bracket) {
-    let mid = midpoint(br.lo, br.hi);
+/// Splits at `mid`, with one more chain evaluation.
+fn split(seq: &SturmSequence, br: Bracket, mid: f64) -> (Bracket, Bracket) {
     let vm = seq.sign_variations(mid);
     (
         Bracket {
@@ -826,9 +839,14 @@ fn negligible_above(p: &Poly, t_max: f64, rel: f64) -> usize {
         *term = ci.abs() * power;
         power *= t_max;
     }
-    let largest = terms.iter().fold(0.0, |m: f64, x| m.max(*x));
+    // Against the lower terms only: a term that overflows to infinity at
+    // t_max must not make every other term look negligible.
     let mut degree = p.degree();
-    while degree > 0 && terms[degree] <= rel * largest {
+    while degree > 0 {
+        let rest = terms[..degree].iter().fold(0.0, |m: f64, x| m.max(*x));
+        if terms[degree] > rel * rest {
+            break;
+        }
         degree -= 1;
     }
     degree
@@ -846,15 +864,18 @@ fn without_negligible_terms(p: &Poly, t_max: f64, rel: f64) -> Poly {
     let c = p.coeffs();
     let mut out = [0.0; MAX_DEGREE + 1];
     out[..=degree].copy_from_slice(&c[..=degree]);
-    let size = |i: usize| c[i].abs();
+    // In logarithms: the sizes may span hundreds of orders of magnitude,
+    // and a power that underflowed to 0 would make any term look dominated.
+    let log_size = |i: usize| c[i].abs().ln();
+    let (log_t_max, log_rel) = (t_max.ln(), rel.ln());
     for (i, slot) in out.iter_mut().enumerate().take(degree).skip(1) {
         let dominated = (0..i).any(|j| {
             (i + 1..=degree).any(|k| {
-                if size(j) == 0.0 || size(k) == 0.0 {
+                if c[j] == 0.0 || c[k] == 0.0 {
                     return false;
                 }
-                let cross = (size(j) / size(k)).powf(1.0 / (k - j) as f64).min(t_max);
-                size(i) * cross.powi((i - j) as i32) <= rel * size(j)
+                let log_cross = ((log_size(j) - log_size(k)) / (k - j) as f64).min(log_t_max);
+                log_size(i) + (i - j) as f64 * log_cross <= log_rel + log_size(j)
             })
         });
         if dominated {
@@ -875,6 +896,23 @@ fn opposite(x: f64, y: f64) -> bool {
 
 fn midpoint(lo: f64, hi: f64) -> f64 {
     0.5 * lo + 0.5 * hi
+}
+
+/// Brackets wider than this many tolerances are halved by [`bit_midpoint`]:
+/// 2^60 takes 60 halvings, well within the default 100 steps.
+const WIDE_BRACKET: f64 = (1u64 << 60) as f64;
+
+/// The f64 halfway between lo < hi in the order of f64 values: 0 when the
+/// bracket holds it, else the mean of the magnitudes' bit patterns (which
+/// grow with the magnitude for non-negative floats).
+fn bit_midpoint(lo: f64, hi: f64) -> f64 {
+    if lo < 0.0 && hi > 0.0 {
+        0.0
+    } else if hi <= 0.0 {
+        -bit_midpoint(-hi, -lo)
+    } else {
+        f64::from_bits((lo.abs().to_bits() + hi.to_bits()) / 2)
+    }
 }
 
 /// The end of the final bracket where |f| is smaller: the last iterate of a
@@ -1215,6 +1253,46 @@ mod tests {
             );
             assert!(solver(m).any(&p, -2.5, -0.5), "{m}");
         }
+    }
+
+    #[test]
+    fn a_term_that_overflows_at_the_bound_does_not_hide_the_others() {
+        // 1e-20 t^16 overflows to infinity at t = 1e21; compared with it,
+        // every lower term looked negligible and the chain became a
+        // constant (found in review).
+        let cases: [(&[f64], f64, f64); 2] = [
+            (&[-0.5, 1.0, 0.0, 0.0, 1e-100], 0.0, f64::INFINITY),
+            (
+                &[
+                    -0.5, 1.0, 0., 0., 0., 0., 0., 0., 0., 0., 0., 0., 0., 0., 0., 0., 1e-20,
+                ],
+                -1e21,
+                1e21,
+            ),
+        ];
+        for (c, a, b) in cases {
+            let p = Poly::new(c);
+            let want = exact_roots(c, a, b, 0.0).unwrap();
+            for m in STURM {
+                let near = solver(m).nearest(&p, a, b).unwrap();
+                assert!((near - want[0]).abs() < 1e-9, "{m}: {near} for {want:?}");
+                assert!(solver(m).any(&p, a, b), "{m}");
+            }
+        }
+    }
+
+    #[test]
+    fn inner_terms_are_judged_without_underflow() {
+        // The t term of 1e-200 + t + 1e200 t^3 dominates near t = 1e-100,
+        // where the other two are equal; (1e-200 / 1e200)^(1/3) underflowed
+        // to 0 and the term was dropped (found in review).
+        let p = Poly::new(&[1e-200, 1.0, 0.0, 1e200]);
+        assert_eq!(without_negligible_terms(&p, 1.0, DEGENERATE_TRIM), p);
+        // A term that is dominated everywhere still goes: 1e-12 t against
+        // 1 + t^2, which are at least 2|t| on any interval.
+        let q = Poly::new(&[1.0, 1e-12, 1.0]);
+        let dropped = without_negligible_terms(&q, 10.0, DEGENERATE_TRIM);
+        assert_eq!(dropped, Poly::new(&[1.0, 0.0, 1.0]));
     }
 
     #[test]

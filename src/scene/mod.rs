@@ -150,8 +150,6 @@ impl Scene {
         }
     }
 
-    /// A bare OBJ as a scene: a camera framing its bounds, a point light near
-    /// the camera, grey diffuse for faces without a material.
     /// A scene named after the file at `path`, with nothing in it yet: the
     /// loaders fill it.
     fn empty(path: &Path, render: RenderSettings, background: Vec3) -> Scene {
@@ -169,6 +167,8 @@ impl Scene {
         }
     }
 
+    /// A bare OBJ as a scene: a camera framing its bounds, a point light near
+    /// the camera, grey diffuse for faces without a material.
     fn from_obj(path: &Path) -> Result<Scene> {
         let mut scene = Scene::empty(path, RenderSettings::default(), Vec3::splat(0.05));
         scene.add_obj(path, load_obj(path)?, None);
