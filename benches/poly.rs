@@ -1,6 +1,7 @@
 //! Root-finder micro-benchmarks: per-call cost of the queries a ray makes
 //! (nearest for camera and secondary rays, any for shadow rays) on torus
-//! quartics from a fixed set of rays, and of the building blocks.
+//! quartics from a fixed set of rays, of the building blocks, and of the
+//! exact count that certifies `roots`.
 //!
 //! Run: `cargo bench --bench poly`.
 
@@ -9,6 +10,7 @@ use std::hint::black_box;
 use criterion::{Criterion, criterion_group, criterion_main};
 use sturmray::poly::MAX_DEGREE;
 use sturmray::poly::closed;
+use sturmray::poly::exact::exact_count;
 use sturmray::poly::solve::{Method, Solver};
 use sturmray::poly::sturm::SturmSequence;
 use sturmray::poly::univariate::Poly;
@@ -137,5 +139,28 @@ fn high_degree(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, queries, high_degree);
+/// The exact Sturm count `Solver::roots` checks its answer against: random
+/// coefficients of up to 1e3 in size with all 53 bits of mantissa in use
+/// (as computed ray polynomials have; the rationals' size, hence the cost,
+/// grows with them), degree 8 and 16 (the limit).
+fn exact_certificate(c: &mut Criterion) {
+    let mut rng = Rng::for_sample(0xce27, 0, 0);
+    let mut unit = move || f64::from(rng.next_f32()) + f64::from(rng.next_f32()) * 2f64.powi(-24);
+    let mut group = c.benchmark_group("exact_count, per call");
+    for degree in [8, 16] {
+        let polys: Vec<Vec<f64>> = (0..64)
+            .map(|_| (0..=degree).map(|_| 2e3 * unit() - 1e3).collect())
+            .collect();
+        group.bench_function(format!("degree {degree}"), |bench| {
+            let mut i = 0;
+            bench.iter(|| {
+                i = (i + 1) % polys.len();
+                black_box(exact_count(black_box(&polys[i]), -3.7, 2.9))
+            })
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, queries, high_degree, exact_certificate);
 criterion_main!(benches);
