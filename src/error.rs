@@ -20,6 +20,15 @@ pub enum Error {
         message: String,
     },
 
+    /// A text input (scene, OBJ, MTL) that is not text: a NUL byte or bytes
+    /// that are not UTF-8 at `line` (1-based).
+    #[error("{}:{line}: {message}", path.display())]
+    Text {
+        path: PathBuf,
+        line: usize,
+        message: String,
+    },
+
     /// Other bad input: command-line values, ray files, output paths.
     #[error("{0}")]
     Input(String),
@@ -53,7 +62,11 @@ impl Error {
     pub fn is_bad_input(&self) -> bool {
         matches!(
             self,
-            Error::Scene { .. } | Error::Mesh { .. } | Error::Input(_) | Error::Io { .. }
+            Error::Scene { .. }
+                | Error::Mesh { .. }
+                | Error::Text { .. }
+                | Error::Input(_)
+                | Error::Io { .. }
         )
     }
 

@@ -10,6 +10,7 @@
 //! [`Error::Io`]: crate::error::Error::Io
 
 pub mod exr;
+pub mod input;
 pub mod npy;
 pub mod png;
 pub mod state;

@@ -491,7 +491,7 @@ impl Check<'_> {
 }
 
 pub(super) fn load(path: &Path) -> Result<Scene> {
-    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let text = crate::io::input::read_text(path)?;
     let file: SceneFile = toml::from_str(&text).map_err(|e| Error::Scene {
         path: path.to_owned(),
         message: suggest::with_suggestion(&e.to_string()),

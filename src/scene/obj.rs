@@ -30,19 +30,6 @@ pub struct ObjFile {
 /// square them, they must stay within f32 (about 3.4e38).
 pub(super) const MAX_COORDINATE: f64 = 1e18;
 
-/// Reads a text file, naming the line of the first byte that is not UTF-8.
-pub(super) fn read_text(path: &Path) -> Result<String> {
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
-    String::from_utf8(bytes).map_err(|e| {
-        let valid = &e.as_bytes()[..e.utf8_error().valid_up_to()];
-        Error::Mesh {
-            path: path.to_owned(),
-            line: valid.iter().filter(|&&b| b == b'\n').count() + 1,
-            message: "not UTF-8 text".into(),
-        }
-    })
-}
-
 struct Reader<'a> {
     path: &'a Path,
     line: usize,
@@ -198,7 +185,7 @@ impl Reader<'_> {
 
 /// Reads an OBJ file and the MTL libraries it names.
 pub fn load_obj(path: &Path) -> Result<ObjFile> {
-    let text = read_text(path)?;
+    let text = crate::io::input::read_text(path)?;
     let stem = path
         .file_stem()
         .map_or_else(|| "mesh".into(), |s| s.to_string_lossy().into_owned());

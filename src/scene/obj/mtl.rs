@@ -76,7 +76,7 @@ fn problem(keyword: &str, args: &[&str], expect: &Expect) -> Option<String> {
 
 /// Reads the materials of an MTL file, refusing bad statements by line.
 pub(super) fn load(path: &Path) -> Result<Vec<tobj::Material>> {
-    let text = super::read_text(path)?;
+    let text = crate::io::input::read_text(path)?;
     let error = |line: usize, message: String| Error::Mesh {
         path: path.to_owned(),
         line,
