@@ -37,8 +37,19 @@ fn build_map(scene: &Scene, accel: &Accel, threads: usize) -> PhotonMap {
     let settings = scene.render.photons;
     let radius = settings.radius(scene.bounds());
     let pool = thread_pool(Some(threads)).unwrap();
+    let never = || false;
     let (map, counts) = pool
-        .install(|| PhotonMap::build(scene, accel, settings.count, radius, scene.render.max_depth));
+        .install(|| {
+            PhotonMap::build(
+                scene,
+                accel,
+                settings.count,
+                radius,
+                scene.render.max_depth,
+                &never,
+            )
+        })
+        .expect("nothing stops the pass");
     // Every photon leaves its light on a ray.
     assert!(counts.rays.photon >= u64::from(settings.count));
     assert_eq!(counts.stored, map.len());

@@ -15,11 +15,14 @@ pub fn open_regular(path: &Path) -> Result<(File, u64)> {
     // Checked before opening: opening a FIFO for reading waits for a writer.
     let meta = std::fs::metadata(path).map_err(|e| Error::io(path, e))?;
     if !meta.is_file() {
-        return Err(Error::Input(format!(
-            "{}: not a regular file (a {}); sturmray reads only regular files",
-            path.display(),
+        // An I/O error like any unreadable file, so callers name the line
+        // that asked for it.
+        let message = format!(
+            "not a regular file (a {}); sturmray reads only regular files",
             kind(&meta.file_type())
-        )));
+        );
+        let error = std::io::Error::new(std::io::ErrorKind::InvalidInput, message);
+        return Err(Error::io(path, error));
     }
     let file = File::open(path).map_err(|e| Error::io(path, e))?;
     Ok((file, meta.len()))
@@ -28,7 +31,7 @@ pub fn open_regular(path: &Path) -> Result<(File, u64)> {
 fn kind(t: &std::fs::FileType) -> &'static str {
     use std::os::unix::fs::FileTypeExt;
     if t.is_dir() {
-        "folder"
+        "directory"
     } else if t.is_fifo() {
         "FIFO"
     } else if t.is_char_device() {
@@ -84,7 +87,7 @@ mod tests {
         let err = read_text(Path::new("/dev/zero")).unwrap_err().to_string();
         assert!(err.contains("character device"), "{err}");
         let err = read_text(Path::new("/")).unwrap_err().to_string();
-        assert!(err.contains("folder"), "{err}");
+        assert!(err.contains("directory"), "{err}");
 
         let dir = std::env::temp_dir().join(format!("sturmray-input-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();

@@ -27,7 +27,7 @@ use crate::error::{Error, Result};
 use crate::film::{Film, Pixel, Region, Sample};
 use crate::math::{Hit, Ray};
 use crate::sampling::{FilterSampler, Rng, stratified_2d};
-use crate::scene::{CameraFrame, Integrator, Scene};
+use crate::scene::{CameraFrame, Integrator, PhotonSettings, Scene};
 
 /// How to run a render; the scene says what to render.
 #[derive(Clone, Debug, Default)]
@@ -45,7 +45,8 @@ pub struct RenderOptions {
     /// Continues from a film state: its samples are kept, the render takes
     /// the rest. It must hold `region` and `samples_done` full passes.
     pub resume: Option<(Film, u32)>,
-    /// Checked after each pass: once set, the render stops and returns what it has.
+    /// Checked before every sample: once set, the render drops the pass under
+    /// way and returns the passes it finished.
     pub interrupt: Option<Arc<AtomicBool>>,
 }
 
@@ -109,8 +110,18 @@ pub fn render(scene: &Scene, accel: &Accel, options: &RenderOptions) -> Result<R
     }
     let plan = plan(scene, options.all_effects);
     let pool = thread_pool(options.threads)?;
+    // Checked for every sample (after the first pass) and photon chunk, so an
+    // interrupt is honoured within moments whatever the pass size.
+    let stop = || {
+        options
+            .interrupt
+            .as_ref()
+            .is_some_and(|i| i.load(Ordering::Relaxed))
+    };
     let (caustics, photon_rays) =
-        pool.install(|| photon_pass(scene, accel, &plan, options.progress));
+        pool.install(|| photon_pass(scene, accel, &plan, options.progress, &stop))?;
+    // An interrupted photon pass leaves no map: no pass can run without it.
+    let photons_cut = plan.photon && caustics.is_none();
     let integrator = Tracer::new(scene, accel, plan, caustics.as_ref());
     let tiles: Vec<Region> = (region.y0..region.y1)
         .step_by(TILE)
@@ -134,8 +145,14 @@ pub fn render(scene: &Scene, accel: &Accel, options: &RenderOptions) -> Result<R
     let mut stats = photon_rays;
     let (mut samples_done, mut nonfinite) = (from, 0);
     for range in passes {
+        // A pass an interrupt cuts short is dropped whole: the film keeps
+        // only complete passes, which is what its state can describe.
+        if stop() && (passes::interruptible(&range) || photons_cut) {
+            break;
+        }
         let film_ref = &film;
-        let results: Vec<(Vec<Pixel>, RayStats, u64)> = pool.install(|| {
+        let interruptible = passes::interruptible(&range);
+        let results: Option<Vec<(Vec<Pixel>, RayStats, u64)>> = pool.install(|| {
             tiles
                 .par_iter()
                 .map(|tile| {
@@ -151,13 +168,16 @@ pub fn render(scene: &Scene, accel: &Accel, options: &RenderOptions) -> Result<R
                                 spp,
                                 adaptive,
                                 |k| {
+                                    if interruptible && stop() {
+                                        return None;
+                                    }
                                     let (ray, weight, mut rng) =
                                         camera_ray(scene, &frame, &filter, (x, y), k, spp);
                                     let mut sample = integrator.sample(&ray, &mut rng, &mut tally);
                                     sample.weight = weight;
-                                    sample
+                                    Some(sample)
                                 },
-                            );
+                            )?;
                             pixels.push(pixel);
                         }
                     }
@@ -169,11 +189,14 @@ pub fn render(scene: &Scene, accel: &Accel, options: &RenderOptions) -> Result<R
                         let mrays = done as f64 / start.elapsed().as_secs_f64() / 1e6;
                         bar.set_message(format!("{mrays:.2} Mrays/s"));
                     }
-                    (pixels, stats, bad)
+                    Some((pixels, stats, bad))
                 })
                 .collect()
         });
         accel.check()?;
+        let Some(results) = results else {
+            break;
+        };
         for (tile, (pixels, tile_stats, bad)) in tiles.iter().zip(results) {
             for (i, pixel) in pixels.into_iter().enumerate() {
                 *film.pixel_mut(tile.x0 + i % tile.width(), tile.y0 + i / tile.width()) = pixel;
@@ -182,14 +205,6 @@ pub fn render(scene: &Scene, accel: &Accel, options: &RenderOptions) -> Result<R
             nonfinite += bad;
         }
         samples_done = range.end;
-        // Checked after a pass, so an interrupt always keeps some work.
-        if options
-            .interrupt
-            .as_ref()
-            .is_some_and(|i| i.load(Ordering::Relaxed))
-        {
-            break;
-        }
     }
     if let Some(bar) = progress {
         bar.finish_and_clear();
@@ -207,19 +222,28 @@ pub fn render(scene: &Scene, accel: &Accel, options: &RenderOptions) -> Result<R
 
 /// The caustic photon map when the plan calls for it, and the photon rays it
 /// took; run on the render's pool. With `report`, says on stderr what it built.
+/// Once `stop` says so, the map is left unfinished (`None`).
 fn photon_pass(
     scene: &Scene,
     accel: &Accel,
     plan: &Plan,
     report: bool,
-) -> (Option<PhotonMap>, RayStats) {
+    stop: &(dyn Fn() -> bool + Sync),
+) -> Result<(Option<PhotonMap>, RayStats)> {
     if !plan.photon {
-        return (None, RayStats::default());
+        return Ok((None, RayStats::default()));
     }
     let start = Instant::now();
     let settings = scene.render.photons;
+    // The count may come from --photons as well as the scene.
+    PhotonSettings::check_count(settings.count)
+        .map_err(|e| Error::Input(format!("photons (--photons or render.photons.count): {e}")))?;
     let radius = settings.radius(scene.bounds());
-    let (map, counts) = PhotonMap::build(scene, accel, settings.count, radius, plan.max_depth);
+    let Some((map, counts)) =
+        PhotonMap::build(scene, accel, settings.count, radius, plan.max_depth, stop)
+    else {
+        return Ok((None, RayStats::default()));
+    };
     if report {
         eprintln!(
             "photon map: {} of {} photons stored, radius {radius:.4}, {:.2} s",
@@ -228,7 +252,7 @@ fn photon_pass(
             start.elapsed().as_secs_f64()
         );
     }
-    (Some(map), counts.rays)
+    Ok((Some(map), counts.rays))
 }
 
 /// The integrator the scene asks for.
@@ -328,7 +352,8 @@ pub fn explain(
         )));
     }
     let plan = plan(scene, all_effects);
-    let (caustics, _) = thread_pool(None)?.install(|| photon_pass(scene, accel, &plan, false));
+    let (caustics, _) =
+        thread_pool(None)?.install(|| photon_pass(scene, accel, &plan, false, &|| false))?;
     let integrator = Tracer::new(scene, accel, plan, caustics.as_ref());
     let filter = scene.render.filter.sampler()?;
     let frame = scene.camera.frame();

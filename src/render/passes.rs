@@ -23,7 +23,9 @@ const FLOOR: f64 = 0.05;
 /// when it has fewer samples): enough that an interrupt loses little work.
 const PASSES: u32 = 8;
 
-/// The sample ranges of a render's passes, from sample `from` on.
+/// The sample ranges of a render's passes, from sample `from` on. The first
+/// pass is one sample per pixel, quick at any spp: it always runs to its end,
+/// so an interrupt keeps some work, while later passes stop at once.
 pub fn passes(spp: u32, adaptive: Option<&Adaptive>, from: u32) -> Vec<Range<u32>> {
     let (step, limit) = match adaptive {
         Some(a) => (spp, a.max_spp.max(spp)),
@@ -31,34 +33,47 @@ pub fn passes(spp: u32, adaptive: Option<&Adaptive>, from: u32) -> Vec<Range<u32
     };
     (0..limit)
         .step_by(step as usize)
-        .map(|k| k..(k + step).min(limit))
-        .filter(|r| r.start >= from)
+        .flat_map(|k| {
+            let end = (k + step).min(limit);
+            // Adaptive decisions come after a whole round, so splitting the
+            // first one changes nothing.
+            let split = if k == 0 { 1 } else { k };
+            [k..split, split..end]
+        })
+        .filter(|r| !r.is_empty() && r.start >= from)
         .collect()
+}
+
+/// Whether an interrupt may cut this pass short: every pass but the first.
+pub fn interruptible(range: &Range<u32>) -> bool {
+    range.start > 0
 }
 
 /// Adds samples `range` to a pixel (`take(k)` traces sample k), unless
 /// adaptive sampling finds it has converged, or it stopped in an earlier pass.
-/// Returns how many samples had non-finite radiance (counted as black).
+/// Returns how many samples had non-finite radiance (counted as black), or
+/// `None` as soon as `take` returns `None` (an interrupt: the pixel is then
+/// part-way through the pass, and the caller drops the pass).
 pub fn sample_pass(
     pixel: &mut Pixel,
     range: Range<u32>,
     spp: u32,
     adaptive: Option<&Adaptive>,
-    mut take: impl FnMut(u32) -> Sample,
-) -> u64 {
+    mut take: impl FnMut(u32) -> Option<Sample>,
+) -> Option<u64> {
     if let Some(a) = adaptive
         && range.start >= spp
         && (pixel.samples < range.start || converged(pixel, a))
     {
-        return 0;
+        return Some(0);
     }
     let mut nonfinite = 0;
     for k in range {
-        let mut sample = take(k);
+        let mut sample = take(k)?;
         nonfinite += u64::from(sample.sanitize());
         pixel.add(&sample);
     }
-    nonfinite
+    Some(nonfinite)
 }
 
 /// Whether a pixel's samples agree well enough to stop.
@@ -95,7 +110,7 @@ mod tests {
     fn run(spp: u32, adaptive: Option<&Adaptive>, take: impl Fn(u32) -> Sample) -> Pixel {
         let mut pixel = Pixel::default();
         for range in passes(spp, adaptive, 0) {
-            sample_pass(&mut pixel, range, spp, adaptive, &take);
+            sample_pass(&mut pixel, range, spp, adaptive, |k| Some(take(k))).unwrap();
         }
         pixel
     }
@@ -105,10 +120,12 @@ mod tests {
         assert_eq!(passes(3, None, 0), vec![0..1, 1..2, 2..3]);
         assert_eq!(
             passes(20, None, 0),
-            vec![0..3, 3..6, 6..9, 9..12, 12..15, 15..18, 18..20]
+            vec![0..1, 1..3, 3..6, 6..9, 9..12, 12..15, 15..18, 18..20]
         );
         assert_eq!(passes(20, None, 9), vec![9..12, 12..15, 15..18, 18..20]);
-        assert_eq!(passes(4, Some(&ADAPTIVE), 0).len(), 16);
+        assert_eq!(passes(20, None, 1)[0], 1..3);
+        assert_eq!(passes(4, Some(&ADAPTIVE), 0).len(), 17);
+        assert_eq!(passes(4_000_000_000, None, 0)[..2], [0..1, 1..500_000_000]);
         assert_eq!(passes(4, Some(&ADAPTIVE), 60), vec![60..64]);
     }
 
@@ -144,12 +161,22 @@ mod tests {
     }
 
     #[test]
+    fn a_pass_stops_at_the_first_sample_refused() {
+        let mut pixel = Pixel::default();
+        let stopped = sample_pass(&mut pixel, 0..1_000_000, 4, None, |k| {
+            (k < 3).then(|| sample(1.0))
+        });
+        assert_eq!(stopped, None);
+        assert_eq!(pixel.samples, 3);
+    }
+
+    #[test]
     fn non_finite_radiance_is_counted_and_kept_off_the_film() {
         let mut pixel = Pixel::default();
         let bad = sample_pass(&mut pixel, 0..4, 4, None, |k| {
-            sample([f32::NAN, f32::INFINITY, 1.0, 2.0][k as usize])
+            Some(sample([f32::NAN, f32::INFINITY, 1.0, 2.0][k as usize]))
         });
-        assert_eq!(bad, 2);
+        assert_eq!(bad, Some(2));
         assert_eq!(pixel.samples, 4);
         assert!(pixel.radiance.iter().all(|c| c.is_finite()));
         assert_eq!(pixel.radiance[0], 3.0);

@@ -11,8 +11,8 @@ use serde::Deserialize;
 use super::obj::MAX_COORDINATE;
 use super::shapes::{self, ShapeFile, ShapeKind};
 use super::{
-    Adaptive, Camera, CameraKey, Integrator, PhotonSettings, RenderSettings, Scene, headlight,
-    load_obj, locate, suggest,
+    Adaptive, Camera, CameraKey, Integrator, MAX_COLOUR, MAX_DEPTH, PhotonSettings, RenderSettings,
+    Scene, headlight, load_obj, locate, suggest,
 };
 use crate::error::{Error, Result};
 use crate::geometry::{Box3, Shape};
@@ -239,7 +239,7 @@ pub(super) const FILM_BYTES_PER_PIXEL: u64 = 128;
 /// The machine's memory in bytes, where the system says (Linux), so an image
 /// whose film cannot be allocated is refused at load instead of aborting the
 /// render. None elsewhere: then only the limit on each side applies.
-fn physical_memory() -> Option<u64> {
+pub(super) fn physical_memory() -> Option<u64> {
     let info = std::fs::read_to_string("/proc/meminfo").ok()?;
     let line = info.lines().find(|l| l.starts_with("MemTotal:"))?;
     let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
@@ -278,11 +278,13 @@ impl Check<'_> {
     }
 
     fn colour(&self, key: &str, v: [f32; 3]) -> Result<Vec3> {
-        let c = self.finite(key, v)?;
-        if c.min_element() < 0.0 {
-            return Err(self.error(key, format!("expected values >= 0, found {v:?}")));
+        if !v.iter().all(|x| (0.0..=MAX_COLOUR).contains(x)) {
+            return Err(self.error(
+                key,
+                format!("expected values >= 0 and at most {MAX_COLOUR:e}, found {v:?}"),
+            ));
         }
-        Ok(c)
+        Ok(Vec3::from(v))
     }
 
     fn direction(&self, key: &str, v: [f32; 3]) -> Result<Vec3> {
@@ -559,6 +561,17 @@ pub(super) fn load(path: &Path) -> Result<Scene> {
     if render.spp == 0 {
         return Err(check.error("render.spp", "expected at least 1 sample per pixel"));
     }
+    if render.max_depth > MAX_DEPTH {
+        return Err(check.error(
+            "render.max_depth",
+            format!(
+                "expected at most {MAX_DEPTH} bounces (the ray tree's stack limit), found {}",
+                render.max_depth
+            ),
+        ));
+    }
+    PhotonSettings::check_count(render.photons.count)
+        .map_err(|e| check.error("render.photons.count", e))?;
     let background = check.colour("background", file.background.unwrap_or([0.0; 3]))?;
     let mut scene = Scene::empty(path, render, background);
     for (name, m) in &file.materials {

@@ -46,7 +46,7 @@ pub struct Adaptive {
 #[derive(Clone, Debug, PartialEq)]
 pub struct RenderSettings {
     pub spp: u32,
-    /// How many specular bounces the ray tree follows.
+    /// How many specular bounces the ray tree follows, at most [`MAX_DEPTH`].
     pub max_depth: u32,
     pub seed: u64,
     /// A branch of the ray tree whose weight falls below this ends (adaptive depth).
@@ -59,6 +59,16 @@ pub struct RenderSettings {
     pub adaptive: Option<Adaptive>,
     pub photons: PhotonSettings,
 }
+
+/// The largest value of a colour (albedo, emission, light intensity or
+/// irradiance), in TOML and MTL alike: a product of two stays within f32.
+pub const MAX_COLOUR: f32 = 1e18;
+
+/// The largest `render.max_depth`. The Whitted ray tree recurses once per
+/// bounce, so the limit keeps its stack within a worker thread's (POV-Ray's
+/// `max_trace_level` has the same ceiling); no scene needs more, since each
+/// bounce's weight is at most 1 and `min_weight` ends a branch far sooner.
+pub const MAX_DEPTH: u32 = 256;
 
 /// The photon pass for caustics (light → specular → diffuse transport).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -89,6 +99,39 @@ impl PhotonSettings {
         })
     }
 }
+
+impl PhotonSettings {
+    /// The most photons a pass may emit: 100 million, 500 times the default
+    /// and more than any caustic needs; a larger count is a typo.
+    pub const MAX_COUNT: u32 = 100_000_000;
+
+    /// The photon pass's peak memory per emitted photon, at worst (every photon
+    /// stored): the traced chunks, their concatenation and the grid's copy (48
+    /// bytes each), plus the grid's keys, order and bucket starts.
+    pub const BYTES_PER_PHOTON: u64 = 176;
+
+    /// Whether `count` photons are allowed and fit in this machine's memory;
+    /// the reason when not.
+    pub fn check_count(count: u32) -> std::result::Result<(), String> {
+        if count > Self::MAX_COUNT {
+            return Err(format!(
+                "expected at most {} photons, found {count}",
+                Self::MAX_COUNT
+            ));
+        }
+        let bytes = u64::from(count) * Self::BYTES_PER_PHOTON;
+        match file::physical_memory() {
+            Some(memory) if bytes > memory => Err(format!(
+                "{count} photons need up to {:.1} GiB, more than this machine's {:.1} GiB",
+                bytes as f64 / GIB,
+                memory as f64 / GIB
+            )),
+            _ => Ok(()),
+        }
+    }
+}
+
+const GIB: f64 = (1u64 << 30) as f64;
 
 impl Default for PhotonSettings {
     fn default() -> Self {

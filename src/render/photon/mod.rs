@@ -60,14 +60,16 @@ pub struct PhotonCounts {
 
 impl PhotonMap {
     /// Traces `count` photons through `scene`, following at most `max_depth`
-    /// specular bounces each, in parallel on the current rayon pool.
+    /// specular bounces each, in parallel on the current rayon pool. `None`
+    /// if `stop` says so before every chunk of photons is traced.
     pub fn build(
         scene: &Scene,
         accel: &Accel,
         count: u32,
         radius: f32,
         max_depth: u32,
-    ) -> (PhotonMap, PhotonCounts) {
+        stop: &(dyn Fn() -> bool + Sync),
+    ) -> Option<(PhotonMap, PhotonCounts)> {
         let bounds = scene.bounds();
         let lights = LightChoice::new(&scene.lights, bounds);
         let tracer = Tracer {
@@ -81,13 +83,16 @@ impl PhotonMap {
         let chunks: Vec<(Vec<Photon>, RayStats)> = (0..count.div_ceil(CHUNK))
             .into_par_iter()
             .map(|c| {
+                if stop() {
+                    return None;
+                }
                 let mut tally = Tally::default();
                 let photons = (c * CHUNK..count.min((c + 1) * CHUNK))
                     .filter_map(|i| tracer.trace(i, &mut tally))
                     .collect();
-                (photons, tally.stats)
+                Some((photons, tally.stats))
             })
-            .collect();
+            .collect::<Option<_>>()?;
         let mut rays = RayStats::default();
         let mut photons = Vec::new();
         for (part, stats) in chunks {
@@ -103,7 +108,7 @@ impl PhotonMap {
             grid: Grid::new(photons, radius),
             radius,
         };
-        (map, counts)
+        Some((map, counts))
     }
 
     /// The caustic radiance leaving a diffuse point p with unit normal n

@@ -8,10 +8,11 @@
 use std::path::Path;
 
 use crate::error::{Error, Result};
+use crate::scene::MAX_COLOUR;
 
 /// What the numbers of a statement must be.
 enum Expect {
-    /// Three finite numbers >= 0 (a colour).
+    /// Three finite numbers from 0 to [`MAX_COLOUR`] (a colour).
     Colour,
     /// One finite number >= 0.
     NonNegative,
@@ -57,7 +58,11 @@ fn problem(keyword: &str, args: &[&str], expect: &Expect) -> Option<String> {
         Ok(v) => Some(format!("`{keyword}` expects {what}, found {v:?}")),
     };
     match expect {
-        Expect::Colour => check(3, |x| x >= 0.0, "finite numbers >= 0"),
+        Expect::Colour => check(
+            3,
+            |x| (0.0..=MAX_COLOUR).contains(&x),
+            &format!("finite numbers >= 0 and at most {MAX_COLOUR:e}"),
+        ),
         Expect::NonNegative => check(1, |x| x >= 0.0, "a finite number >= 0"),
         Expect::Positive => check(1, |x| x > 0.0, "a finite number > 0"),
         Expect::Fraction => check(1, |x| (0.0..=1.0).contains(&x), "a number from 0 to 1"),
