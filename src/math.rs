@@ -24,6 +24,56 @@ impl Ray {
     pub fn at(&self, t: f32) -> Vec3 {
         self.origin + t * self.dir
     }
+
+    /// Why a backend would refuse this ray, or `None` for a ray every backend
+    /// traces. These are the conditions Embree asserts before traversal
+    /// (`RayK::valid()` and `tnear >= 0`): a ray that fails them aborts the
+    /// process. One more: a direction with no normal float component, which
+    /// flush-to-zero turns into a zero vector, has no way to point.
+    pub fn problem(&self) -> Option<String> {
+        let within = |v: Vec3| v.abs().cmple(Vec3::splat(RAY_LIMIT)).all();
+        if !within(self.origin) {
+            Some(format!(
+                "origin {} must be finite with every component at most {RAY_LIMIT:e} in size \
+                 (Embree's limit)",
+                sci(self.origin)
+            ))
+        } else if !within(self.dir) {
+            Some(format!(
+                "direction {} must be finite with every component at most {RAY_LIMIT:e} in size \
+                 (Embree's limit)",
+                sci(self.dir)
+            ))
+        } else if self.dir.abs().max_element() < f32::MIN_POSITIVE {
+            Some(format!(
+                "direction {} is zero, or below {:e} in every component (read as zero)",
+                sci(self.dir),
+                f32::MIN_POSITIVE
+            ))
+        } else if self.tnear.is_nan() || self.tnear < 0.0 {
+            Some(format!("tnear {} must be a number >= 0", self.tnear))
+        } else if self.tfar.is_nan() {
+            Some("tfar is NaN".into())
+        } else {
+            None
+        }
+    }
+}
+
+/// A vector in scientific notation, for messages about very large or small ones.
+pub fn sci(v: Vec3) -> String {
+    format!("[{:e}, {:e}, {:e}]", v.x, v.y, v.z)
+}
+
+/// Embree's bound on the size of every ray origin and direction component
+/// (`FLT_LARGE` in its kernels).
+pub const RAY_LIMIT: f32 = 1.844e18;
+
+/// `v` scaled to unit length, or zero for a zero or non-finite `v`. In f64,
+/// so neither squaring a long vector (a triangle normal of edges 1e10 long
+/// is 1e20 long, 1e40 squared) nor a short one overflows or underflows f32.
+pub fn unit(v: Vec3) -> Vec3 {
+    v.as_dvec3().normalize_or_zero().as_vec3()
 }
 
 /// Marks "no geometry" / "no primitive" in hit records, as Embree does.
@@ -155,5 +205,61 @@ mod tests {
         assert_eq!((up.x, up.z), (p.x, p.z));
         // A zero error bound leaves the point where it is: there is nothing to clear.
         assert!(offset(Vec3::ZERO, Vec3::ZERO, n, n).y == 0.0);
+    }
+
+    #[test]
+    fn unit_vectors_of_long_and_short_vectors() {
+        // glam's f32 normalize squares the length: 1e40 overflows, 1e-60 underflows.
+        for scale in [1e-30f32, 1.0, 1e20, 3e37] {
+            let u = unit(Vec3::new(0.0, 3.0, 4.0) * scale);
+            assert!(
+                (u - Vec3::new(0.0, 0.6, 0.8)).length() < 1e-6,
+                "{scale}: {u}"
+            );
+        }
+        assert_eq!(unit(Vec3::ZERO), Vec3::ZERO);
+        assert_eq!(unit(Vec3::new(f32::NAN, 0.0, 1.0)), Vec3::ZERO);
+    }
+
+    #[test]
+    fn rays_embree_would_assert_on_have_a_problem() {
+        let good = Ray::new(Vec3::splat(RAY_LIMIT), Vec3::new(0.0, 0.0, -RAY_LIMIT));
+        assert_eq!(good.problem(), None);
+        let at = |origin: Vec3, dir: Vec3, tnear: f32, tfar: f32| Ray {
+            origin,
+            dir,
+            tnear,
+            tfar,
+        };
+        let big = RAY_LIMIT.next_up();
+        for (ray, word) in [
+            (at(Vec3::new(0.0, big, 0.0), Vec3::Z, 0.0, 1.0), "origin"),
+            (
+                at(Vec3::new(f32::NAN, 0.0, 0.0), Vec3::Z, 0.0, 1.0),
+                "origin",
+            ),
+            (
+                at(Vec3::ZERO, Vec3::new(0.0, 0.0, -big), 0.0, 1.0),
+                "direction",
+            ),
+            (
+                at(Vec3::ZERO, Vec3::new(f32::INFINITY, 0.0, 0.0), 0.0, 1.0),
+                "direction",
+            ),
+            (at(Vec3::ZERO, Vec3::ZERO, 0.0, 1.0), "zero"),
+            (at(Vec3::ZERO, Vec3::splat(1e-39), 0.0, 1.0), "zero"),
+            (at(Vec3::ZERO, Vec3::Z, -1e-30, 1.0), "tnear"),
+            (at(Vec3::ZERO, Vec3::Z, f32::NAN, 1.0), "tnear"),
+            (at(Vec3::ZERO, Vec3::Z, 0.0, f32::NAN), "tfar"),
+        ] {
+            let problem = ray.problem().unwrap_or_default();
+            assert!(problem.contains(word), "{ray:?}: {problem:?}");
+        }
+        // An empty or endless interval is fine: Embree allows tfar < tnear and infinities.
+        assert_eq!(at(Vec3::ZERO, Vec3::Z, 2.0, 1.0).problem(), None);
+        assert_eq!(
+            at(Vec3::ZERO, Vec3::Z, f32::INFINITY, f32::INFINITY).problem(),
+            None
+        );
     }
 }

@@ -142,25 +142,25 @@ fn cases() -> Vec<Case> {
             "OBJ NaN vertex",
             obj("n.obj", b"v 0 0 0\nv nan 0 0\n"),
             &["render", "n.obj"],
-            &["n.obj:2", "`nan` is not a finite number below 1e18"],
+            &["n.obj:2", "`nan` is not a finite number below 1e9"],
         ),
         case(
             "OBJ infinite vertex",
             obj("n.obj", b"v 0 -inf 0\n"),
             &["render", "n.obj"],
-            &["n.obj:1", "`-inf` is not a finite number below 1e18"],
+            &["n.obj:1", "`-inf` is not a finite number below 1e9"],
         ),
         case(
             "OBJ absurdly large vertex",
             obj("n.obj", b"v 0 0 0\nv 0 0 0\nv 0 0 2e18\n"),
             &["render", "n.obj"],
-            &["n.obj:3", "`2e18` is not a finite number below 1e18"],
+            &["n.obj:3", "`2e18` is not a finite number below 1e9"],
         ),
         case(
             "TOML NaN eye",
             scene_with("eye = [0, 0, 4]", "eye = [nan, 0, 4]"),
             RENDER,
-            &["s.toml", "line 3, camera.eye", "at most 1e18"],
+            &["s.toml", "line 3, camera.eye", "at most 1e9"],
         ),
         case(
             "TOML infinite translation",
@@ -169,7 +169,7 @@ fn cases() -> Vec<Case> {
                 "material = \"paint\"\ntransform = { translate = [inf, 0, 0] }",
             ),
             RENDER,
-            &["line 17, objects[0].transform.translate", "at most 1e18"],
+            &["line 17, objects[0].transform.translate", "at most 1e9"],
         ),
         case(
             "TOML absurdly large light position",
@@ -177,7 +177,7 @@ fn cases() -> Vec<Case> {
                 "[[lights]]\ntype = \"point\"\nposition = [0, 0, 1e30]\nintensity = [1, 1, 1]\n",
             ),
             RENDER,
-            &["line 23, lights[1].position", "at most 1e18"],
+            &["line 23, lights[1].position", "at most 1e9"],
         ),
         case(
             "TOML NaN clip box",
@@ -185,7 +185,7 @@ fn cases() -> Vec<Case> {
                 "[[objects]]\ntype = \"sphere\"\nradius = 1\nclip = { min = [nan, 0, 0], max = [1, 1, 1] }\n",
             ),
             RENDER,
-            &["line 24, objects[1].clip.min", "at most 1e18"],
+            &["line 24, objects[1].clip.min", "at most 1e9"],
         ),
         case(
             "TOML infinite quadric coefficient",
@@ -254,7 +254,7 @@ fn cases() -> Vec<Case> {
                 "[[lights]]\ntype = \"sphere\"\ncenter = [0, 0, 1]\nradius = 3e38\nradiance = [1, 1, 1]\n",
             ),
             RENDER,
-            &["line 24, lights[1].radius", "at most 1e18"],
+            &["line 24, lights[1].radius", "at most 1e9"],
         ),
         case(
             "spp = 0 in the scene",

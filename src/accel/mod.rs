@@ -4,7 +4,10 @@
 mod analytic;
 #[allow(unsafe_code)]
 pub mod embree;
+mod panics;
 pub mod rust_bvh;
+
+use std::panic::{AssertUnwindSafe, catch_unwind};
 
 use crate::error::{Error, Result};
 use crate::math::{Hit, Ray};
@@ -38,6 +41,21 @@ impl Backend {
     }
 }
 
+/// Refuses the first ray that a backend cannot trace (see `Ray::problem`),
+/// naming its index. Every backend refuses the same rays, so the check runs
+/// once, before tracing rays from outside (a ray file), not per ray: renders
+/// make theirs from a checked camera inside a scene of bounded size.
+pub fn check_rays(rays: &[Ray]) -> Result<()> {
+    match rays
+        .iter()
+        .enumerate()
+        .find_map(|(i, ray)| ray.problem().map(|p| (i, p)))
+    {
+        Some((i, problem)) => Err(Error::Input(format!("ray {i} (0-based row): {problem}"))),
+        None => Ok(()),
+    }
+}
+
 /// A scene's BVH, built by one backend.
 pub enum Accel {
     Embree(embree::CommittedScene),
@@ -63,10 +81,20 @@ impl Accel {
                 Ok(Accel::Embree(builder.commit()?))
             }
             // The pure-Rust builders run on rayon: on a pool of `threads` if given.
+            // A panic in a builder crate is an internal error, not a crash.
             Backend::Obvhs | Backend::Bvh => {
-                let build = || match backend {
-                    Backend::Obvhs => rust_bvh::CwbvhScene::build(scene).map(Accel::Obvhs),
-                    _ => rust_bvh::SahScene::build(scene).map(Accel::Bvh),
+                let build = || {
+                    catch_unwind(AssertUnwindSafe(|| match backend {
+                        Backend::Obvhs => rust_bvh::CwbvhScene::build(scene).map(Accel::Obvhs),
+                        _ => rust_bvh::SahScene::build(scene).map(Accel::Bvh),
+                    }))
+                    .unwrap_or_else(|payload| {
+                        Err(Error::Internal(format!(
+                            "the {} BVH builder panicked: {}",
+                            backend.name(),
+                            panics::describe(payload)
+                        )))
+                    })
                 };
                 match threads {
                     None => build(),
@@ -111,12 +139,13 @@ impl Accel {
         }
     }
 
-    /// Reports errors the backend raised during queries since the last check.
+    /// Reports errors the backend raised during queries since the last
+    /// check, and panics caught in them.
     pub fn check(&self) -> Result<()> {
         match self {
             Accel::Embree(s) => s.check(),
-            // Nothing is deferred: the pure-Rust backends raise no query errors.
-            Accel::Obvhs(_) | Accel::Bvh(_) => Ok(()),
+            Accel::Obvhs(s) => s.check(),
+            Accel::Bvh(s) => s.check(),
         }
     }
 

@@ -1,6 +1,6 @@
 //! Triangle meshes in world space.
 
-use crate::math::{Bounds, Mat4, Vec3};
+use crate::math::{Bounds, Mat4, Vec3, unit};
 
 /// One OBJ object: its own vertices, triangles in file order (after fan
 /// triangulation) and one material index per triangle. Degenerate triangles
@@ -30,9 +30,10 @@ impl Mesh {
     }
 
     /// The unit geometric normal of a triangle, (p1 − p0) × (p2 − p0) normalised,
-    /// or zero for a degenerate one.
+    /// or zero for a degenerate one. Normalised by `unit`: edges 1e10 long
+    /// give a normal whose squared length overflows f32.
     pub fn normal(&self, prim: u32) -> Vec3 {
         let [a, b, c] = self.triangles[prim as usize].map(|i| self.positions[i as usize]);
-        (b - a).cross(c - a).normalize_or_zero()
+        unit((b - a).cross(c - a))
     }
 }

@@ -387,6 +387,7 @@ fn progress_bar(wanted: bool, pixels: u64) -> Option<indicatif::ProgressBar> {
 /// Traces every ray to its nearest hit, in parallel chunks through the batch path.
 pub fn trace_all(accel: &Accel, rays: &[Ray], threads: Option<usize>) -> Result<Vec<Hit>> {
     const CHUNK: usize = 4096;
+    crate::accel::check_rays(rays)?;
     let mut hits = vec![Hit::MISS; rays.len()];
     thread_pool(threads)?.install(|| {
         rays.par_chunks(CHUNK)

@@ -1,6 +1,21 @@
 //! The pinhole camera.
 
-use crate::math::{Bounds, Ray, Vec3};
+use glam::DVec3;
+
+use crate::math::{Bounds, RAY_LIMIT, Ray, Vec3, sci, unit};
+
+/// The view direction must make at least this sine with `up`, and eye and
+/// look_at must lie at least this fraction of their size apart: closer, and
+/// rounding (of the inputs, of the interpolation between keys) decides where
+/// the camera looks.
+const MIN_VIEW: f64 = 1e-4;
+
+/// What is wrong with a camera: the TOML key to blame and why.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CameraProblem {
+    pub key: String,
+    pub message: String,
+}
 
 /// Where the camera is at one frame of an animation.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -97,9 +112,57 @@ impl Camera {
         }
     }
 
+    /// Checks that every frame of the camera makes valid rays: the eye within
+    /// Embree's limit and, at every point of the path between keys (they
+    /// are interpolated linearly, so the whole segment, not only its integer
+    /// frames), a view direction that exists and is not along `up`.
+    pub fn check(&self) -> Result<(), CameraProblem> {
+        let problem = |key: String, message: String| Err(CameraProblem { key, message });
+        let still = CameraKey {
+            frame: 0,
+            eye: self.eye,
+            look_at: self.look_at,
+        };
+        let named = std::iter::once(("camera".to_string(), still)).chain(
+            self.keys
+                .iter()
+                .enumerate()
+                .map(|(i, &k)| (format!("camera.keys[{i}]"), k)),
+        );
+        for (name, k) in named {
+            if !k.eye.abs().cmple(Vec3::splat(RAY_LIMIT)).all() {
+                return problem(
+                    format!("{name}.eye"),
+                    format!(
+                        "{} lies beyond {RAY_LIMIT:e}, the largest ray origin Embree takes",
+                        sci(k.eye)
+                    ),
+                );
+            }
+            if let Some(message) = view_problem(k, k, self.up) {
+                return problem(format!("{name}.look_at"), message);
+            }
+        }
+        for (i, pair) in self.keys.windows(2).enumerate() {
+            if let Some(message) = view_problem(pair[0], pair[1], self.up) {
+                let (a, b) = (pair[0].frame, pair[1].frame);
+                return problem(
+                    format!("camera.keys[{}]", i + 1),
+                    format!(
+                        "on the way from camera.keys[{i}] (frame {a}) to camera.keys[{}] \
+                         (frame {b}), {message}",
+                        i + 1
+                    ),
+                );
+            }
+        }
+        Ok(())
+    }
+
     pub fn frame(&self) -> CameraFrame {
-        let forward = (self.look_at - self.eye).normalize();
-        let right = forward.cross(self.up).normalize();
+        // `unit`: a view a billionth long, or ten billion, still has a direction.
+        let forward = unit(self.look_at - self.eye);
+        let right = unit(forward.cross(self.up));
         let true_up = right.cross(forward);
         let half_h = (0.5 * self.fov).to_radians().tan();
         let half_w = half_h * self.width as f32 / self.height as f32;
@@ -111,6 +174,85 @@ impl Camera {
             top_left: forward - right * half_w + true_up * half_h,
         }
     }
+}
+
+/// What goes wrong with the view on the way from key `a` to key `b` (equal
+/// for a still camera), if anything: eye and look_at (nearly) meet, or the
+/// view direction turns (nearly) along `up`. d(t) = look_at(t) − eye(t) is
+/// linear in t ∈ [0, 1]; the extremes of |d|² and of sin² = |d × up|² / |d|²
+/// (a ratio of quadratics in t) are found exactly, in f64.
+fn view_problem(a: CameraKey, b: CameraKey, up: Vec3) -> Option<String> {
+    let up = up.as_dvec3().normalize();
+    let (d0, d1) = (
+        (a.look_at - a.eye).as_dvec3(),
+        (b.look_at - b.eye).as_dvec3(),
+    );
+    let at = |t: f64| d0 + t * (d1 - d0);
+    let size = [a.eye, a.look_at, b.eye, b.look_at]
+        .map(|p| f64::from(p.abs().max_element()))
+        .into_iter()
+        .fold(0.0, f64::max);
+    let slope = d1 - d0;
+    let nearest = if slope == DVec3::ZERO {
+        0.0
+    } else {
+        (-d0.dot(slope) / slope.dot(slope)).clamp(0.0, 1.0)
+    };
+    let closest = at(nearest).length();
+    if closest == 0.0 || closest < MIN_VIEW * size {
+        return Some(format!(
+            "eye and look_at come within {closest:.3e} of each other, at positions of size \
+             {size:.3e}: they must stay at least {MIN_VIEW:e} of that apart"
+        ));
+    }
+    let sine = |t: f64| at(t).cross(up).length() / at(t).length();
+    let smallest = stationary_points(d0, d1, up)
+        .into_iter()
+        .chain([0.0, 1.0])
+        .map(sine)
+        .fold(f64::INFINITY, f64::min);
+    (smallest < MIN_VIEW).then(|| {
+        format!(
+            "the view direction comes within {:.2e} degrees of camera.up; it must stay at \
+             least {:.2e} degrees away",
+            smallest.asin().to_degrees(),
+            MIN_VIEW.asin().to_degrees()
+        )
+    })
+}
+
+/// The t in (0, 1) where sin² of the angle between d(t) = d0 + t·(d1 − d0)
+/// and `up` is stationary: f/g with f = |d × up|², g = |d|², quadratics in
+/// t, has (f/g)′ = 0 where f′g − fg′ = 0, a quadratic (the cubic terms cancel).
+fn stationary_points(d0: DVec3, d1: DVec3, up: DVec3) -> Vec<f64> {
+    let quadratic = |v0: DVec3, v1: DVec3| {
+        let s = v1 - v0;
+        [v0.dot(v0), 2.0 * v0.dot(s), s.dot(s)]
+    };
+    let [f0, f1, f2] = quadratic(d0.cross(up), d1.cross(up));
+    let [g0, g1, g2] = quadratic(d0, d1);
+    let (qa, qb, qc) = (
+        f2 * g1 - f1 * g2,
+        2.0 * (f2 * g0 - f0 * g2),
+        f1 * g0 - f0 * g1,
+    );
+    let roots = if qa == 0.0 {
+        if qb == 0.0 { vec![] } else { vec![-qc / qb] }
+    } else {
+        let disc = qb * qb - 4.0 * qa * qc;
+        if disc < 0.0 {
+            vec![]
+        } else {
+            // The stable pair: no cancellation between -qb and the root.
+            let q = -0.5 * (qb + qb.signum() * disc.sqrt());
+            let mut r = vec![q / qa];
+            if q != 0.0 {
+                r.push(qc / q);
+            }
+            r
+        }
+    };
+    roots.into_iter().filter(|t| *t > 0.0 && *t < 1.0).collect()
 }
 
 impl CameraFrame {

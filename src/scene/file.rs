@@ -17,7 +17,7 @@ use super::{
 use crate::error::{Error, Result};
 use crate::geometry::{Box3, Shape};
 use crate::lights::Light;
-use crate::math::Vec3;
+use crate::math::{Bounds, Vec3};
 use crate::poly::solve::{Method, Solver};
 use crate::shading::{Material, MaterialKind};
 
@@ -277,6 +277,12 @@ impl Check<'_> {
         }
     }
 
+    /// World-space geometry within [`MAX_COORDINATE`]: a transform can scale
+    /// coordinates that are each within it far beyond it.
+    fn bounds(&self, key: &str, bounds: Bounds) -> Result<()> {
+        super::bounds_problem(bounds).map_or(Ok(()), |message| Err(self.error(key, message)))
+    }
+
     fn colour(&self, key: &str, v: [f32; 3]) -> Result<Vec3> {
         if !v.iter().all(|x| (0.0..=MAX_COLOUR).contains(x)) {
             return Err(self.error(
@@ -299,12 +305,6 @@ impl Check<'_> {
         let eye = self.finite("camera.eye", c.eye)?;
         let look_at = self.finite("camera.look_at", c.look_at)?;
         let up = self.direction("camera.up", c.up)?;
-        if eye == look_at {
-            return Err(self.error("camera.look_at", "must differ from camera.eye"));
-        }
-        if (look_at - eye).normalize().cross(up.normalize()).length() < 1e-4 {
-            return Err(self.error("camera.up", "must not be parallel to the view direction"));
-        }
         if !(c.fov > 0.0 && c.fov < 180.0) {
             return Err(self.error(
                 "camera.fov",
@@ -344,9 +344,6 @@ impl Check<'_> {
                 self.finite(&key("eye"), k.eye)?,
                 self.finite(&key("look_at"), k.look_at)?,
             );
-            if eye == look_at {
-                return Err(self.error(&key("look_at"), "must differ from eye"));
-            }
             if keys
                 .last()
                 .is_some_and(|last: &CameraKey| last.frame >= k.frame)
@@ -362,7 +359,7 @@ impl Check<'_> {
                 look_at,
             });
         }
-        Ok(Camera {
+        let camera = Camera {
             keys,
             eye,
             look_at,
@@ -370,7 +367,9 @@ impl Check<'_> {
             fov: c.fov,
             width: c.width,
             height: c.height,
-        })
+        };
+        camera.check().map_err(|p| self.error(&p.key, p.message))?;
+        Ok(camera)
     }
 
     fn material(&self, name: &str, m: &MaterialFile) -> Result<Material> {
@@ -610,6 +609,7 @@ pub(super) fn load(path: &Path) -> Result<Scene> {
             let to_world = check.transform(index, &shape.transform)?;
             let shape = Shape::new(surface, to_world, clip.or(default_clip), material, solver)
                 .map_err(|e| check.error(&key, e))?;
+            check.bounds(&key, shape.bounds())?;
             scene.shapes.push(shape);
             continue;
         }
@@ -629,6 +629,7 @@ pub(super) fn load(path: &Path) -> Result<Scene> {
         let matrix = DMat4::from(transform).as_mat4();
         for m in &mut scene.meshes[first..] {
             m.transform(&matrix);
+            check.bounds(&format!("objects[{index}]"), m.bounds())?;
         }
     }
     for (index, light) in file.lights.iter().enumerate() {
@@ -663,6 +664,7 @@ pub(super) fn load(path: &Path) -> Result<Scene> {
                 };
                 let shape = Shape::new(surface, place, None, material, solver)
                     .map_err(|e| check.error(&key("radius"), e))?;
+                check.bounds(&key("radius"), shape.bounds())?;
                 scene.shapes.push(shape);
             }
             LightFile::Quad(l) => {
@@ -690,6 +692,7 @@ pub(super) fn load(path: &Path) -> Result<Scene> {
                     triangles: vec![[0, 1, 2], [0, 2, 3]],
                     materials: vec![material; 2],
                 });
+                check.bounds(&key("corner"), scene.bounds())?;
             }
         }
     }
@@ -701,6 +704,9 @@ pub(super) fn load(path: &Path) -> Result<Scene> {
                 return Err(check.error("camera", "missing, and there is no geometry to frame"));
             }
             let camera = Camera::framing(bounds, 640, 480);
+            camera
+                .check()
+                .map_err(|p| check.error("camera", p.message))?;
             if file.lights.is_empty() {
                 scene.lights.push(headlight(&camera));
             }

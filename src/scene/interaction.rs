@@ -48,7 +48,7 @@ impl Scene {
             );
             (p, error, mesh.materials[hit.prim_id as usize])
         };
-        let outward = hit.ng.normalize_or_zero();
+        let outward = crate::math::unit(hit.ng);
         let front = outward.dot(ray.dir) <= 0.0;
         let n = if front { outward } else { -outward };
         Interaction {

@@ -12,8 +12,9 @@ mod suggest;
 
 use std::path::Path;
 
-pub use camera::{Camera, CameraFrame, CameraKey};
+pub use camera::{Camera, CameraFrame, CameraKey, CameraProblem};
 pub use interaction::Interaction;
+use obj::MAX_COORDINATE;
 pub use obj::{ObjFile, load_obj};
 
 use crate::error::{Error, Result};
@@ -224,6 +225,11 @@ impl Scene {
             });
         }
         scene.camera = Camera::framing(bounds, 640, 480);
+        scene.camera.check().map_err(|p| Error::Mesh {
+            path: path.to_owned(),
+            line: 0,
+            message: format!("the camera that frames this model: {}", p.message),
+        })?;
         scene.lights.push(headlight(&scene.camera));
         scene.gather_emitters();
         Ok(scene)
@@ -291,6 +297,19 @@ impl Scene {
     pub fn triangle_count(&self) -> usize {
         self.meshes.iter().map(|m| m.triangles.len()).sum()
     }
+}
+
+/// Why geometry with these world bounds cannot be traced, if it cannot: a
+/// coordinate beyond [`MAX_COORDINATE`] (see there for the reason).
+fn bounds_problem(bounds: Bounds) -> Option<String> {
+    let largest = bounds.min.abs().max(bounds.max.abs()).max_element();
+    let beyond = largest.is_nan() || f64::from(largest) > MAX_COORDINATE;
+    (!bounds.is_empty() && beyond).then(|| {
+        format!(
+            "in world space this reaches a coordinate of {largest:e}, beyond the limit of \
+             {MAX_COORDINATE:e}"
+        )
+    })
 }
 
 fn scene_name(path: &Path) -> String {

@@ -25,10 +25,13 @@ pub struct ObjFile {
     pub degenerate: usize,
 }
 
-/// Coordinates (OBJ vertices, TOML positions, translations, clip boxes) above
-/// this in size are refused: squared, as the BVH and the intersection tests
-/// square them, they must stay within f32 (about 3.4e38).
-pub(super) const MAX_COORDINATE: f64 = 1e18;
+/// Coordinates (OBJ vertices, TOML positions, translations, clip boxes, and
+/// every object's world-space bounds) above this in size are refused. The
+/// f32 arithmetic multiplies lengths: Embree's triangle test three of them
+/// (t = v0 · (e1 × e2), a hit at t = inf beyond about 1e12), light areas and
+/// powers two of them times a colour, and a framing camera stands several
+/// scene sizes away. At 1e9 every such product stays within f32 (3.4e38).
+pub(super) const MAX_COORDINATE: f64 = 1e9;
 
 struct Reader<'a> {
     path: &'a Path,

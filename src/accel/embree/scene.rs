@@ -9,7 +9,8 @@ use std::sync::Arc;
 use super::device::Device;
 use super::query::{self, Coherence};
 use super::sys;
-use super::user::{self, PanicSlot, UserData, UserPrimitive};
+use super::user::{self, UserData, UserPrimitive};
+use crate::accel::panics::PanicSlot;
 use crate::error::{Error, Result};
 use crate::math::{Bounds, Hit, Ray, Vec3};
 
@@ -355,11 +356,7 @@ impl CommittedScene {
     /// Errors Embree reported, and panics caught in user-geometry callbacks,
     /// since the last check (renders call this once at the end).
     pub fn check(&self) -> Result<()> {
-        if let Some(panic) = self.panics.take() {
-            return Err(Error::Internal(format!(
-                "a user-geometry callback panicked: {panic}"
-            )));
-        }
+        self.panics.check("a user-geometry callback")?;
         self.device.check()
     }
 

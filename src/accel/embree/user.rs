@@ -11,11 +11,9 @@
 //! to invoke from the callbacks.
 
 use std::ffi::c_void;
-use std::panic::{AssertUnwindSafe, catch_unwind};
-use std::sync::Mutex;
-use std::sync::atomic::{AtomicBool, Ordering};
 
 use super::sys;
+use crate::accel::panics::PanicSlot;
 use crate::math::{Bounds, Ray, Vec3};
 
 /// What a user primitive reports for a hit.
@@ -37,35 +35,6 @@ pub trait UserPrimitive: Send + Sync + 'static {
     fn intersect(&self, ray: &Ray) -> Option<UserHit>;
     /// Whether any hit lies in [ray.tnear, ray.tfar).
     fn occluded(&self, ray: &Ray) -> bool;
-}
-
-/// Panics caught inside callbacks, reported after the query returns.
-#[derive(Default)]
-pub(super) struct PanicSlot {
-    happened: AtomicBool,
-    first: Mutex<Option<String>>,
-}
-
-impl PanicSlot {
-    fn record(&self, payload: Box<dyn std::any::Any + Send>) {
-        let text = payload
-            .downcast_ref::<&str>()
-            .map(|s| s.to_string())
-            .or_else(|| payload.downcast_ref::<String>().cloned())
-            .unwrap_or_else(|| "a callback panicked".into());
-        let mut first = self.first.lock().unwrap_or_else(|e| e.into_inner());
-        first.get_or_insert(text);
-        self.happened.store(true, Ordering::Release);
-    }
-
-    /// The first panic since the last call, if any. One relaxed load when none happened.
-    pub(super) fn take(&self) -> Option<String> {
-        if !self.happened.load(Ordering::Acquire) {
-            return None;
-        }
-        self.happened.store(false, Ordering::Release);
-        self.first.lock().unwrap_or_else(|e| e.into_inner()).take()
-    }
 }
 
 /// What Embree's geometry user pointer points at: the primitives (primID
@@ -151,19 +120,12 @@ pub(super) extern "C" fn bounds_callback<T: UserPrimitive>(
     let args = unsafe { &*args };
     // SAFETY: the user pointer is our UserData<T> (set in `add_user`).
     let (data, prim) = unsafe { primitive::<T>(args.geometryUserPtr, args.primID) };
-    let bounds = match catch_unwind(AssertUnwindSafe(|| prim.map(T::bounds))) {
-        Ok(Some(b)) if !b.is_empty() && b.min.is_finite() && b.max.is_finite() => b,
-        Ok(_) => Bounds {
+    let bounds = match data.panics.guard(None, || prim.map(T::bounds)) {
+        Some(b) if !b.is_empty() && b.min.is_finite() && b.max.is_finite() => b,
+        _ => Bounds {
             min: Vec3::ZERO,
             max: Vec3::ZERO,
         },
-        Err(payload) => {
-            data.panics.record(payload);
-            Bounds {
-                min: Vec3::ZERO,
-                max: Vec3::ZERO,
-            }
-        }
     };
     // SAFETY: bounds_o points at one writable RTCBounds.
     let out = unsafe { &mut *args.bounds_o };
@@ -196,17 +158,9 @@ pub(super) extern "C" fn intersect_callback<T: UserPrimitive>(
         }
         // SAFETY: lane i < N of a live RTCRayHitN.
         let ray = unsafe { rays.ray(i) };
-        let found = match (
-            prim,
-            catch_unwind(AssertUnwindSafe(|| prim.and_then(|p| p.intersect(&ray)))),
-        ) {
-            (Some(_), Ok(hit)) => hit,
-            (_, Err(payload)) => {
-                data.panics.record(payload);
-                None
-            }
-            (None, Ok(_)) => None,
-        };
+        let found = data
+            .panics
+            .guard(None, || prim.and_then(|p| p.intersect(&ray)));
         let hit = found.filter(|h| h.t >= ray.tnear && h.t < ray.tfar && h.t.is_finite());
         let Some(hit) = hit else {
             // Embree 4 asks for 0 on a miss; Embree 3 wants the lane left alone.
@@ -261,14 +215,9 @@ pub(super) extern "C" fn occluded_callback<T: UserPrimitive>(
         }
         // SAFETY: lane i < N of a live RTCRayN.
         let ray = unsafe { rays.ray(i) };
-        let blocked =
-            match catch_unwind(AssertUnwindSafe(|| prim.is_some_and(|p| p.occluded(&ray)))) {
-                Ok(b) => b,
-                Err(payload) => {
-                    data.panics.record(payload);
-                    false
-                }
-            };
+        let blocked = data
+            .panics
+            .guard(false, || prim.is_some_and(|p| p.occluded(&ray)));
         if blocked {
             // SAFETY: lane i < N of a live, writable RTCRayN.
             unsafe { rays.set_f32(TFAR, i, f32::NEG_INFINITY) };

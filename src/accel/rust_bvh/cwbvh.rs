@@ -8,6 +8,12 @@
 //! (the inverse direction and tfar scaled by a power of two, which is exact),
 //! so that cut-off lies at t = 1e-4 / 2^40 ≈ 1e-16 instead. Primitive tests
 //! use the caller's own ray and t.
+//!
+//! The traversal ray's direction is first scaled by a power of two so that
+//! its largest component lies in [1, 2): t' then measures distance, not
+//! multiples of the caller's direction. Without it a direction 1e-30 long
+//! puts its hits at t' = 2^40 · 1e30, beyond f32, and a long one pushes the
+//! cut-off out to real hits.
 
 use std::time::Duration;
 
@@ -19,8 +25,9 @@ use obvhs::cwbvh::builder::build_cwbvh;
 use obvhs::ray::{RayHit, safe_inverse};
 
 use super::primitives::{Closest, Primitives};
-use crate::error::Result;
-use crate::math::{Hit, Ray};
+use crate::accel::panics::PanicSlot;
+use crate::error::{Error, Result};
+use crate::math::{Bounds, Hit, Ray};
 use crate::scene::Scene;
 
 /// 2^40: large enough to push obvhs's cut-off below any t a float scene
@@ -32,13 +39,15 @@ pub struct CwbvhScene {
     bvh: CwBvh,
     /// In the BVH's leaf order: leaf slot i tests primitive i.
     primitives: Primitives,
+    panics: PanicSlot,
 }
 
 impl CwbvhScene {
     pub fn build(scene: &Scene) -> Result<CwbvhScene> {
         let mut primitives = Primitives::from_scene(scene)?;
-        let boxes: Vec<Aabb> = primitives
-            .padded_bounds()
+        let bounds = primitives.padded_bounds();
+        check_size(&bounds)?;
+        let boxes: Vec<Aabb> = bounds
             .iter()
             .map(|b| Aabb::new(b.min.into(), b.max.into()))
             .collect();
@@ -52,38 +61,54 @@ impl CwbvhScene {
             )
         };
         primitives.reorder(&bvh.primitive_indices);
-        Ok(CwbvhScene { bvh, primitives })
+        Ok(CwbvhScene {
+            bvh,
+            primitives,
+            panics: PanicSlot::default(),
+        })
     }
 
+    /// The nearest hit; a panic in the traversal or a primitive is a miss
+    /// and an error at the next `check`.
     pub fn intersect(&self, ray: &Ray) -> Hit {
         if self.primitives.is_empty() {
             return Hit::MISS;
         }
-        let mut closest = Closest::new(ray);
-        self.bvh
-            .ray_traverse(traversal_ray(ray), &mut RayHit::none(), |_, slot| {
-                if closest.test(&self.primitives, slot) {
-                    closest.tfar() * T_SCALE
-                } else {
-                    f32::INFINITY
-                }
-            });
-        closest.hit()
+        self.panics.guard(Hit::MISS, || {
+            let mut closest = Closest::new(ray);
+            let (traversal, k) = traversal_ray(ray);
+            self.bvh
+                .ray_traverse(traversal, &mut RayHit::none(), |_, slot| {
+                    if closest.test(&self.primitives, slot) {
+                        closest.tfar() * k
+                    } else {
+                        f32::INFINITY
+                    }
+                });
+            closest.hit()
+        })
     }
 
-    /// Any hit ends the traversal.
+    /// Any hit ends the traversal. A panic counts as no hit, as in `intersect`.
     pub fn occluded(&self, ray: &Ray) -> bool {
         if self.primitives.is_empty() {
             return false;
         }
-        // ray_traverse_miss stops at the first t below tmax: −∞ for a blocker.
-        !self.bvh.ray_traverse_miss(traversal_ray(ray), |_, slot| {
-            if self.primitives.occludes(slot, ray) {
-                f32::NEG_INFINITY
-            } else {
-                f32::INFINITY
-            }
+        self.panics.guard(false, || {
+            // ray_traverse_miss stops at the first t below tmax: −∞ for a blocker.
+            !self.bvh.ray_traverse_miss(traversal_ray(ray).0, |_, slot| {
+                if self.primitives.occludes(slot, ray) {
+                    f32::NEG_INFINITY
+                } else {
+                    f32::INFINITY
+                }
+            })
         })
+    }
+
+    /// A panic caught in a query since the last check.
+    pub fn check(&self) -> Result<()> {
+        self.panics.check("the obvhs traversal")
     }
 
     /// The nodes (80 bytes each), the leaf-to-primitive indices and the primitives.
@@ -94,18 +119,53 @@ impl CwbvhScene {
     }
 }
 
-/// The ray obvhs traverses, in the stretched parameter t' = T_SCALE·t.
-/// obvhs reads only the signs of `direction` (for the child order), the
-/// origin, the inverse direction and tmax.
-fn traversal_ray(ray: &Ray) -> obvhs::ray::Ray {
+/// Refuses a scene whose SAH costs overflow f32 in obvhs's builder, which
+/// then panics (an index out of bounds) instead of building: a cost is a box's
+/// surface area times a primitive count, summed over the tree. The bound
+/// allows 64 times the root's area times the count, a wide margin over
+/// obvhs's cost constants and sums. Scenes within the loaders' coordinate
+/// limit are far inside it.
+fn check_size(boxes: &[Bounds]) -> Result<()> {
+    let scene = boxes.iter().fold(Bounds::EMPTY, |a, &b| a.union(b));
+    if scene.is_empty() {
+        return Ok(());
+    }
+    let d = scene.diagonal().as_dvec3();
+    let area = d.x * d.y + d.y * d.z + d.z * d.x;
+    let cost = 64.0 * area * boxes.len() as f64;
+    if cost <= f64::from(f32::MAX) {
+        return Ok(());
+    }
+    let largest = scene.min.abs().max(scene.max.abs()).max_element();
+    Err(Error::Input(format!(
+        "the obvhs backend cannot build this scene: with {} primitives reaching a coordinate \
+         of {largest:e}, its float32 costs (box area × primitive count × 64 must stay below \
+         {:e}) overflow; use --backend embree or bvh, or a smaller scene",
+        boxes.len(),
+        f32::MAX
+    )))
+}
+
+/// The ray obvhs traverses, and k: its parameter is t' = k·t. The direction
+/// is scaled by 2^-e, which brings its largest component into [1, 2)
+/// exactly, and t' stretched by T_SCALE: k = T_SCALE · 2^e. obvhs reads only
+/// the signs of `direction` (for the child order), the origin, the inverse
+/// direction and tmax.
+fn traversal_ray(ray: &Ray) -> (obvhs::ray::Ray, f32) {
     // −0 + 0 = +0: obvhs takes the sign from `direction < 0` but the inverse's
     // sign from signum, which disagree on −0 and would flip that axis's slab.
     let dir = Vec3A::from(ray.dir) + Vec3A::ZERO;
-    obvhs::ray::Ray {
+    // The unbiased exponent of the largest component, kept where 2^±e is a normal
+    // f32 (validated rays lie well inside).
+    let e = ((dir.abs().max_element().to_bits() >> 23) as i32 - 127).clamp(-100, 80);
+    let dir = dir * 2f32.powi(-e);
+    let k = T_SCALE * 2f32.powi(e);
+    let traversal = obvhs::ray::Ray {
         origin: ray.origin.into(),
         direction: dir,
         inv_direction: T_SCALE * dir.map(safe_inverse),
-        tmin: ray.tnear * T_SCALE,
-        tmax: ray.tfar * T_SCALE,
-    }
+        tmin: ray.tnear * k,
+        tmax: ray.tfar * k,
+    };
+    (traversal, k)
 }

@@ -12,6 +12,7 @@ use bvh::bounding_hierarchy::{BHShape, BoundingHierarchy};
 use bvh::bvh::{Bvh, BvhNode};
 
 use super::primitives::{Closest, Primitives};
+use crate::accel::panics::PanicSlot;
 use crate::error::Result;
 use crate::math::{Hit, Ray, Vec3, gamma};
 
@@ -43,6 +44,7 @@ pub struct SahScene {
     bvh: Bvh<f32, 3>,
     leaves: Vec<Leaf>,
     primitives: Primitives,
+    panics: PanicSlot,
 }
 
 impl SahScene {
@@ -70,26 +72,38 @@ impl SahScene {
             bvh,
             leaves,
             primitives,
+            panics: PanicSlot::default(),
         })
     }
 
+    /// The nearest hit; a panic in the traversal or a primitive is a miss
+    /// and an error at the next `check`.
     pub fn intersect(&self, ray: &Ray) -> Hit {
-        let segment = Segment::new(ray);
-        let mut closest = Closest::new(ray);
-        for leaf in self.bvh.traverse_iterator(&segment, &self.leaves) {
-            if closest.test(&self.primitives, leaf.primitive as usize) {
-                segment.tfar.set(closest.tfar());
+        self.panics.guard(Hit::MISS, || {
+            let segment = Segment::new(ray);
+            let mut closest = Closest::new(ray);
+            for leaf in self.bvh.traverse_iterator(&segment, &self.leaves) {
+                if closest.test(&self.primitives, leaf.primitive as usize) {
+                    segment.tfar.set(closest.tfar());
+                }
             }
-        }
-        closest.hit()
+            closest.hit()
+        })
     }
 
-    /// Any hit ends the traversal.
+    /// Any hit ends the traversal. A panic counts as no hit, as in `intersect`.
     pub fn occluded(&self, ray: &Ray) -> bool {
-        let segment = Segment::new(ray);
-        self.bvh
-            .traverse_iterator(&segment, &self.leaves)
-            .any(|leaf| self.primitives.occludes(leaf.primitive as usize, ray))
+        self.panics.guard(false, || {
+            let segment = Segment::new(ray);
+            self.bvh
+                .traverse_iterator(&segment, &self.leaves)
+                .any(|leaf| self.primitives.occludes(leaf.primitive as usize, ray))
+        })
+    }
+
+    /// A panic caught in a query since the last check.
+    pub fn check(&self) -> Result<()> {
+        self.panics.check("the bvh traversal")
     }
 
     /// The nodes, the leaf records and the primitives.
