@@ -348,4 +348,50 @@ mod tests {
         still.go_to_frame(7);
         assert_eq!(still, camera());
     }
+
+    #[test]
+    fn a_path_is_checked_between_its_keys_not_only_at_them() {
+        let key = |frame, d: [f32; 3]| CameraKey {
+            frame,
+            eye: Vec3::ZERO,
+            look_at: Vec3::from(d),
+        };
+        let path = |d0, d1| Camera {
+            keys: vec![key(0, d0), key(7, d1)],
+            ..camera()
+        };
+        // Up is +y. Through it halfway, between frames 3 and 4; then past it at
+        // 1e-5 (too close), and at a comfortable 0.45 in sine.
+        for (z, ok) in [(0.0, false), (1e-5, false), (0.5, true)] {
+            let result = path([1.0, 1.0, z], [-1.0, 1.0, z]).check();
+            assert_eq!(result.is_ok(), ok, "z = {z}: {result:?}");
+            if let Err(p) = result {
+                assert_eq!(p.key, "camera.keys[1]");
+                assert!(p.message.contains("camera.up"), "{}", p.message);
+            }
+        }
+        // Eye and look_at swap places: they meet halfway.
+        let swap = Camera {
+            keys: vec![
+                CameraKey {
+                    frame: 0,
+                    eye: Vec3::Z,
+                    look_at: -Vec3::Z,
+                },
+                CameraKey {
+                    frame: 1,
+                    eye: -Vec3::Z,
+                    look_at: Vec3::Z,
+                },
+            ],
+            ..camera()
+        };
+        let p = swap.check().unwrap_err();
+        assert!(p.message.contains("eye and look_at"), "{}", p.message);
+        // Each key on its own, and the still camera, too.
+        let mut still = camera();
+        still.look_at = Vec3::new(0.0, 1.0, 5.0);
+        assert_eq!(still.check().unwrap_err().key, "camera.look_at");
+        assert!(camera().check().is_ok());
+    }
 }
