@@ -155,11 +155,11 @@ fn traversal_ray(ray: &Ray) -> (obvhs::ray::Ray, f32) {
     // −0 + 0 = +0: obvhs takes the sign from `direction < 0` but the inverse's
     // sign from signum, which disagree on −0 and would flip that axis's slab.
     let dir = Vec3A::from(ray.dir) + Vec3A::ZERO;
-    // The unbiased exponent of the largest component, kept where 2^±e is a normal
-    // f32 (validated rays lie well inside).
+    // The unbiased exponent of the largest component, kept where 2^±e and k are
+    // normal f32 (validated rays lie well inside).
     let e = ((dir.abs().max_element().to_bits() >> 23) as i32 - 127).clamp(-100, 80);
-    let dir = dir * 2f32.powi(-e);
-    let k = T_SCALE * 2f32.powi(e);
+    let dir = dir * pow2(-e);
+    let k = T_SCALE * pow2(e);
     let traversal = obvhs::ray::Ray {
         origin: ray.origin.into(),
         direction: dir,
@@ -168,4 +168,9 @@ fn traversal_ray(ray: &Ray) -> (obvhs::ray::Ray, f32) {
         tmax: ray.tfar * k,
     };
     (traversal, k)
+}
+
+/// 2^e, exactly, for e in the normal range [−126, 127]: the bits of its exponent.
+fn pow2(e: i32) -> f32 {
+    f32::from_bits(((e + 127) as u32) << 23)
 }
