@@ -8,7 +8,7 @@
 //! between runs, and its attributes are stored sorted by name (see
 //! `sort_header_attributes` for why this needs doing by hand).
 
-use std::io::Cursor;
+use std::io::{Cursor, Write};
 use std::path::Path;
 
 use exr::prelude::{
@@ -137,7 +137,9 @@ pub fn write_exr(path: &Path, layers: &ImageLayers, attributes: &[(&str, String)
     let mut bytes = buf.into_inner();
     sort_header_attributes(&mut bytes)
         .map_err(|why| Error::Internal(format!("EXR {}: {why}", path.display())))?;
-    std::fs::write(path, bytes).map_err(|e| Error::io(path, e))
+    super::output::write_atomic(path, |w| {
+        w.write_all(&bytes).map_err(|e| Error::io(path, e))
+    })
 }
 
 /// Channels by name, each with its values row-major.

@@ -37,12 +37,21 @@ pub fn write_png_preview(
         .map(|&c| linear_to_srgb8(c))
         .collect();
 
-    let io = |e| Error::io(path, e);
     let png_err = |e: EncodingError| match e {
         EncodingError::IoError(e) => Error::io(path, e),
         other => Error::Internal(format!("PNG {}: {other}", path.display())),
     };
-    let mut encoder = Encoder::new(BufWriter::new(File::create(path).map_err(io)?), w, h);
+    super::output::write_atomic(path, |file| encode(file, w, h, &data).map_err(png_err))
+}
+
+/// Encodes 8-bit sRGB pixels as a PNG into `file`.
+fn encode(
+    file: &mut BufWriter<File>,
+    w: u32,
+    h: u32,
+    data: &[u8],
+) -> std::result::Result<(), EncodingError> {
+    let mut encoder = Encoder::new(file, w, h);
     encoder.set_color(ColorType::Rgb);
     encoder.set_depth(BitDepth::Eight);
     encoder.set_source_srgb(SrgbRenderingIntent::Perceptual);
@@ -68,10 +77,10 @@ pub fn write_png_preview(
             ScaledFloat::from_scaled(6000),
         ),
     });
-    let mut writer = encoder.write_header().map_err(png_err)?;
-    writer.write_image_data(&data).map_err(png_err)?;
+    let mut writer = encoder.write_header()?;
+    writer.write_image_data(data)?;
     // finish() writes IEND and flushes; dropping the writer would hide its errors.
-    writer.finish().map_err(png_err)
+    writer.finish()
 }
 
 /// The sRGB transfer function (IEC 61966-2-1), quantised to 8 bits with
