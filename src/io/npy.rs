@@ -8,7 +8,7 @@
 //! final `\n` so the data starts on a 64-byte boundary, then the raw data.
 
 use std::fs::File;
-use std::io::{BufWriter, Write};
+use std::io::{BufReader, BufWriter, Read, Write};
 use std::path::Path;
 
 use crate::error::{Error, Result};
@@ -35,12 +35,12 @@ const HIT_RECORD_BYTES: usize = 32;
 /// [0, inf]). A tfar below tnear is allowed: the interval is empty and the ray
 /// misses, which is how embreex callers switch rays off.
 pub fn read_rays(path: &Path) -> Result<Vec<Ray>> {
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    let (file, len) = super::input::open_regular(path)?;
     let bad = |msg: String| Error::Input(format!("{}: {msg}", path.display()));
+    let mut reader = BufReader::new(file.take(len));
 
-    let (header, data) = split_header(&bytes).map_err(bad)?;
-    let header = parse_header(header).map_err(bad)?;
-
+    let (header, start) = read_header(&mut reader, len).map_err(bad)?;
+    let header = parse_header(&header).map_err(bad)?;
     let elem = match &header.descr {
         Lit::Str(s) if s == "<f4" => Elem::F32,
         Lit::Str(s) if s == "<f8" => Elem::F64,
@@ -67,76 +67,77 @@ pub fn read_rays(path: &Path) -> Result<Vec<Ray>> {
         }
     };
 
+    // Checked against the file's size before anything is allocated.
     let need = n
         .checked_mul(cols)
         .and_then(|v| v.checked_mul(elem.size()))
+        .and_then(|v| u64::try_from(v).ok())
         .ok_or_else(|| bad(format!("shape ({n}, {cols}) is too large")))?;
-    if data.len() < need {
+    let have = len - start;
+    if have < need {
         return Err(bad(format!(
-            "truncated: shape ({n}, {cols}) needs {need} data bytes, the file has {}",
-            data.len()
+            "truncated: shape ({n}, {cols}) needs {need} data bytes, the file has {have}"
         )));
     }
-    if data.len() > need {
+    if have > need {
         // np.save never leaves trailing bytes, so extra data means the header
         // and the contents disagree; guessing which one is right would hide it.
         return Err(bad(format!(
             "{} bytes after the data of shape ({n}, {cols}); the header does not match the contents",
-            data.len() - need
+            have - need
         )));
     }
-
-    let values: Vec<f32> = match elem {
-        Elem::F32 => data
-            .chunks_exact(4)
-            .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
-            .collect(),
-        Elem::F64 => data
-            .chunks_exact(8)
-            .map(|c| {
-                let mut b = [0u8; 8];
-                b.copy_from_slice(c);
-                f64::from_le_bytes(b) as f32
-            })
-            .collect(),
-    };
     // A float64 value can overflow to inf or underflow to zero in float32:
     // say so, or the message would contradict the numbers the user wrote.
     let as_f32 = if elem == Elem::F64 { " as float32" } else { "" };
 
-    let mut rays = Vec::with_capacity(n);
-    for (i, row) in values.chunks_exact(cols).enumerate() {
-        let origin = Vec3::new(row[0], row[1], row[2]);
-        let dir = Vec3::new(row[3], row[4], row[5]);
-        let (tnear, tfar) = if cols == 8 {
-            (row[6], row[7])
-        } else {
-            (0.0, f32::INFINITY)
-        };
-        let problem = if !origin.is_finite() {
-            Some(format!("origin {origin} is not finite{as_f32}"))
-        } else if !dir.is_finite() {
-            Some(format!("direction {dir} is not finite{as_f32}"))
-        } else if dir == Vec3::ZERO {
-            Some(format!("direction is zero{as_f32}"))
-        } else if tnear.is_nan() || tnear < 0.0 {
-            Some(format!("tnear {tnear} must be a number >= 0"))
-        } else if tfar.is_nan() {
-            Some("tfar is NaN".to_string())
-        } else {
-            None
-        };
-        if let Some(problem) = problem {
-            return Err(bad(format!("ray {i} (0-based row): {problem}")));
+    // Row by row, each checked as it arrives, into a list that grows with
+    // what was read: memory follows the file's real content, and a sparse
+    // hole (zeros: a zero direction) is refused at its first row.
+    let mut rays = Vec::with_capacity(n.min(1 << 16));
+    let mut row = vec![0u8; cols * elem.size()];
+    let mut values = [0.0f32; 8];
+    for i in 0..n {
+        reader
+            .read_exact(&mut row)
+            .map_err(|e| Error::io(path, e))?;
+        for (v, bytes) in values.iter_mut().zip(row.chunks_exact(elem.size())) {
+            *v = elem.decode(bytes);
         }
-        rays.push(Ray {
+        let ray = checked_ray(&values[..cols], as_f32)
+            .map_err(|problem| bad(format!("ray {i} (0-based row): {problem}")))?;
+        rays.push(ray);
+    }
+    Ok(rays)
+}
+
+/// The ray of one row (origin, direction, and tnear, tfar if given), or
+/// what is wrong with it.
+fn checked_ray(row: &[f32], as_f32: &str) -> Result<Ray, String> {
+    let origin = Vec3::new(row[0], row[1], row[2]);
+    let dir = Vec3::new(row[3], row[4], row[5]);
+    let (tnear, tfar) = match row {
+        &[.., tnear, tfar] if row.len() == 8 => (tnear, tfar),
+        _ => (0.0, f32::INFINITY),
+    };
+    if !origin.is_finite() {
+        Err(format!("origin {origin} is not finite{as_f32}"))
+    } else if !dir.is_finite() {
+        Err(format!("direction {dir} is not finite{as_f32}"))
+    } else if dir == Vec3::ZERO {
+        Err(format!("direction is zero{as_f32}"))
+    } else if tnear.is_nan() || tnear < 0.0 {
+        Err(format!("tnear {tnear} must be a number >= 0"))
+    } else if tfar.is_nan() {
+        Err("tfar is NaN".to_string())
+    } else {
+        Ok(Ray {
             origin,
             dir,
             tnear,
             tfar,
-        });
+        })
     }
-    Ok(rays)
 }
 
 /// Writes rays as a (N, 8) little-endian float32 array: origin, direction,
@@ -218,22 +219,32 @@ impl Elem {
             Elem::F64 => 8,
         }
     }
+
+    /// One little-endian value of `size()` bytes, as f32.
+    fn decode(self, bytes: &[u8]) -> f32 {
+        match self {
+            Elem::F32 => f32::from_le_bytes([bytes[0], bytes[1], bytes[2], bytes[3]]),
+            Elem::F64 => {
+                let mut b = [0u8; 8];
+                b.copy_from_slice(bytes);
+                f64::from_le_bytes(b) as f32
+            }
+        }
+    }
 }
 
-/// Streams a file through a buffer, so a large hit array is never held twice.
+/// Streams a file through a buffer, so a large hit array is never held
+/// twice, and writes it atomically.
 fn write_file(
     path: &Path,
     header: &[u8],
     body: impl FnOnce(&mut BufWriter<File>) -> std::io::Result<()>,
 ) -> Result<()> {
-    let io = |e| Error::io(path, e);
-    let mut w = BufWriter::new(File::create(path).map_err(io)?);
-    w.write_all(header).map_err(io)?;
-    body(&mut w).map_err(io)?;
-    // Dropping a BufWriter swallows the error of its last write; a full disk
-    // must fail the command, not leave a short file behind silently.
-    w.into_inner().map_err(|e| io(e.into_error()))?;
-    Ok(())
+    super::output::write_atomic(path, |w| {
+        w.write_all(header)
+            .and_then(|()| body(w))
+            .map_err(|e| Error::io(path, e))
+    })
 }
 
 /// Magic, version, length and the padded header dict, in NumPy's own layout
@@ -266,38 +277,60 @@ fn header_bytes(descr: &str, shape: &str) -> Vec<u8> {
     out
 }
 
-/// Splits a file into its header dict text and its data bytes.
-fn split_header(bytes: &[u8]) -> Result<(&str, &[u8]), String> {
-    if bytes.len() < 8 || &bytes[..6] != MAGIC {
-        return Err("not a NumPy .npy file (expected the magic \\x93NUMPY at the start)".into());
+/// np.load refuses longer headers by default (its `max_header_size`), so
+/// every file NumPy reads fits; it bounds what a hostile length makes us read.
+const MAX_HEADER: u64 = 10_000;
+
+/// Reads the magic, version and header dict of a .npy file of `len` bytes;
+/// returns the dict's text and the offset where the data starts.
+fn read_header(r: &mut impl Read, len: u64) -> Result<(String, u64), String> {
+    let failed = |e: std::io::Error| format!("cannot read the header: {e}");
+    let mut prefix = [0u8; 8];
+    if len < 8 {
+        return Err(NOT_NPY.into());
     }
-    let (major, minor) = (bytes[6], bytes[7]);
-    let (len, start): (usize, usize) = match major {
-        1 => {
-            let b = bytes.get(8..10).ok_or("truncated header")?;
-            (usize::from(u16::from_le_bytes([b[0], b[1]])), 10)
-        }
+    r.read_exact(&mut prefix).map_err(failed)?;
+    if &prefix[..6] != MAGIC {
+        return Err(NOT_NPY.into());
+    }
+    let (major, minor) = (prefix[6], prefix[7]);
+    // The header's length is a u16 in version 1, a u32 in 2 and 3.
+    let width = match major {
+        1 => 2,
         // Version 3 differs from 2 only in allowing UTF-8 in the header,
         // which a valid rays header never needs; accept it all the same.
-        2 | 3 => {
-            let b = bytes.get(8..12).ok_or("truncated header")?;
-            let len = u32::from_le_bytes([b[0], b[1], b[2], b[3]]);
-            (usize::try_from(len).map_err(|_| "header too long")?, 12)
-        }
+        2 | 3 => 4,
         _ => {
             return Err(format!(
                 ".npy format version {major}.{minor} is not supported (expected 1.0, 2.0 or 3.0)"
             ));
         }
     };
-    let end = start
-        .checked_add(len)
-        .filter(|&end| end <= bytes.len())
-        .ok_or_else(|| format!("truncated: the header claims {len} bytes, the file is shorter"))?;
-    let text = std::str::from_utf8(&bytes[start..end])
+    let start = 8 + width as u64;
+    if len < start {
+        return Err("truncated header".into());
+    }
+    let mut size = [0u8; 4];
+    r.read_exact(&mut size[..width]).map_err(failed)?;
+    let size = u64::from(u32::from_le_bytes(size));
+    if start + size > len {
+        return Err(format!(
+            "truncated: the header claims {size} bytes, the file is shorter"
+        ));
+    }
+    if size > MAX_HEADER {
+        return Err(format!(
+            "the header claims {size} bytes; NumPy reads at most {MAX_HEADER}"
+        ));
+    }
+    let mut text = vec![0u8; size as usize];
+    r.read_exact(&mut text).map_err(failed)?;
+    let text = String::from_utf8(text)
         .map_err(|_| "the header is not text (expected a Python dict literal)".to_string())?;
-    Ok((text, &bytes[end..]))
+    Ok((text, start + size))
 }
+
+const NOT_NPY: &str = "not a NumPy .npy file (expected the magic \\x93NUMPY at the start)";
 
 /// The three keys of a .npy header.
 #[derive(Debug, PartialEq)]
@@ -645,6 +678,12 @@ mod tests {
         out
     }
 
+    /// A whole file's parsed header and its data bytes.
+    fn split(bytes: &[u8]) -> (Header, &[u8]) {
+        let (text, start) = read_header(&mut &bytes[..], bytes.len() as u64).unwrap();
+        (parse_header(&text).unwrap(), &bytes[start as usize..])
+    }
+
     fn f4(values: &[f32]) -> Vec<u8> {
         values.iter().flat_map(|v| v.to_le_bytes()).collect()
     }
@@ -747,12 +786,10 @@ mod tests {
         std::fs::remove_file(&p).unwrap();
         std::fs::remove_file(&t).unwrap();
 
-        let (text, data) = split_header(&p_bytes).unwrap();
-        let h = parse_header(text).unwrap();
+        let (h, data) = split(&p_bytes);
         assert_eq!((h.descr, h.shape), (Lit::Str("<f4".into()), vec![2, 3]));
         assert_eq!(data, f4(&[0., 1., 2., -3., 4.5, 6.]));
-        let (text, data) = split_header(&t_bytes).unwrap();
-        let h = parse_header(text).unwrap();
+        let (h, data) = split(&t_bytes);
         assert_eq!((h.descr, h.shape), (Lit::Str("<u4".into()), vec![2, 3]));
         let indices: Vec<u8> = triangles
             .iter()
@@ -815,8 +852,7 @@ mod tests {
         assert_eq!(&bytes[data_start..], &expect[..]);
 
         // The header parses back with our own reader's parser.
-        let (text, data) = split_header(&bytes).unwrap();
-        let h = parse_header(text).unwrap();
+        let (h, data) = split(&bytes);
         assert_eq!(h.shape, vec![2]);
         assert!(!h.fortran_order);
         assert_eq!(data.len(), 64);
