@@ -6,13 +6,14 @@
 
 use std::path::{Path, PathBuf};
 
+use super::passes::passes;
 use super::{RenderOptions, RenderOutput, render};
-use crate::accel::Accel;
+use crate::accel::{Accel, Backend};
 use crate::error::{Error, Result};
 use crate::film::{Film, Region};
-use crate::io::state::{StateHeader, read_state, write_state};
+use crate::io::state::{StateFile, StateHeader, write_state};
 use crate::io::{exr, png};
-use crate::scene::Scene;
+use crate::scene::{Adaptive, Scene};
 
 /// Which part of the image a command renders.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -62,6 +63,35 @@ pub fn state_path(output: &Path) -> PathBuf {
     output.with_extension("state")
 }
 
+/// The PNG preview beside an output EXR: `out.exr` → `out.png`.
+pub fn preview_path(output: &Path) -> PathBuf {
+    output.with_extension("png")
+}
+
+/// A render as a command asks for it.
+pub struct Job<'a> {
+    pub scene: &'a Scene,
+    pub accel: &'a Accel,
+    /// The backend `accel` was built with, recorded in the film state.
+    pub backend: Backend,
+    pub part: Part,
+    pub frame: u32,
+    /// Continue from the film state beside `output`.
+    pub resume: bool,
+    /// The EXR to write.
+    pub output: &'a Path,
+}
+
+/// A finished (or interrupted) render, not yet written.
+pub struct Rendered<'a> {
+    pub output: RenderOutput,
+    header: StateHeader,
+    /// Where its files go.
+    path: &'a Path,
+    /// Whether it needs a film state (pieces, resumed and interrupted renders).
+    keep_state: bool,
+}
+
 /// What a render command wrote.
 pub struct Written {
     pub output: RenderOutput,
@@ -71,72 +101,107 @@ pub struct Written {
     pub state: Option<PathBuf>,
 }
 
-/// Renders `part` of the scene into `output` (.exr), resuming from the state
-/// beside it when `resume` is set. `options.region` and `options.resume` are
-/// filled in here.
-pub fn run(
-    scene: &Scene,
-    accel: &Accel,
-    part: Part,
-    frame: u32,
-    resume: bool,
-    output: &Path,
-    mut options: RenderOptions,
-) -> Result<Written> {
-    let (width, height) = (scene.camera.width as usize, scene.camera.height as usize);
-    let region = part.region(width, height)?;
-    let spp = options.spp.unwrap_or(scene.render.spp);
-    let header = StateHeader {
-        width,
-        height,
-        region,
-        spp,
-        samples_done: 0,
-        seed: scene.render.seed,
-        scene_hash: scene.content_hash(),
-        frame,
-    };
-    let state = state_path(output);
-    if resume {
-        let (saved, film) = read_state(&state)?;
-        let done = saved.samples_done;
-        let expected = StateHeader {
-            samples_done: done,
-            ..header.clone()
+impl<'a> Job<'a> {
+    /// Renders the job's part of the scene, resuming from the state beside
+    /// the output when asked. `options.region` and `options.resume` are
+    /// filled in here.
+    pub fn render(&self, mut options: RenderOptions) -> Result<Rendered<'a>> {
+        let scene = self.scene;
+        let (width, height) = (scene.camera.width as usize, scene.camera.height as usize);
+        let region = self.part.region(width, height)?;
+        let spp = options.spp.unwrap_or(scene.render.spp);
+        let header = StateHeader {
+            width,
+            height,
+            region,
+            spp,
+            target: scene
+                .render
+                .adaptive
+                .as_ref()
+                .map_or(spp, |a| a.max_spp.max(spp)),
+            samples_done: 0,
+            seed: scene.render.seed,
+            scene_hash: scene.content_hash(),
+            frame: self.frame,
+            backend: self.backend.name().into(),
         };
-        if saved != expected {
-            return Err(Error::Input(format!(
-                "--resume: {} is from another render (it holds {}; this render is {})",
-                state.display(),
-                describe(&saved),
-                describe(&expected)
-            )));
+        if self.resume {
+            let adaptive = scene.render.adaptive.as_ref();
+            options.resume = Some(resume_from(&state_path(self.output), &header, adaptive)?);
         }
-        options.resume = Some((film, done));
+        options.region = Some(region);
+        let out = render(scene, self.accel, &options)?;
+        Ok(Rendered {
+            header: StateHeader {
+                samples_done: out.samples_done,
+                ..header
+            },
+            keep_state: self.part != Part::Whole || !out.complete || self.resume,
+            output: out,
+            path: self.output,
+        })
     }
-    options.region = Some(region);
-    let out = render(scene, accel, &options)?;
-    let header = StateHeader {
-        samples_done: out.samples_done,
-        ..header
+}
+
+impl Rendered<'_> {
+    /// Writes the EXR, its preview and, when needed, the film state.
+    pub fn write(self) -> Result<Written> {
+        let preview = write_image(self.path, &self.output.film, &self.header)?;
+        let state = self.keep_state.then(|| state_path(self.path));
+        if let Some(path) = &state {
+            write_state(path, &self.header, &self.output.film)?;
+        }
+        Ok(Written {
+            output: self.output,
+            spp: self.header.spp,
+            preview,
+            state,
+        })
+    }
+}
+
+/// The film and samples of the state at `path`, which must be from the
+/// render `header` describes (but for its samples); checked by its header
+/// before its pixels are read.
+fn resume_from(
+    path: &Path,
+    header: &StateHeader,
+    adaptive: Option<&Adaptive>,
+) -> Result<(Film, u32)> {
+    let file = StateFile::open(path)?;
+    let saved = &file.header;
+    let expected = StateHeader {
+        samples_done: saved.samples_done,
+        ..header.clone()
     };
-    let preview = write_image(output, &out.film, &header)?;
-    let state = (part != Part::Whole || !out.complete || resume).then_some(state);
-    if let Some(path) = &state {
-        write_state(path, &header, &out.film)?;
+    if *saved != expected {
+        return Err(Error::Input(format!(
+            "--resume: {} is from another render (it holds {}; this render is {})",
+            path.display(),
+            describe(saved),
+            describe(&expected)
+        )));
     }
-    Ok(Written {
-        output: out,
-        spp,
-        preview,
-        state,
-    })
+    // A render stops only where a pass ends: resuming from anywhere else
+    // would skip samples.
+    let done = saved.samples_done;
+    if !passes(header.spp, adaptive, 0)
+        .iter()
+        .any(|r| r.end == done)
+    {
+        return Err(Error::Input(format!(
+            "{}: damaged film state: samples_done {done} is not where a pass of this render ends",
+            path.display()
+        )));
+    }
+    Ok((file.read_film()?, done))
 }
 
 fn describe(h: &StateHeader) -> String {
     let r = h.region;
     format!(
-        "{}x{} region [{}, {}) x [{}, {}), {} spp, seed {}, frame {}, scene {}",
+        "{}x{} region [{}, {}) x [{}, {}), {} spp ({} at most), seed {}, frame {}, backend {}, scene {}",
         h.width,
         h.height,
         r.x0,
@@ -144,8 +209,11 @@ fn describe(h: &StateHeader) -> String {
         r.y0,
         r.y1,
         h.spp,
+        h.target,
         h.seed,
         h.frame,
+        h.backend,
+        // Checked hexadecimal when read, so any length slices on a character.
         &h.scene_hash[..h.scene_hash.len().min(12)]
     )
 }
@@ -177,7 +245,7 @@ pub fn write_image(output: &Path, film: &Film, header: &StateHeader) -> Result<P
         ),
     ];
     exr::write_exr(output, &image, &attributes)?;
-    let preview = output.with_extension("png");
+    let preview = preview_path(output);
     png::write_png_preview(&preview, r.width(), r.height(), &layers.beauty)?;
     Ok(preview)
 }

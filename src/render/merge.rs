@@ -11,30 +11,33 @@ use std::path::{Path, PathBuf};
 use super::job::{state_path, write_image};
 use crate::error::{Error, Result};
 use crate::film::{Film, Region};
-use crate::io::state::{StateHeader, read_state};
+use crate::io::state::{StateFile, StateHeader};
 
 /// Merges `parts` into `output`; returns a one-line summary.
 pub fn merge(output: &Path, parts: &[PathBuf]) -> Result<String> {
     let mut pieces = Vec::with_capacity(parts.len());
     for part in parts {
         let state = state_path(part);
-        if !state.is_file() {
+        // Anything else there (a FIFO, a device) is refused by opening it.
+        if !state.exists() {
             return Err(Error::Input(format!(
                 "{}: no film state {} beside it (render pieces with --tile or --crop)",
                 part.display(),
                 state.display()
             )));
         }
-        let (header, film) = read_state(&state)?;
-        if header.samples_done < header.spp {
+        // Refused by its header before its pixels are read.
+        let file = StateFile::open(&state)?;
+        let header = file.header.clone();
+        if !header.complete() {
             return Err(Error::Input(format!(
                 "{}: incomplete, {} of {} samples per pixel (finish it with --resume)",
                 part.display(),
                 header.samples_done,
-                header.spp
+                header.target
             )));
         }
-        pieces.push((part, header, film));
+        pieces.push((part, header, file.read_film()?));
     }
     let (first, head, _) = &pieces[0];
     for (part, h, _) in &pieces[1..] {
@@ -44,6 +47,10 @@ pub fn merge(output: &Path, parts: &[PathBuf]) -> Result<String> {
             Some("another scene (its scene hash differs)".into())
         } else if h.frame != head.frame {
             Some(format!("frame {}", h.frame))
+        } else if h.backend != head.backend {
+            // Backends agree only to rounding: the result would be no
+            // backend's image.
+            Some(format!("backend {}", h.backend))
         } else {
             None
         };
@@ -105,6 +112,21 @@ pub fn merge(output: &Path, parts: &[PathBuf]) -> Result<String> {
         )));
     }
 
+    // Parts of a region add their samples: no more than a u32 counts. A
+    // part's spp, samples_done and pixel counts are at most its target, so
+    // their sums fit too.
+    for (_, members) in &regions {
+        members
+            .iter()
+            .try_fold(0u32, |sum, &i| sum.checked_add(pieces[i].1.target))
+            .ok_or_else(|| {
+                Error::Input(format!(
+                    "the parts of the region of {} add up to more than {} samples per pixel",
+                    name(members[0]),
+                    u32::MAX
+                ))
+            })?;
+    }
     let mut whole = Film::new(head.width, head.height);
     for (region, members) in &regions {
         for y in region.y0..region.y1 {
@@ -118,11 +140,16 @@ pub fn merge(output: &Path, parts: &[PathBuf]) -> Result<String> {
     }
     // The header of the first region's pieces: spp adds up within a region.
     let (_, members) = &regions[0];
-    let spp = members.iter().map(|&i| pieces[i].1.spp).sum();
-    let samples_done = members.iter().map(|&i| pieces[i].1.samples_done).sum();
+    let total = |field: fn(&StateHeader) -> u32| members.iter().map(|&i| field(&pieces[i].1)).sum();
+    let (spp, samples_done, target) = (
+        total(|h| h.spp),
+        total(|h| h.samples_done),
+        total(|h| h.target),
+    );
     let header = StateHeader {
         region: Region::whole(head.width, head.height),
         spp,
+        target,
         samples_done,
         ..pieces[members[0]].1.clone()
     };
