@@ -1,20 +1,22 @@
 //! The sturmray command line. Exit codes: 0 success, 2 bad input or usage,
 //! 1 an internal error.
 
+use std::fmt::Write as _;
+use std::io::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
 
 use anyhow::Context;
 use clap::{Parser, Subcommand, ValueEnum};
 
-use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
 use sturmray::accel::{Accel, Backend};
 use sturmray::error::Error;
-use sturmray::io;
-
 use sturmray::film::Region;
-use sturmray::render::job::{self, Part};
+use sturmray::io;
+use sturmray::io::output::{Role, check_distinct, prepare, write_atomic};
+use sturmray::render::job::{Job, Part, preview_path, state_path};
 use sturmray::render::{RayKind, RenderOptions, merge};
 use sturmray::report::bench;
 use sturmray::scene::Scene;
@@ -241,7 +243,7 @@ fn main() -> ExitCode {
                     message += &text;
                 }
             }
-            eprintln!("sturmray: {message}");
+            note(format_args!("sturmray: {message}"));
             let bad_input = err.chain().any(|cause| {
                 cause
                     .downcast_ref::<Error>()
@@ -264,34 +266,92 @@ impl std::fmt::Display for Interrupted {
 
 impl std::error::Error for Interrupted {}
 
-/// Creates the parent folder of an output file, so `out/` need not exist, and
-/// makes sure the file can be written before any work is done, so a long
-/// render is not lost at the end: an existing file is opened for writing
-/// (not truncated), a new one is created and removed again.
-fn prepare_output(path: &Path) -> Result<(), Error> {
-    if let Some(dir) = path.parent()
-        && !dir.as_os_str().is_empty()
-    {
-        std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+/// Says something on stderr. A closed stderr is no reason to fail (or,
+/// as `eprintln!` would, panic): the command's work is done all the same.
+fn note(args: std::fmt::Arguments) {
+    let _ = writeln!(std::io::stderr(), "{args}");
+}
+
+/// Writes a command's report to stdout. A reader that stops early (`|
+/// head`) is no error: the rest is simply not wanted.
+fn print(text: &str) -> Result<(), Error> {
+    let mut out = std::io::stdout().lock();
+    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
+            Err(Error::io("standard output", e))
+        }
+        _ => Ok(()),
     }
-    let existed = path.exists();
-    std::fs::OpenOptions::new()
-        .write(true)
-        .create(true)
-        .truncate(false)
-        .open(path)
-        .map_err(|e| Error::io(path, e))?;
-    if !existed {
-        std::fs::remove_file(path).map_err(|e| Error::io(path, e))?;
+}
+
+/// SIGINT and SIGTERM during a render. The first stops the render after its
+/// current pass, so the work so far is written; a second ends the process at
+/// once, but never in the middle of writing: it waits for the files being
+/// written, so none is lost or torn.
+struct Signals {
+    interrupt: Arc<AtomicBool>,
+    /// Set by a second signal.
+    again: Arc<AtomicBool>,
+    writing: Arc<Mutex<()>>,
+}
+
+impl Signals {
+    fn catch() -> Result<Signals, Error> {
+        let interrupt = Arc::new(AtomicBool::new(false));
+        let again = Arc::new(AtomicBool::new(false));
+        let writing = Arc::new(Mutex::new(()));
+        let (first, second, lock) = (interrupt.clone(), again.clone(), writing.clone());
+        // ctrlc runs this on a thread of its own, so it may wait on a lock.
+        ctrlc::set_handler(move || {
+            if first.swap(true, Ordering::SeqCst) {
+                // Recorded before waiting, so the writer sees it when done.
+                second.store(true, Ordering::SeqCst);
+                let _writes_done = lock.lock();
+                std::process::exit(130);
+            }
+            note(format_args!(
+                "\ninterrupted: finishing this pass, then writing the image so far"
+            ));
+        })
+        .map_err(|e| Error::Internal(format!("cannot catch signals: {e}")))?;
+        Ok(Signals {
+            interrupt,
+            again,
+            writing,
+        })
     }
-    Ok(())
+
+    /// Held while files are written: a second signal waits for it.
+    fn writing(&self) -> MutexGuard<'_, ()> {
+        self.writing.lock().unwrap_or_else(PoisonError::into_inner)
+    }
+
+    /// Whether a second signal came (while writing, it waits to end the
+    /// process: ask before letting go of [`Signals::writing`]).
+    fn twice(&self) -> bool {
+        self.again.load(Ordering::SeqCst)
+    }
+}
+
+/// Refuses outputs that would replace an input or each other, then makes
+/// sure each can be written (see [`prepare`]), before any work is done.
+fn check_outputs(inputs: &[Role], outputs: &[Role]) -> Result<(), Error> {
+    check_distinct(inputs, outputs)?;
+    outputs.iter().try_for_each(|o| prepare(o.path))
+}
+
+/// Writes a text output (JSON) atomically.
+fn write_text(path: &Path, text: &str) -> Result<(), Error> {
+    write_atomic(path, |w| {
+        w.write_all(text.as_bytes()).map_err(|e| Error::io(path, e))
+    })
 }
 
 /// Loads a scene and prints its warnings, once per command.
 fn load(path: &Path) -> Result<Scene, Error> {
     let scene = Scene::load(path)?;
     for warning in &scene.warnings {
-        eprintln!("sturmray: warning: {warning}");
+        note(format_args!("sturmray: warning: {warning}"));
     }
     Ok(scene)
 }
@@ -313,30 +373,25 @@ fn run(command: Command) -> anyhow::Result<()> {
             resume,
         } => {
             // Caught from the start: the first signal stops the render after its
-            // current pass (its first, if the signal comes while loading); a
-            // second one ends the process at once.
-            let interrupt = Arc::new(AtomicBool::new(false));
-            let flag = interrupt.clone();
-            ctrlc::set_handler(move || {
-                if flag.swap(true, Ordering::Relaxed) {
-                    std::process::exit(130);
-                }
-                eprintln!("\ninterrupted: finishing this pass, then writing the image so far");
-            })
-            .map_err(|e| Error::Internal(format!("cannot catch signals: {e}")))?;
-            let mut scene = load(&scene)?;
+            // current pass (its first, if the signal comes while loading).
+            let signals = Signals::catch()?;
+            let scene_path = scene;
+            let mut scene = load(&scene_path)?;
             if let Some(count) = photons {
                 scene.render.photons.count = count;
             }
             scene.camera.go_to_frame(frame);
             let output = output.unwrap_or_else(|| PathBuf::from(format!("out/{}.exr", scene.name)));
-            let preview = output.with_extension("png");
-            for path in [Some(&output), Some(&preview), stats.as_ref()]
-                .into_iter()
-                .flatten()
-            {
-                prepare_output(path)?;
-            }
+            let (preview, state) = (preview_path(&output), state_path(&output));
+            // The state is written by pieces and interrupted renders, so it is
+            // always reserved; with --resume it is read first, then replaced.
+            let mut outputs = vec![
+                Role::new("the image", &output),
+                Role::new("its PNG preview", &preview),
+                Role::new("its film state", &state),
+            ];
+            outputs.extend(stats.as_deref().map(|p| Role::new("--stats", p)));
+            check_outputs(&[Role::new("the scene", &scene_path)], &outputs)?;
             let threads = threads.map(|n| n as usize);
             let accel = Accel::build(&scene, backend.into(), threads)?;
             let options = RenderOptions {
@@ -344,15 +399,25 @@ fn run(command: Command) -> anyhow::Result<()> {
                 spp,
                 progress: true,
                 all_effects,
-                interrupt: Some(interrupt),
+                interrupt: Some(signals.interrupt.clone()),
                 ..RenderOptions::default()
             };
-            let part = match (tile, crop) {
-                (Some((index, count)), _) => Part::Tile { index, count },
-                (None, Some(region)) => Part::Crop(region),
-                (None, None) => Part::Whole,
+            let job = Job {
+                scene: &scene,
+                accel: &accel,
+                backend: backend.into(),
+                part: match (tile, crop) {
+                    (Some((index, count)), _) => Part::Tile { index, count },
+                    (None, Some(region)) => Part::Crop(region),
+                    (None, None) => Part::Whole,
+                },
+                frame,
+                resume,
+                output: &output,
             };
-            let written = job::run(&scene, &accel, part, frame, resume, &output, options)?;
+            let rendered = job.render(options)?;
+            let writing = signals.writing();
+            let written = rendered.write()?;
             let result = &written.output;
             let r = result.film.region;
             if let Some(path) = stats {
@@ -364,19 +429,21 @@ fn run(command: Command) -> anyhow::Result<()> {
                     "spp": written.spp,
                     "nonfinite_samples": result.nonfinite,
                 });
-                std::fs::write(&path, format!("{json:#}\n")).map_err(|e| Error::io(&path, e))?;
+                write_text(&path, &format!("{json:#}\n"))?;
             }
+            let stop = !result.complete || signals.twice();
+            drop(writing);
             if result.nonfinite > 0 {
-                eprintln!(
+                note(format_args!(
                     "warning: {} samples had NaN or infinite radiance and were counted as black",
                     result.nonfinite
-                );
+                ));
             }
             let state = written
                 .state
                 .as_ref()
                 .map_or(String::new(), |p| format!(", film state {}", p.display()));
-            eprintln!(
+            note(format_args!(
                 "wrote {} and {}{state} ({}x{}, {} of {} spp, {:.2} s, {:.2} Mrays/s)",
                 output.display(),
                 written.preview.display(),
@@ -386,17 +453,34 @@ fn run(command: Command) -> anyhow::Result<()> {
                 written.spp,
                 result.seconds,
                 result.stats.total() as f64 / result.seconds / 1e6
-            );
+            ));
             if !result.complete {
-                eprintln!("interrupted: continue with the same command and --resume");
+                note(format_args!(
+                    "interrupted: continue with the same command and --resume"
+                ));
+            }
+            if stop {
                 return Err(Interrupted.into());
             }
             Ok(())
         }
         Command::Merge { output, parts } => {
-            prepare_output(&output)?;
+            let states: Vec<PathBuf> = parts.iter().map(|p| state_path(p)).collect();
+            let inputs: Vec<Role> = parts
+                .iter()
+                .map(|p| Role::new("the part", p))
+                .chain(states.iter().map(|s| Role::new("the part's film state", s)))
+                .collect();
+            let preview = preview_path(&output);
+            check_outputs(
+                &inputs,
+                &[
+                    Role::new("the image", &output),
+                    Role::new("its PNG preview", &preview),
+                ],
+            )?;
             let summary = merge::merge(&output, &parts)?;
-            eprintln!("wrote {}: {summary}", output.display());
+            note(format_args!("wrote {}: {summary}", output.display()));
             Ok(())
         }
         Command::Info {
@@ -405,7 +489,7 @@ fn run(command: Command) -> anyhow::Result<()> {
         } => {
             let scene = load(&path)?;
             let accel = Accel::build(&scene, backend.into(), None)?;
-            print!("{}", sturmray::report::info::describe(&scene, &accel));
+            print(&sturmray::report::info::describe(&scene, &accel))?;
             Ok(())
         }
         Command::Explain {
@@ -421,8 +505,8 @@ fn run(command: Command) -> anyhow::Result<()> {
             let accel = Accel::build(&scene, backend.into(), None)?;
             let (result, tree) =
                 sturmray::render::explain(&scene, &accel, pixel, sample, all_effects)?;
-            println!(
-                "pixel {},{} sample {sample}: radiance {}",
+            let mut text = format!(
+                "pixel {},{} sample {sample}: radiance {}\n",
                 pixel.0,
                 pixel.1,
                 triple(result.radiance.to_array())
@@ -431,7 +515,9 @@ fn run(command: Command) -> anyhow::Result<()> {
                 // Shadow rays belong to the hit they leave from: one level deeper.
                 let level = node.depth as usize + usize::from(node.kind == RayKind::Shadow);
                 let kind = format!("{:?}", node.kind).to_lowercase();
-                println!(
+                // Writing to a String cannot fail.
+                let _ = writeln!(
+                    text,
                     "{:indent$}{kind:<10} t={:<10.6} {} {} weight {} radiance {}",
                     "",
                     node.t,
@@ -443,6 +529,7 @@ fn run(command: Command) -> anyhow::Result<()> {
                     indent = 2 * level
                 );
             }
+            print(&text)?;
             Ok(())
         }
         Command::Trace {
@@ -451,9 +538,12 @@ fn run(command: Command) -> anyhow::Result<()> {
             out,
             backend,
         } => {
+            check_outputs(
+                &[Role::new("the scene", &scene), Role::new("--rays", &rays)],
+                &[Role::new("--out", &out)],
+            )?;
             let scene = load(&scene)?;
             let rays = io::npy::read_rays(&rays)?;
-            prepare_output(&out)?;
             let accel = Accel::build(&scene, backend.into(), None)?;
             let hits = sturmray::render::trace_all(&accel, &rays, None)?;
             io::npy::write_hits(&out, &hits)?;
@@ -478,6 +568,10 @@ fn run(command: Command) -> anyhow::Result<()> {
             backends,
             c_harness,
         } => {
+            if let Some(path) = &json {
+                let inputs: Vec<Role> = scenes.iter().map(|s| Role::new("--scene", s)).collect();
+                check_outputs(&inputs, &[Role::new("--json", path)])?;
+            }
             let options = bench::Options {
                 quick,
                 scenes,
@@ -489,13 +583,10 @@ fn run(command: Command) -> anyhow::Result<()> {
                     .context("benchmark failed");
             }
             let records = bench::run(&options).context("benchmark failed")?;
-            print!("{}", bench::table(&records));
-            print!("{}", bench::incoherent_ratios(&records));
             if let Some(path) = json {
-                prepare_output(&path)?;
-                let text = serde_json::to_string_pretty(&records)?;
-                std::fs::write(&path, text + "\n").map_err(|e| Error::io(&path, e))?;
+                write_text(&path, &(serde_json::to_string_pretty(&records)? + "\n"))?;
             }
+            print(&(bench::table(&records) + &bench::incoherent_ratios(&records)))?;
             Ok(())
         }
         Command::Accuracy { quick, json, plot } => {

@@ -88,8 +88,13 @@ pub fn prepare(path: &Path) -> Result<()> {
     if let Ok(meta) = std::fs::metadata(path)
         && !meta.is_file()
     {
+        let what = if meta.is_dir() {
+            "a directory"
+        } else {
+            "a device, FIFO or socket"
+        };
         return Err(Error::Input(format!(
-            "{}: an output must be a regular file, and this is not one",
+            "{}: is {what}; sturmray writes its outputs only as regular files",
             path.display()
         )));
     }
