@@ -329,15 +329,21 @@ fn a_damaged_or_foreign_film_state_is_refused() {
     ok(&dir, &["render", "s.toml", "--tile", "0/2", "-o", "t0.exr"]);
     ok(&dir, &["render", "s.toml", "--tile", "1/2", "-o", "t1.exr"]);
     let good = std::fs::read(dir.join("t0.state")).unwrap();
-    let damaged = |bytes: Vec<u8>, needles: &[&str]| {
+    // Refused by merge and by --resume, both with `needles`, or for
+    // --resume the file and `resume` instead when given.
+    let damaged = |bytes: Vec<u8>, needles: &[&str], resume: &[&str]| {
         std::fs::write(dir.join("t0.state"), &bytes).unwrap();
         refused(&dir, &["merge", "m.exr", "t0.exr", "t1.exr"], needles);
+        let resume = match resume {
+            [] => needles.to_vec(),
+            more => [&needles[..1], more].concat(),
+        };
         refused(
             &dir,
             &[
                 "render", "s.toml", "--tile", "0/2", "-o", "t0.exr", "--resume",
             ],
-            needles,
+            &resume,
         );
         assert_eq!(std::fs::read(dir.join("t0.state")).unwrap(), bytes);
         assert!(!dir.join("m.exr").exists());
@@ -346,45 +352,49 @@ fn a_damaged_or_foreign_film_state_is_refused() {
     for at in [good.len() / 2, good.len() - 100] {
         let mut bytes = good.clone();
         bytes[at] ^= 0x10;
-        damaged(bytes, &["t0.state", "damaged"]);
+        damaged(bytes, &["t0.state", "damaged"], &[]);
     }
     // A state of the old format.
     let mut old = good.clone();
     old[20] = b'1';
-    damaged(old, &["t0.state", "format 1"]);
+    damaged(old, &["t0.state", "format 1"], &[]);
 
     let t0 = dir.join("t0.state");
     let copy = dir.join("good.state");
     std::fs::write(&copy, &good).unwrap();
-    let crafted: Vec<(
-        Box<dyn FnOnce(&mut StateHeader, &mut sturmray::film::Film)>,
-        &[&str],
-    )> = vec![
+    type Edit = Box<dyn FnOnce(&mut StateHeader, &mut sturmray::film::Film)>;
+    let crafted: Vec<(Edit, &[&str], &[&str])> = vec![
         (
             Box::new(|_, f| f.pixels[5].radiance[0] = f64::NAN),
             &["t0.state", "pixel (5, 0)", "NaN"],
+            &[],
         ),
         (
             Box::new(|_, f| f.pixels[7].weight = f64::INFINITY),
             &["t0.state", "pixel (7, 0)"],
+            &[],
         ),
         (
             Box::new(|h, _| h.samples_done = h.spp + 1),
             &["t0.state", "samples_done 2"],
+            &[],
         ),
+        // Sums with samples_done 0: merge finds the part unfinished first.
         (
             Box::new(|h, _| h.samples_done = 0),
-            &["t0.state", "samples_done 0"],
+            &["t0.state", "0 of 1"],
+            &["pixel (0, 0): 1 samples where the state has taken 0"],
         ),
         (
             Box::new(|_, f| f.pixels[3].samples = 0),
             &["t0.state", "pixel (3, 0)"],
+            &[],
         ),
     ];
-    for (edit, needles) in crafted {
+    for (edit, needles, resume) in crafted {
         edit_state(&copy, &t0, edit);
         let bytes = std::fs::read(&t0).unwrap();
-        damaged(bytes, needles);
+        damaged(bytes, needles, resume);
     }
 
     // A render stops only where a pass ends; a state claiming otherwise

@@ -85,9 +85,11 @@ impl StateHeader {
                 "spp {} and target {}: expected 1 <= spp <= target",
                 self.spp, self.target
             ))
-        } else if self.samples_done == 0 || self.samples_done > self.target {
+        } else if self.samples_done > self.target {
+            // 0 is a render stopped before its first pass (in the photon
+            // pass): its pixels must then be empty, which each is checked for.
             Some(format!(
-                "samples_done {}: expected 1 to the target, {}",
+                "samples_done {}: expected at most the target, {}",
                 self.samples_done, self.target
             ))
         } else if !hex {
@@ -127,11 +129,14 @@ impl StateHeader {
         } else if p.depth.is_nan() || p.depth < 0.0 {
             Some(format!("depth {}: expected a number >= 0", p.depth))
         } else if p.samples < fewest || p.samples > self.samples_done {
-            // samples_done >= 1, so this also refuses sums without samples.
             Some(format!(
                 "{} samples where the state has taken {} per pixel",
                 p.samples, self.samples_done
             ))
+        } else if p.samples == 0 && *p != Pixel::default() {
+            // Sums (bounded above by the samples) and a depth without
+            // samples would be counted twice once resumed.
+            Some("values without samples".into())
         } else {
             None
         }
@@ -441,8 +446,21 @@ mod tests {
                     samples_done: 0,
                     ..header()
                 },
-                Film::of_region(8, 4, REGION),
-                "samples_done 0",
+                film(),
+                "pixel (2, 1): 1 samples where the state has taken 0",
+            ),
+            (
+                StateHeader {
+                    samples_done: 0,
+                    ..header()
+                },
+                {
+                    let mut f = Film::of_region(8, 4, REGION);
+                    // Sums are bounded by the samples; this is the rest.
+                    f.pixel_mut(3, 2).depth = 1.0;
+                    f
+                },
+                "pixel (3, 2): values without samples",
             ),
             (StateHeader { spp: 0, ..header() }, film(), "spp 0"),
             (
@@ -488,6 +506,13 @@ mod tests {
                 "{needle}: {err}"
             );
         }
+        // Stopped before the first pass: no samples, no sums.
+        let empty = StateHeader {
+            samples_done: 0,
+            ..header()
+        };
+        write_state(&path, &empty, &Film::of_region(8, 4, REGION)).unwrap();
+        read_state(&path).unwrap();
         // Adaptive: pixels hold spp to samples_done samples.
         let adaptive = StateHeader {
             spp: 1,

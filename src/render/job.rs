@@ -183,12 +183,13 @@ fn resume_from(
             describe(&expected)
         )));
     }
-    // A render stops only where a pass ends: resuming from anywhere else
-    // would skip samples.
+    // A render stops only where a pass ends (or, in the photon pass, before
+    // the first): resuming from anywhere else would skip samples.
     let done = saved.samples_done;
-    if !passes(header.spp, adaptive, 0)
-        .iter()
-        .any(|r| r.end == done)
+    if done != 0
+        && !passes(header.spp, adaptive, 0)
+            .iter()
+            .any(|r| r.end == done)
     {
         return Err(Error::Input(format!(
             "{}: damaged film state: samples_done {done} is not where a pass of this render ends",

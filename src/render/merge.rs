@@ -31,8 +31,10 @@ pub fn merge(output: &Path, parts: &[PathBuf]) -> Result<String> {
         let header = file.header.clone();
         if !header.complete() {
             return Err(Error::Input(format!(
-                "{}: incomplete, {} of {} samples per pixel (finish it with --resume)",
+                "{}: incomplete: its film state {} holds {} of {} samples per pixel \
+                 (finish it with --resume)",
                 part.display(),
+                state.display(),
                 header.samples_done,
                 header.target
             )));
