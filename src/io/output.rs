@@ -62,7 +62,14 @@ fn folder(path: &Path) -> &Path {
 /// other file has: `.NAME.PID.N.tmp`.
 fn create_temporary(target: &Path) -> std::io::Result<(PathBuf, File)> {
     static COUNTER: AtomicU64 = AtomicU64::new(0);
-    let name = target.file_name().unwrap_or_default().to_string_lossy();
+    // Shortened, so a name near the file system's limit still has room.
+    let name: String = target
+        .file_name()
+        .unwrap_or_default()
+        .to_string_lossy()
+        .chars()
+        .take(64)
+        .collect();
     loop {
         let n = COUNTER.fetch_add(1, Ordering::Relaxed);
         let temporary = folder(target).join(format!(".{name}.{}.{n}.tmp", std::process::id()));
