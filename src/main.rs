@@ -19,7 +19,7 @@ use sturmray::io::output::{Role, check_distinct, prepare, write_atomic};
 use sturmray::render::job::{Job, Part, preview_path, state_path};
 use sturmray::render::{RayKind, RenderOptions, merge};
 use sturmray::report::bench;
-use sturmray::scene::Scene;
+use sturmray::scene::{PhotonSettings, Scene};
 
 #[derive(Parser)]
 #[command(
@@ -347,6 +347,16 @@ fn write_text(path: &Path, text: &str) -> Result<(), Error> {
     })
 }
 
+/// The files a scene was read from, as inputs no output may replace.
+fn scene_inputs(scene: &Scene) -> Vec<Role<'_>> {
+    let mut files = scene.sources.iter();
+    let first = files.next().map(|s| Role::new("the scene", s));
+    first
+        .into_iter()
+        .chain(files.map(|s| Role::new("the scene's file", s)))
+        .collect()
+}
+
 /// Loads a scene and prints its warnings, once per command.
 fn load(path: &Path) -> Result<Scene, Error> {
     let scene = Scene::load(path)?;
@@ -378,6 +388,9 @@ fn run(command: Command) -> anyhow::Result<()> {
             let scene_path = scene;
             let mut scene = load(&scene_path)?;
             if let Some(count) = photons {
+                // Refused even where the plan has no photon pass: a typo either way.
+                PhotonSettings::check_count(count)
+                    .map_err(|e| Error::Input(format!("--photons: {e}")))?;
                 scene.render.photons.count = count;
             }
             scene.camera.go_to_frame(frame);
@@ -391,7 +404,7 @@ fn run(command: Command) -> anyhow::Result<()> {
                 Role::new("its film state", &state),
             ];
             outputs.extend(stats.as_deref().map(|p| Role::new("--stats", p)));
-            check_outputs(&[Role::new("the scene", &scene_path)], &outputs)?;
+            check_outputs(&scene_inputs(&scene), &outputs)?;
             let threads = threads.map(|n| n as usize);
             let accel = Accel::build(&scene, backend.into(), threads)?;
             let options = RenderOptions {
@@ -538,11 +551,10 @@ fn run(command: Command) -> anyhow::Result<()> {
             out,
             backend,
         } => {
-            check_outputs(
-                &[Role::new("the scene", &scene), Role::new("--rays", &rays)],
-                &[Role::new("--out", &out)],
-            )?;
             let scene = load(&scene)?;
+            let mut inputs = scene_inputs(&scene);
+            inputs.push(Role::new("--rays", &rays));
+            check_outputs(&inputs, &[Role::new("--out", &out)])?;
             let rays = io::npy::read_rays(&rays)?;
             let accel = Accel::build(&scene, backend.into(), None)?;
             let hits = sturmray::render::trace_all(&accel, &rays, None)?;

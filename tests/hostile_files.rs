@@ -103,6 +103,12 @@ fn no_output_replaces_an_input_or_another_output() {
     std::fs::create_dir(dir.join("sub")).unwrap();
     std::os::unix::fs::symlink("s.toml", dir.join("link.exr")).unwrap();
     std::fs::hard_link(dir.join("s.toml"), dir.join("hard.exr")).unwrap();
+    write(&dir, "lib.mtl", "newmtl red\nKd 1 0 0\n");
+    write(
+        &dir,
+        "lib.obj",
+        &format!("mtllib lib.mtl\nusemtl red\n{SQUARE}"),
+    );
     let before = snapshot(&dir);
     let cases: &[(&[&str], &[&str])] = &[
         // The preview of img.png is img.png itself.
@@ -163,6 +169,26 @@ fn no_output_replaces_an_input_or_another_output() {
                 "square.obj",
             ],
             &["--stats square.obj", "the scene square.obj"],
+        ),
+        // The files a scene loads are inputs too: its meshes and their libraries.
+        (
+            &["render", "s.toml", "-o", "square.obj"],
+            &["the image square.obj", "the scene's file square.obj"],
+        ),
+        (
+            &["render", "lib.obj", "-o", "a.exr", "--stats", "lib.mtl"],
+            &["--stats lib.mtl", "the scene's file lib.mtl"],
+        ),
+        (
+            &[
+                "trace",
+                "s.toml",
+                "--rays",
+                "r.npy",
+                "--out",
+                "./square.obj",
+            ],
+            &["--out ./square.obj", "the scene's file square.obj"],
         ),
         (
             &["trace", "s.toml", "--rays", "r.npy", "--out", "r.npy"],

@@ -108,14 +108,16 @@ fn photon_counts_beyond_memory_are_refused() {
             "at most 100000000 photons",
         ],
     );
-    // The same limit for the command line's count, which the scene never saw.
-    let with_glass = plane_scene(GLASS_BALL);
-    write(&dir, "g.toml", &with_glass);
-    refused(
-        &dir,
-        &["render", "g.toml", "-o", "g.exr", "--photons", "4000000000"],
-        &["--photons", "at most 100000000 photons"],
-    );
+    // The same limit for the command line's count, which the scene never
+    // saw, with or without a photon pass in the plan.
+    write(&dir, "g.toml", &plane_scene(GLASS_BALL));
+    for scene in ["g.toml", "s.toml"] {
+        refused(
+            &dir,
+            &["render", scene, "-o", "g.exr", "--photons", "4000000000"],
+            &["--photons", "at most 100000000 photons"],
+        );
+    }
 }
 
 /// A glass ball above the square: the plan then asks for a photon pass.

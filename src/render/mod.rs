@@ -245,7 +245,11 @@ fn photon_pass(
         return Ok((None, RayStats::default()));
     };
     if report {
-        eprintln!(
+        // A note, not a result: stderr closed or a broken pipe is no failure
+        // (and `eprintln!` would panic on it).
+        use std::io::Write;
+        let _ = writeln!(
+            std::io::stderr(),
             "photon map: {} of {} photons stored, radius {radius:.4}, {:.2} s",
             counts.stored,
             counts.emitted,

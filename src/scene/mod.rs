@@ -10,7 +10,7 @@ mod obj;
 mod shapes;
 mod suggest;
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 pub use camera::{Camera, CameraFrame, CameraKey, CameraProblem};
 pub use interaction::Interaction;
@@ -179,6 +179,9 @@ pub struct Scene {
     /// Problems that do not stop a render (degenerate triangles), for the CLI
     /// to print once: the library itself prints nothing.
     pub warnings: Vec<String>,
+    /// Every file the scene was read from (scene file, OBJs, MTLs), so no
+    /// output of a command can be written over one of them.
+    pub sources: Vec<PathBuf>,
 }
 
 impl Scene {
@@ -208,6 +211,7 @@ impl Scene {
             lights: Vec::new(),
             light_picker: LightPicker::default(),
             warnings: Vec::new(),
+            sources: vec![path.to_owned()],
         }
     }
 
@@ -246,6 +250,11 @@ impl Scene {
                 obj.degenerate,
                 if obj.degenerate == 1 { "" } else { "s" }
             ));
+        }
+        for source in obj.sources {
+            if !self.sources.contains(&source) {
+                self.sources.push(source);
+            }
         }
         let offset = self.materials.len() as u32;
         self.materials.extend(obj.materials);

@@ -23,6 +23,8 @@ pub struct ObjFile {
     /// Triangles of zero area (repeated or collinear corners). They stay in the
     /// meshes, so triangle numbers never shift, and Embree never hits them.
     pub degenerate: usize,
+    /// The files read: the OBJ and its material libraries.
+    pub sources: Vec<PathBuf>,
 }
 
 /// Coordinates (OBJ vertices, TOML positions, translations, clip boxes, and
@@ -47,6 +49,8 @@ struct Reader<'a> {
     /// The inverse for the current mesh: local index → global index.
     globals: Vec<u32>,
     degenerate: usize,
+    /// The material libraries read.
+    libraries: Vec<PathBuf>,
 }
 
 impl Reader<'_> {
@@ -160,6 +164,7 @@ impl Reader<'_> {
             Error::Io { .. } => self.error(e.to_string()),
             other => other,
         })?;
+        self.libraries.push(file);
         for m in &materials {
             let index = self.materials.len() as u32;
             self.material_names.insert(m.name.clone(), index);
@@ -207,6 +212,7 @@ pub fn load_obj(path: &Path) -> Result<ObjFile> {
         local: Vec::new(),
         globals: Vec::new(),
         degenerate: 0,
+        libraries: Vec::new(),
     };
     for (number, line) in text.lines().enumerate() {
         r.line = number + 1;
@@ -239,9 +245,12 @@ pub fn load_obj(path: &Path) -> Result<ObjFile> {
     }
     r.line = 0;
     r.finish_mesh(String::new());
+    let mut sources = vec![path.to_owned()];
+    sources.append(&mut r.libraries);
     Ok(ObjFile {
         meshes: r.meshes,
         materials: r.materials,
         degenerate: r.degenerate,
+        sources,
     })
 }

@@ -97,6 +97,8 @@ pub fn bumpy_sphere(triangles: usize) -> Scene {
         lights: vec![light],
         light_picker: Default::default(),
         warnings: Vec::new(),
+        // Generated, read from no file.
+        sources: Vec::new(),
     };
     scene.gather_emitters();
     scene
