@@ -88,15 +88,16 @@ wrapper-overhead: setup
 
 # Property-based fuzzing (proptest on stable Rust), not part of `make test` or
 # CI: each target runs FUZZ_CASES fresh random cases, or stops after
-# FUZZ_SECONDS (four targets: at most 4 x 60 s). A failure is shrunk, printed
+# FUZZ_SECONDS (five targets: at most 5 x 60 s). A failure is shrunk, printed
 # and kept in tests/<crate>.proptest-regressions, which `cargo test` replays.
+# fuzz_cli drives the binary end to end (scenes, rays, damaged film states).
 FUZZ_CASES ?= 1000000
 FUZZ_SECONDS ?= 60
 FUZZ_TARGETS := fuzz_input:fuzz_scene_parser fuzz_input:fuzz_obj_loader \
-	fuzz_poly:fuzz_poly_parser fuzz_poly:fuzz_root_finder
+	fuzz_poly:fuzz_poly_parser fuzz_poly:fuzz_root_finder fuzz_cli:fuzz_cli_end_to_end
 
 fuzz:
-	cargo test --no-run --test fuzz_input --test fuzz_poly
+	cargo test --no-run --test fuzz_input --test fuzz_poly --test fuzz_cli
 	@failed=""; for target in $(FUZZ_TARGETS); do \
 	  crate=$${target%%:*}; name=$${target##*:}; \
 	  echo "fuzz $$name: $(FUZZ_CASES) cases or $(FUZZ_SECONDS) s"; \
