@@ -200,6 +200,7 @@ fn square_scene(half: f32) -> Scene {
         lights: Vec::new(),
         light_picker: Default::default(),
         warnings: Vec::new(),
+        sources: Vec::new(),
     }
 }
 

@@ -24,6 +24,7 @@ fn mesh_scene(positions: Vec<Vec3>, triangles: Vec<[u32; 3]>) -> Scene {
         lights: Vec::new(),
         light_picker: Default::default(),
         warnings: Vec::new(),
+        sources: Vec::new(),
     }
 }
 
