@@ -224,8 +224,12 @@ fn triple(v: [f32; 3]) -> String {
 }
 
 fn main() -> ExitCode {
-    sturmray::accel::embree::enable_flush_to_zero();
     let cli = Cli::parse();
+    // Not for `roots`: subnormal coefficients are ordinary numbers there, and
+    // under DAZ even JSON parsing reads them as 0.
+    if !matches!(cli.command, Command::Roots { .. }) {
+        sturmray::accel::embree::enable_flush_to_zero();
+    }
     match run(cli.command) {
         Ok(()) => ExitCode::SUCCESS,
         // 128 + SIGINT, as shells report a process a Ctrl-C ended; the image and

@@ -252,6 +252,11 @@ impl Shape {
             return Err("the clip box leaves nothing of the surface".into());
         }
         let to_object = to_world.inverse();
+        // F and k·F are one surface: scaled once here, never per ray.
+        let surface = match surface {
+            Surface::Algebraic(f) => Surface::Algebraic(Box::new(f.normalized())),
+            other => other,
+        };
         Ok(Shape {
             world_bounds: world_bounds(&object_box, &to_world),
             normal_to_world: to_object.matrix3.transpose(),

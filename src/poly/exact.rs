@@ -229,26 +229,125 @@ impl ExactSturm {
 /// constants have no roots here. None if a coefficient is NaN or infinite or
 /// an endpoint or the tolerance is NaN; a negative tolerance acts as 0.
 pub fn exact_roots(coeffs: &[f64], a: f64, b: f64, tolerance: f64) -> Option<Vec<f64>> {
-    let solved = Solved::new(coeffs, a, b, tolerance)?;
-    Some(
-        solved
-            .groups
-            .iter()
-            .flat_map(|g| std::iter::repeat_n(g.value, g.count))
-            .collect(),
-    )
+    Isolation::new(coeffs, a, b)?.roots(tolerance, Relative::MagnitudeOrOne)
 }
 
 /// The exact count of distinct real roots in (a, b] (0 if a >= b, and for the
 /// zero polynomial). Endpoints may be infinite. None if a coefficient is NaN
 /// or infinite or an endpoint is NaN.
 pub fn exact_count(coeffs: &[f64], a: f64, b: f64) -> Option<usize> {
-    let input = Input::new(coeffs, a, b)?;
-    let Some((lo, hi)) = input.interval else {
-        return Some(0);
-    };
-    let chain = &input.chain;
-    Some(count_variations_dyadic(chain, &lo).saturating_sub(count_variations_dyadic(chain, &hi)))
+    Some(Isolation::new(coeffs, a, b)?.count())
+}
+
+/// The exact isolation of the distinct real roots in (a, b] of the
+/// polynomial with these f64 coefficients: the one source of truth for how
+/// many roots there are and where, which f64 answers are checked against
+/// ([`Isolation::certifies`]) and which answers itself when they fail
+/// ([`Isolation::roots`]). Built once (the exact Sturm chain is the costly
+/// part), then each check costs a few exact evaluations of the chain.
+pub struct Isolation {
+    input: Input,
+    count: usize,
+}
+
+impl Isolation {
+    /// None if a coefficient is NaN or infinite or an endpoint is NaN;
+    /// endpoints may be infinite. Subnormal coefficients are ordinary
+    /// nonzero numbers here; only the all-zero polynomial is zero.
+    pub fn new(coeffs: &[f64], a: f64, b: f64) -> Option<Isolation> {
+        let input = Input::new(coeffs, a, b)?;
+        let count = input.interval.as_ref().map_or(0, |(lo, hi)| {
+            count_variations_dyadic(&input.chain, lo)
+                .saturating_sub(count_variations_dyadic(&input.chain, hi))
+        });
+        Some(Isolation { input, count })
+    }
+
+    /// The exact number of distinct real roots in (a, b].
+    pub fn count(&self) -> usize {
+        self.count
+    }
+
+    /// Whether `roots` is a right answer to within `tolerance`, proven
+    /// exactly: they are as many as [`Isolation::count`], increasing, in
+    /// (a, b], and each r is alone with one exact root in its own interval
+    /// (r − w, r + w], w = tolerance·scale(r) (see [`Relative`]), these
+    /// intervals disjoint. Disjoint intervals holding one root each, as many
+    /// as there are roots, pair every root with exactly one listed value
+    /// within w of it. Where w is 0 (r = 0 with [`Relative::Magnitude`]) r
+    /// must be a root itself. A tolerance that is not positive and finite
+    /// proves nothing but an empty answer.
+    pub fn certifies(&self, roots: &[f64], tolerance: f64, relative: Relative) -> bool {
+        if roots.len() != self.count {
+            return false;
+        }
+        let Some((lo, hi)) = &self.input.interval else {
+            return roots.is_empty();
+        };
+        if !(tolerance > 0.0 && tolerance.is_finite()) {
+            return roots.is_empty();
+        }
+        let tol = Dyadic::from_f64(tolerance);
+        let mut previous_end = lo.clone();
+        for &r in roots {
+            if !(r.is_finite() && self.input.a < r && r <= self.input.b) {
+                return false;
+            }
+            let x = Dyadic::from_f64(r);
+            let w = tol.mul(&relative.scale(x.abs()));
+            let (start, end) = (x.sub(&w).max(lo.clone()), x.add(&w).min(hi.clone()));
+            let alone = if w.is_zero() {
+                previous_end < x && x <= *hi && sign_dyadic(&self.input.square_free, &x) == 0
+            } else {
+                start >= previous_end
+                    && start < end
+                    && count_variations_dyadic(&self.input.chain, &start)
+                        .saturating_sub(count_variations_dyadic(&self.input.chain, &end))
+                        == 1
+            };
+            if !alone {
+                return false;
+            }
+            previous_end = end;
+        }
+        true
+    }
+
+    /// Every distinct real root in (a, b], increasing, as many as
+    /// [`Isolation::count`]: see [`exact_roots`] for what each value is
+    /// (there with [`Relative::MagnitudeOrOne`]). None if the tolerance is
+    /// NaN.
+    pub fn roots(self, tolerance: f64, relative: Relative) -> Option<Vec<f64>> {
+        let solved = Solved::new(self.input, tolerance, relative)?;
+        let roots: Vec<f64> = solved
+            .groups
+            .iter()
+            .flat_map(|g| std::iter::repeat_n(g.value, g.count))
+            .collect();
+        debug_assert_eq!(roots.len(), self.count, "one value per isolated root");
+        Some(roots)
+    }
+}
+
+/// What a tolerance is relative to, at a root x.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Relative {
+    /// max(1, |x|): relative above 1, absolute below, so a root at 0 costs
+    /// finite work in f64 (the renderer's and [`crate::poly::solve::Solver`]'s
+    /// tolerance).
+    MagnitudeOrOne,
+    /// |x|: relative everywhere (the `roots` tool's promise, so 1e-14 is
+    /// not answered with 1.4e-14); a root at 0 is then found exactly.
+    Magnitude,
+}
+
+impl Relative {
+    fn scale(self, magnitude: Dyadic) -> Dyadic {
+        match self {
+            Relative::MagnitudeOrOne => magnitude.max(Dyadic::pow2(0)),
+            Relative::Magnitude => magnitude,
+        }
+    }
 }
 
 /// Each distinct real root in (a, b] with its multiplicity, increasing, for
@@ -262,7 +361,11 @@ pub fn exact_roots_with_multiplicity(
     b: f64,
     tolerance: f64,
 ) -> Option<Vec<(f64, u32)>> {
-    let Solved { input, groups } = Solved::new(coeffs, a, b, tolerance)?;
+    let Solved { input, groups } = Solved::new(
+        Input::new(coeffs, a, b)?,
+        tolerance,
+        Relative::MagnitudeOrOne,
+    )?;
     if groups.is_empty() {
         return Some(Vec::new());
     }
@@ -309,6 +412,9 @@ struct Input {
     chain: Vec<IPoly>,
     /// (lo, hi] with lo < hi, or None when no root can lie in the interval.
     interval: Option<(Dyadic, Dyadic)>,
+    /// The interval (a, b] as asked.
+    a: f64,
+    b: f64,
 }
 
 impl Input {
@@ -324,6 +430,8 @@ impl Input {
                 poly: poly.clone(),
                 square_free: poly,
                 interval: None,
+                a,
+                b,
             });
         }
         let (square_free, chain) = square_free_and_chain(&poly);
@@ -347,6 +455,8 @@ impl Input {
             square_free,
             chain,
             interval,
+            a,
+            b,
         })
     }
 }
@@ -372,16 +482,18 @@ struct Solved {
 }
 
 impl Solved {
-    fn new(coeffs: &[f64], a: f64, b: f64, tolerance: f64) -> Option<Solved> {
+    fn new(mut input: Input, tolerance: f64, relative: Relative) -> Option<Solved> {
         if tolerance.is_nan() {
             return None;
         }
-        let mut input = Input::new(coeffs, a, b)?;
         let groups = match input.interval.take() {
             None => Vec::new(),
             Some((lo, hi)) => {
                 let loosest = Dyadic::pow2(LOOSEST_TOLERANCE_EXP);
-                let tol = Tolerance(Dyadic::from_f64(tolerance.max(0.0)).min(loosest));
+                let tol = Tolerance {
+                    tol: Dyadic::from_f64(tolerance.max(0.0)).min(loosest),
+                    relative,
+                };
                 isolate(&input.square_free, &input.chain, lo, hi, &tol)
             }
         };
@@ -398,25 +510,27 @@ impl Solved {
 /// both 11 and 12 and return its midpoint instead of the root 12.
 const LOOSEST_TOLERANCE_EXP: i64 = -30;
 
-/// Stop refining when width <= tol · max(1, |x|) for every x in the bracket
+/// Stop refining when width <= tol · scale(x) for every x in the bracket
 /// (0: never, refine to f64 resolution).
-struct Tolerance(Dyadic);
+struct Tolerance {
+    tol: Dyadic,
+    relative: Relative,
+}
 
 impl Tolerance {
     fn met(&self, lo: &Dyadic, hi: &Dyadic) -> bool {
-        if self.0.is_zero() {
+        if self.tol.is_zero() {
             return false;
         }
         let width = hi.sub(lo);
-        // The smallest |x| over the bracket, at least 1.
+        // The smallest |x| over the bracket (0 if it straddles 0).
         let straddles = lo.signum() < 0 && hi.signum() > 0;
-        let one = Dyadic::pow2(0);
-        let scale = if straddles {
-            one
+        let smallest = if straddles {
+            Dyadic::zero()
         } else {
-            lo.abs().min(hi.abs()).max(one)
+            lo.abs().min(hi.abs())
         };
-        width <= self.0.mul(&scale)
+        width <= self.tol.mul(&self.relative.scale(smallest))
     }
 }
 
@@ -768,9 +882,14 @@ impl Dyadic {
         Dyadic::new(a - b, e)
     }
 
-    fn mid(&self, other: &Dyadic) -> Dyadic {
+    fn add(&self, other: &Dyadic) -> Dyadic {
         let (a, b, e) = self.aligned(other);
-        Dyadic::new(a + b, e - 1)
+        Dyadic::new(a + b, e)
+    }
+
+    fn mid(&self, other: &Dyadic) -> Dyadic {
+        let sum = self.add(other);
+        Dyadic::new(sum.m, sum.e - 1)
     }
 
     fn mul(&self, other: &Dyadic) -> Dyadic {

@@ -25,9 +25,9 @@ use std::str::FromStr;
 
 use crate::poly::MAX_DEGREE;
 use crate::poly::closed;
-use crate::poly::exact::{exact_count, exact_roots};
+use crate::poly::exact::{Isolation, Relative};
 use crate::poly::sturm::SturmSequence;
-use crate::poly::univariate::Poly;
+use crate::poly::univariate::{Poly, normalize_pow2};
 
 /// How an isolated root is refined. Names are stable: the CLI, `accuracy`
 /// and `bench` use them.
@@ -156,20 +156,72 @@ impl Solver {
     /// the search is clipped to Cauchy's bound on the roots. The zero
     /// polynomial has no isolated roots and reports none.
     ///
-    /// On the Sturm path the answer must prove itself: every root lies in
-    /// (a, b] with p changing sign across it, and the roots found are as
-    /// many as the exact Sturm count of p's rational coefficients. The f64
-    /// chain alone cannot be trusted for that count: a root of even
+    /// On the Sturm path the answer must prove itself: the exact isolation
+    /// of p's rational coefficients ([`Isolation::certifies`]) must show as
+    /// many roots as were found, each alone within the tolerance of one
+    /// found. The f64 chain alone cannot be trusted for that: a root of even
     /// multiplicity has no sign change, and a remainder of pure round-off
     /// that passes for a true one (or the reverse) loses or invents roots
     /// with nothing in f64 to show it (the double root 3.5 of a sextic, two
     /// simple roots of a degree-11 chain with a 9e-10 coefficient).
     /// Otherwise the answer comes from the exact rational path, merged to
     /// the tolerance as the Sturm path would report it.
-    /// The count costs about 0.19 ms at degree 8 and 1.25 ms at 16 (`cargo
-    /// bench --bench poly -- exact_count`), which the `roots` tool can
-    /// afford and a ray cannot.
+    /// The exact chain costs about 0.19 ms at degree 8 and 1.25 ms at 16
+    /// (`cargo bench --bench poly -- exact_count`), which the `roots` tool
+    /// can afford and a ray cannot.
     pub fn roots(&self, p: &Poly, a: f64, b: f64, out: &mut [f64; MAX_DEGREE]) -> usize {
+        let n = self.unproven_roots(p, a, b, out);
+        if self.direct(p) || !is_interval(a, b) {
+            return n; // the comparison methods answer as they are
+        }
+        let Some(isolation) = Isolation::new(p.coeffs(), a, b) else {
+            return n; // a coefficient is not finite: no exact polynomial
+        };
+        if isolation.certifies(&out[..n], self.tolerance, Relative::MagnitudeOrOne) {
+            return n;
+        }
+        let mut found = DirectRoots::default();
+        let exact = isolation
+            .roots(self.tolerance, Relative::MagnitudeOrOne)
+            .unwrap_or_default();
+        exact.iter().for_each(|&t| found.push(t));
+        self.roots_in(&found, a, b, out)
+    }
+
+    /// Every distinct real root in (a, b] of the polynomial with these
+    /// coefficients, increasing, with the proof the `roots` tool promises:
+    /// the list is as long as the exact count, and each value is within the
+    /// tolerance *relative to its magnitude* of its own exact root
+    /// ([`Relative::Magnitude`]: a root of 1e-14 is not answered with
+    /// 1.4e-14, as the renderer's absolute tolerance below 1 would allow).
+    /// The f64 answer of this solver's method (on the coefficients scaled by
+    /// a power of two, which keeps the roots and spares f64 needless
+    /// overflow and underflow) is kept when [`Isolation::certifies`] it;
+    /// otherwise the exact path answers, one value per root, never merged
+    /// (roots closer than f64 resolution come out as one value repeated, and
+    /// a root f64 cannot hold to the tolerance, such as a subnormal one, as
+    /// its correctly rounded value). None if a coefficient or the tolerance
+    /// is not finite, or an end is NaN.
+    pub fn certified_roots(&self, coeffs: &[f64], a: f64, b: f64) -> Option<Vec<f64>> {
+        if coeffs.len() > MAX_DEGREE + 1 || !self.tolerance.is_finite() {
+            return None;
+        }
+        let isolation = Isolation::new(coeffs, a, b)?;
+        let mut scaled = [0.0; MAX_DEGREE + 1];
+        scaled[..coeffs.len()].copy_from_slice(coeffs);
+        normalize_pow2(&mut scaled);
+        let p = Poly::new(&scaled[..coeffs.len()]);
+        let mut out = [0.0; MAX_DEGREE];
+        let n = self.unproven_roots(&p, a, b, &mut out);
+        if isolation.certifies(&out[..n], self.tolerance, Relative::Magnitude) {
+            return Some(out[..n].to_vec());
+        }
+        isolation.roots(self.tolerance, Relative::Magnitude)
+    }
+
+    /// The f64 roots in (a, b], unproven: from the closed forms or
+    /// Yuksel's method where they apply, else from the Sturm chain.
+    fn unproven_roots(&self, p: &Poly, a: f64, b: f64, out: &mut [f64; MAX_DEGREE]) -> usize {
         if !is_interval(a, b) {
             return 0;
         }
@@ -180,30 +232,7 @@ impl Solver {
         if !search.prepare(p, a, b) {
             return 0;
         }
-        let n = self.isolate_all(&search, out);
-        // Signs of the input itself: the chain may count a trimmed one.
-        let f0 = p.normalized();
-        let proven = out[..n]
-            .iter()
-            .all(|&t| t > a && t <= b && self.crosses(&f0, t));
-        if proven && exact_count(p.coeffs(), a, b) == Some(n) {
-            return n;
-        }
-        let Some(exact) = exact_roots(p.coeffs(), a, b, self.tolerance) else {
-            return n; // a coefficient is not finite: no exact polynomial
-        };
-        let mut found = DirectRoots::default();
-        exact.iter().for_each(|&t| found.push(t));
-        self.roots_in(&found, a, b, out)
-    }
-
-    /// Whether f changes sign across t, within twice the tolerance, by
-    /// values larger than their rounding: then a root lies there, whatever
-    /// the chain's round-off. (Near a root of even multiplicity the computed
-    /// values are rounding noise of either sign.)
-    fn crosses(&self, f: &Poly, t: f64) -> bool {
-        let d = 2.0 * self.width_tol(t, t);
-        opposite(f.sure_sign(t - d), f.sure_sign(t + d))
+        self.isolate_all(&search, out)
     }
 
     /// The nearest root in (a, b): for camera and secondary rays. The
@@ -956,6 +985,7 @@ fn below(x: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::poly::exact::{exact_count, exact_roots};
     use crate::poly::univariate::from_roots;
     use proptest::prelude::*;
 

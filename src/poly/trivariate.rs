@@ -10,6 +10,7 @@
 use std::fmt;
 
 use crate::poly::MAX_DEGREE;
+use crate::poly::univariate::normalize_pow2;
 
 /// Entries per axis in the dense accumulator: exponents 0..=MAX_DEGREE.
 const SIDE: usize = MAX_DEGREE + 1;
@@ -153,6 +154,21 @@ impl Trivariate {
                 c * px[usize::from(e[0])] * py[usize::from(e[1])] * pz[usize::from(e[2])]
             })
             .sum()
+    }
+
+    /// The same surface, F scaled by the power of two that puts its largest
+    /// |coefficient| in [1, 2) ([`normalize_pow2`]): k·F for any finite
+    /// k ≠ 0 then becomes F itself (up to the rounding of k·F's
+    /// coefficients), so neither Q(t) nor the gradient overflows or
+    /// underflows for the scale k alone, and a power-of-two k changes no
+    /// bit of any hit. Exact for every coefficient within 2^1022 of the
+    /// largest (subnormal ones included); smaller ones are dropped.
+    pub fn normalized(&self) -> Trivariate {
+        let mut coeffs: Vec<f64> = self.terms.iter().map(|&(_, c)| c).collect();
+        if normalize_pow2(&mut coeffs).is_none() {
+            return self.clone(); // not finite: the caller refuses it
+        }
+        Trivariate::from_sorted(self.terms.iter().zip(coeffs).map(|(&(e, _), c)| (e, c)))
     }
 
     /// The partial derivatives ∂F/∂x, ∂F/∂y, ∂F/∂z as polynomials.

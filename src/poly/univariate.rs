@@ -314,6 +314,90 @@ pub(crate) fn pow2_reciprocal(x: f64) -> f64 {
     f64::from_bits(((1023 - e) as u64) << 52)
 }
 
+/// ⌊log2 |x|⌋ for finite nonzero x, read from the bits, so it is exact for
+/// subnormals too and does not depend on the thread's FTZ/DAZ mode.
+pub(crate) fn log2_floor(x: f64) -> i32 {
+    let bits = x.to_bits() & !(1 << 63);
+    let biased = (bits >> 52) as i32;
+    if biased == 0 {
+        // Subnormal: the value is bits · 2^-1074.
+        63 - bits.leading_zeros() as i32 - 1074
+    } else {
+        biased - 1023
+    }
+}
+
+/// 2^k for k in [-1022, 1023]: a normal number, built from its bits.
+fn pow2(k: i32) -> f64 {
+    debug_assert!((-1022..=1023).contains(&k));
+    f64::from_bits(((1023 + k) as u64) << 52)
+}
+
+/// x · 2^n, exact unless the result overflows or falls below the normal
+/// range (C's `scalbn`, after musl): the factor is applied in steps that
+/// are each a normal power of two, and a result in the subnormal range is
+/// rounded once, not twice. x is read from its bits as an integer times a
+/// power of two, so a subnormal x is scaled exactly even on a thread that
+/// reads subnormals as zero (sturmray's threads do, main included).
+pub(crate) fn scale_pow2(x: f64, n: i32) -> f64 {
+    let (mantissa, exponent, sign) = num_traits::Float::integer_decode(x);
+    // mantissa < 2^53: an exact, normal f64 (or 0).
+    let mut y = f64::from(sign) * mantissa as f64;
+    let mut n = n.saturating_add(i32::from(exponent));
+    if n > 1023 {
+        y *= pow2(1023);
+        n -= 1023;
+        if n > 1023 {
+            y *= pow2(1023);
+            n = (n - 1023).min(1023);
+        }
+    } else if n < -1022 {
+        // 2^-969 = 2^-1022 · 2^53: the last step then lands below -53.
+        y *= pow2(-969);
+        n += 969;
+        if n < -1022 {
+            y *= pow2(-969);
+            n = (n + 969).max(-1022);
+        }
+    }
+    y * pow2(n)
+}
+
+/// Scales the coefficients by the power of two that puts the largest
+/// |coefficient| in [1, 2), so F and k·F (any finite k ≠ 0) become the same
+/// polynomial up to the rounding of k·F itself, and nothing downstream
+/// overflows or underflows for the input's scale alone. A power of two is
+/// positive (signs are kept) and exact for every coefficient that stays in
+/// the normal range, subnormal inputs included (they are scaled up).
+/// Coefficients more than 2^1022 below the largest end up below the normal
+/// range: they are set to 0, negligible beside it and read as 0 by threads
+/// that flush subnormals anyway. All zeros (the exact test, `== 0.0` on
+/// every coefficient) stay zeros. Returns the exponent k of the factor 2^k,
+/// or None if a coefficient is not finite (then nothing is changed).
+pub fn normalize_pow2(coeffs: &mut [f64]) -> Option<i32> {
+    if coeffs.iter().any(|c| !c.is_finite()) {
+        return None;
+    }
+    let Some(largest) = coeffs
+        .iter()
+        .filter(|c| c.to_bits() << 1 != 0)
+        .map(|&c| log2_floor(c))
+        .max()
+    else {
+        return Some(0);
+    };
+    let k = -largest;
+    for c in coeffs.iter_mut() {
+        let scaled = scale_pow2(*c, k);
+        *c = if scaled.abs() < f64::MIN_POSITIVE {
+            0.0
+        } else {
+            scaled
+        };
+    }
+    Some(k)
+}
+
 /// `lead` times the product of (t - r) over `roots`, expanded in f64: the
 /// tests' independent reference, since the roots are known by construction,
 /// and the accuracy study's synthetic cases.

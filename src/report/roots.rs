@@ -2,11 +2,19 @@
 //! debugging a surface's polynomial and as a test harness.
 //!
 //! In: `{"coeffs": [c0, c1, ...], "interval": [a, b], "method": "...",
-//! "tolerance": 1e-12}`, lowest degree first; `interval` defaults to one that
-//! holds every real root (Cauchy's bound), `method` to the renderer's default.
-//! Out: `{"roots": [...], "count": n}` (distinct roots in (a, b],
-//! increasing; `count` is the Sturm count), plus the Sturm sequence and its
-//! sign table with `--sturm`. A bad line gives `{"error": "...", "line": n}`.
+//! "tolerance": 1e-12}`, lowest degree first; `interval` defaults to
+//! (−MAX, MAX], every root an f64 can hold, `method` to the renderer's
+//! default. Any finite coefficients are accepted, subnormal ones included;
+//! only all zeros is the zero polynomial.
+//! Out: `{"roots": [...], "count": n}`: the distinct roots in (a, b],
+//! increasing, each within the tolerance of its own root, relative to the
+//! root's magnitude (or correctly rounded where f64 cannot get that close),
+//! and `count` the exact Sturm count of the rational
+//! coefficients, always the length of the list: the method's f64 answer is
+//! given only when the exact isolation certifies it, else the exact path
+//! answers (see `Solver::certified_roots`). With `--sturm`, the f64 Sturm
+//! sequence and its sign table, for debugging the fast path (its counts
+//! are f64's and may differ). A bad line gives `{"error": "...", "line": n}`.
 
 use std::io::{BufRead, Write};
 
@@ -15,7 +23,7 @@ use serde_json::{Value, json};
 
 use crate::error::{Error, Result};
 use crate::poly::MAX_DEGREE;
-use crate::poly::exact;
+use crate::poly::exact::{Isolation, Relative};
 use crate::poly::solve::{Method, Solver};
 use crate::poly::sturm::SturmSequence;
 use crate::poly::univariate::Poly;
@@ -32,14 +40,9 @@ struct Query {
     tolerance: Option<f64>,
 }
 
-/// Cauchy's bound: every real root lies in [-B, B], B = 1 + max |c_i / c_n|.
-fn cauchy_bound(p: &Poly) -> f64 {
-    let c = p.coeffs();
-    let lead = c[c.len() - 1].abs();
-    1.0 + c[..c.len() - 1]
-        .iter()
-        .fold(0.0f64, |m, x| m.max(x.abs() / lead))
-}
+/// The interval when none is given: every root an f64 can hold (a root
+/// beyond ±MAX has no f64 to print).
+const DEFAULT_INTERVAL: [f64; 2] = [-f64::MAX, f64::MAX];
 
 fn signs(sturm: &SturmSequence, t: f64) -> Vec<i32> {
     sturm
@@ -71,19 +74,14 @@ fn answer(line: &str, with_sturm: bool) -> Result<Value, String> {
     if q.coeffs.iter().any(|c| !c.is_finite()) {
         return Err("coeffs: every coefficient must be finite".into());
     }
-    let p = Poly::new(&q.coeffs);
-    if p.degree() == 0 {
-        return Err(if p.is_zero() {
-            "the polynomial is identically zero"
-        } else {
-            "the polynomial is a nonzero constant: it has no roots"
-        }
-        .into());
+    // From the bits: this thread reads subnormals as zero, and a subnormal
+    // coefficient is an ordinary nonzero number here.
+    match q.coeffs.iter().rposition(|c| c.to_bits() << 1 != 0) {
+        None => return Err("the polynomial is identically zero (every coefficient is 0)".into()),
+        Some(0) => return Err("the polynomial is a nonzero constant: it has no roots".into()),
+        Some(_) => {}
     }
-    let [a, b] = q.interval.unwrap_or_else(|| {
-        let bound = cauchy_bound(&p);
-        [-bound, bound]
-    });
+    let [a, b] = q.interval.unwrap_or(DEFAULT_INTERVAL);
     if !(a.is_finite() && b.is_finite() && a < b) {
         return Err(format!("interval: expected finite a < b, found [{a}, {b}]"));
     }
@@ -94,27 +92,26 @@ fn answer(line: &str, with_sturm: bool) -> Result<Value, String> {
         }
         solver.tolerance = t;
     }
-    let sturm = SturmSequence::new(&p);
-    let mut count = sturm.count(a, b);
-    let roots: Vec<f64> = match q.method.as_deref() {
-        Some(EXACT) => {
-            // The exact count: f64 Sturm counts can blur multiple and clustered roots.
-            count = exact::exact_count(&q.coeffs, a, b).ok_or("coeffs: not finite")?;
-            exact::exact_roots(&q.coeffs, a, b, solver.tolerance).ok_or("coeffs: not finite")?
-        }
+    let not_finite = "coeffs: every coefficient must be finite";
+    // Both answers are proven to list exactly the exact count's roots: the
+    // exact path by construction, the f64 one by `certified_roots`.
+    let roots = match q.method.as_deref() {
+        Some(EXACT) => Isolation::new(&q.coeffs, a, b)
+            .and_then(|isolation| isolation.roots(solver.tolerance, Relative::Magnitude))
+            .ok_or(not_finite)?,
         name => {
             if let Some(name) = name {
                 solver.method = name
                     .parse::<Method>()
                     .map_err(|e| format!("{e}, {EXACT}"))?;
             }
-            let mut out = [0.0; MAX_DEGREE];
-            let n = solver.roots(&p, a, b, &mut out);
-            out[..n].to_vec()
+            solver.certified_roots(&q.coeffs, a, b).ok_or(not_finite)?
         }
     };
+    let count = roots.len();
     let mut reply = json!({ "roots": roots, "count": count });
     if with_sturm {
+        let sturm = SturmSequence::new(&Poly::new(&q.coeffs));
         let sequence: Vec<&[f64]> = sturm.members().iter().map(Poly::coeffs).collect();
         reply["sturm"] = json!({
             "sequence": sequence,
