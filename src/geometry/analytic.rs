@@ -254,7 +254,7 @@ impl Shape {
         let to_object = to_world.inverse();
         // F and k·F are one surface: scaled once here, never per ray.
         let surface = match surface {
-            Surface::Algebraic(f) => Surface::Algebraic(Box::new(f.normalized())),
+            Surface::Algebraic(f) => Surface::Algebraic(Box::new(f.normalized().0)),
             other => other,
         };
         Ok(Shape {

@@ -38,6 +38,7 @@ use std::fmt;
 
 use crate::poly::MAX_DEGREE;
 use crate::poly::trivariate::Trivariate;
+use crate::poly::univariate::{log2_floor, scale_pow2_normal};
 
 /// Why an expression was refused and where: the scene loader adds the file
 /// and the key around it.
@@ -84,14 +85,22 @@ pub fn parse(text: &str, constants: &[(&str, f64)]) -> Result<Trivariate, ParseE
         }
         _ => return Err(parser.expected_operator(false)),
     }
-    let poly = value.poly;
+    let Value { poly, exp, .. } = value;
     if poly.is_zero() {
         return Err(error(1, "the expression is identically zero"));
     }
     if poly.degree() == 0 {
         return Err(error(1, "the expression does not depend on x, y or z"));
     }
-    Ok(poly)
+    // Back at the scale written where every coefficient is a normal f64
+    // there (then exactly the plain f64 expansion); otherwise the same
+    // surface at the normalised scale.
+    let written = i32::try_from(exp).ok().filter(|&e| {
+        poly.terms()
+            .iter()
+            .all(|&(_, c)| (-1022..=1023).contains(&(log2_floor(c) + e)))
+    });
+    Ok(written.map_or(poly.clone(), |e| poly.scaled_pow2(e)))
 }
 
 fn error(column: usize, message: impl Into<String>) -> ParseError {
@@ -208,11 +217,64 @@ fn lex(text: &str) -> Vec<Token> {
     tokens
 }
 
-/// A parsed subexpression and the column it starts at, for errors about the
-/// operand as a whole (a divisor, an exponent).
+/// A parsed subexpression, poly·2^exp with poly normalised
+/// ([`Trivariate::normalized`]), and the column it starts at, for errors
+/// about the operand as a whole (a divisor, an exponent).
+///
+/// Why the separate power of two: k·F is the same surface as F for any
+/// finite k ≠ 0, and carrying k's scale apart keeps every intermediate
+/// coefficient a normal f64. Plain f64 expansion overflowed for
+/// 1e308·(… + 11.8), and made 1e-310·F's coefficients subnormal, which the
+/// threads that parse scenes read as zero ("identically zero"). Powers of
+/// two are exact, so expressions within range expand exactly as before.
 struct Value {
     poly: Trivariate,
+    exp: i64,
     column: usize,
+}
+
+impl Value {
+    fn new(poly: Trivariate, exp: i64, column: usize) -> Value {
+        let (poly, shift) = poly.normalized();
+        let exp = if poly.is_zero() {
+            0
+        } else {
+            exp - i64::from(shift)
+        };
+        Value { poly, exp, column }
+    }
+
+    /// The value, if it does not depend on x, y or z: ±∞ beyond the f64
+    /// range, 0 below the normal range.
+    fn constant(&self) -> Option<f64> {
+        let c = self.poly.constant_value()?;
+        Some(scale_pow2_normal(c, clamp_exp(self.exp)))
+    }
+
+    /// self ± other (sign ±1), aligned on the larger scale; a term more
+    /// than 2^1022 below the larger side's largest is negligible and goes.
+    fn add(self, other: Value, sign: f64) -> Value {
+        if other.poly.is_zero() {
+            return self;
+        }
+        if self.poly.is_zero() {
+            return Value {
+                poly: other.poly.scale(sign),
+                ..other
+            };
+        }
+        let exp = self.exp.max(other.exp);
+        let a = self.poly.scaled_pow2(clamp_exp(self.exp - exp));
+        let b = other.poly.scaled_pow2(clamp_exp(other.exp - exp));
+        let sum = if sign > 0.0 { a.add(&b) } else { a.sub(&b) };
+        Value::new(sum, exp, self.column)
+    }
+}
+
+/// An exponent difference as i32, saturated far beyond where any f64
+/// scaling saturates anyway.
+fn clamp_exp(e: i64) -> i32 {
+    e.clamp(-4096, 4096) as i32
 }
 
 struct Parser<'a> {
@@ -245,12 +307,7 @@ impl Parser<'_> {
             };
             let op = self.advance();
             let right = self.term()?;
-            let poly = if sign > 0.0 {
-                left.poly.add(&right.poly)
-            } else {
-                left.poly.sub(&right.poly)
-            };
-            left.poly = finite(poly, op.column)?;
+            left = finite(left.add(right, sign), op.column)?;
         }
     }
 
@@ -278,18 +335,24 @@ impl Parser<'_> {
                     )
                 })?
             } else {
+                // The divisor's normalised value: its scale goes to exp.
                 let divisor = right.poly.constant_value().ok_or_else(|| {
                     error(
                         right.column,
                         "cannot divide by an expression in x, y or z (only by constants)",
                     )
                 })?;
-                if divisor == 0.0 {
+                if right.poly.is_zero() {
                     return Err(error(right.column, "division by zero"));
                 }
                 left.poly.div_scalar(divisor)
             };
-            left.poly = finite(poly, op.column)?;
+            let exp = if kind == Kind::Star {
+                left.exp + right.exp
+            } else {
+                left.exp - right.exp
+            };
+            left = finite(Value::new(poly, exp, left.column), op.column)?;
         }
     }
 
@@ -308,14 +371,12 @@ impl Parser<'_> {
                 self.unary().map(|v| Value {
                     poly: v.poly.neg(),
                     column,
+                    ..v
                 })
             }
             Kind::Plus => {
                 self.advance();
-                self.unary().map(|v| Value {
-                    poly: v.poly,
-                    column,
-                })
+                self.unary().map(|v| Value { column, ..v })
             }
             _ => self.power(),
         };
@@ -330,7 +391,7 @@ impl Parser<'_> {
         }
         let caret = self.advance();
         let exponent = self.unary()?;
-        let n = exponent.poly.constant_value().ok_or_else(|| {
+        let n = exponent.constant().ok_or_else(|| {
             error(
                 exponent.column,
                 "the exponent must be a constant, not depend on x, y or z",
@@ -364,10 +425,14 @@ impl Parser<'_> {
                 .checked_pow(n as u32)
                 .ok_or_else(|| degree_error(caret.column, "power", degree * n as usize))?
         };
-        Ok(Value {
-            poly: finite(poly, caret.column)?,
-            column: base.column,
-        })
+        // The scale of the power: exp·n (n <= MAX_DEGREE unless the base is
+        // a constant), refused where even that overflows.
+        let exp = base
+            .exp
+            .checked_mul(n as i64)
+            .filter(|e| e.unsigned_abs() < 1 << 40)
+            .ok_or_else(|| error(caret.column, OVERFLOW))?;
+        finite(Value::new(poly, exp, base.column), caret.column)
     }
 
     fn primary(&mut self) -> Result<Value, ParseError> {
@@ -384,25 +449,7 @@ impl Parser<'_> {
                 Trivariate::constant(v)
             }
             Kind::Name => self.name(&token)?,
-            Kind::LParen => {
-                let inner = self.expr()?;
-                let close = self.peek();
-                if close.kind != Kind::RParen {
-                    return Err(if close.kind == Kind::End {
-                        error(
-                            close.column,
-                            format!(
-                                "expected ')' to close the '(' at column {column} but found {}",
-                                close.describe()
-                            ),
-                        )
-                    } else {
-                        self.expected_operator(true)
-                    });
-                }
-                self.advance();
-                inner.poly
-            }
+            Kind::LParen => return self.parenthesised(column),
             _ => {
                 let hint = if token.kind == Kind::RParen {
                     " (an empty pair of parentheses, or an operator missing its right side?)"
@@ -418,7 +465,28 @@ impl Parser<'_> {
                 ));
             }
         };
-        Ok(Value { poly, column })
+        Ok(Value::new(poly, 0, column))
+    }
+
+    /// The inside of "(" … ")", the "(" at `column` already read.
+    fn parenthesised(&mut self, column: usize) -> Result<Value, ParseError> {
+        let inner = self.expr()?;
+        let close = self.peek();
+        if close.kind != Kind::RParen {
+            return Err(if close.kind == Kind::End {
+                error(
+                    close.column,
+                    format!(
+                        "expected ')' to close the '(' at column {column} but found {}",
+                        close.describe()
+                    ),
+                )
+            } else {
+                self.expected_operator(true)
+            });
+        }
+        self.advance();
+        Ok(Value { column, ..inner })
     }
 
     /// A variable or a scene constant.
@@ -496,16 +564,17 @@ fn degree_error(column: usize, what: &str, degree: usize) -> ParseError {
     )
 }
 
-/// Refuses overflowed coefficients where they arise: an infinite
-/// coefficient would make every ray's Q(t) NaN.
-fn finite(poly: Trivariate, column: usize) -> Result<Trivariate, ParseError> {
-    if poly.is_finite() {
-        Ok(poly)
+const OVERFLOW: &str = "a coefficient overflows f64 here (the numbers are too large)";
+
+/// Refuses overflow where it arises: a coefficient that is not finite (a
+/// power of a constant), or a constant beyond f64 (a divisor or an
+/// exponent must be a number; a polynomial's own scale is kept apart).
+fn finite(value: Value, column: usize) -> Result<Value, ParseError> {
+    let constant_overflows = value.constant().is_some_and(|c| !c.is_finite());
+    if value.poly.is_finite() && !constant_overflows {
+        Ok(value)
     } else {
-        Err(error(
-            column,
-            "a coefficient overflows f64 here (the numbers are too large)",
-        ))
+        Err(error(column, OVERFLOW))
     }
 }
 
@@ -812,10 +881,37 @@ mod tests {
         let e = err("x * 1e400");
         assert_eq!(e.column, 5);
         assert!(e.message.contains("too large"), "{e}");
-        let e = err("1e200*x * 1e200");
-        assert_eq!(e.column, 9);
+        // Constants must be f64 numbers; a polynomial's scale is kept apart,
+        // so 1e400·x is the surface x = 0 (normalised), not an overflow.
+        let e = err("1e200*1e200*x");
+        assert_eq!(e.column, 6);
         assert!(e.message.contains("overflows"), "{e}");
         assert!(err("x + 10^400").message.contains("overflows"));
+        let p = ok("1e200*x * 1e200");
+        assert_eq!((p.terms().len(), p.terms()[0].0), (1, [1, 0, 0]), "{p}");
+    }
+
+    #[test]
+    fn a_scale_factor_does_not_change_the_surface() {
+        // k·F, normalised, is F normalised times k's mantissa: exactly F for
+        // powers of two (also where k·F itself leaves the f64 range), every
+        // coefficient in the same ratio to rounding otherwise.
+        let f = ok(TORUS).normalized().0;
+        for k in ["0.5^1070", "2^1000", "1e308", "1e-310", "-1e-300", "3"] {
+            let g = ok(&format!("{k}*({TORUS})")).normalized().0;
+            assert_eq!(g.terms().len(), f.terms().len(), "{k}: {g}");
+            let ratio = g.terms()[0].1 / f.terms()[0].1;
+            if k.contains('^') {
+                assert_eq!(ratio, 1.0, "{k}");
+            }
+            for (a, b) in g.terms().iter().zip(f.terms()) {
+                assert_eq!(a.0, b.0, "{k}");
+                assert!(
+                    (a.1 - ratio * b.1).abs() <= 1e-12 * a.1.abs(),
+                    "{k}: {g} for {f}"
+                );
+            }
+        }
     }
 
     #[test]

@@ -10,7 +10,7 @@
 use std::fmt;
 
 use crate::poly::MAX_DEGREE;
-use crate::poly::univariate::normalize_pow2;
+use crate::poly::univariate::{nonzero, normalize_pow2, scale_pow2_normal};
 
 /// Entries per axis in the dense accumulator: exponents 0..=MAX_DEGREE.
 const SIDE: usize = MAX_DEGREE + 1;
@@ -81,7 +81,7 @@ impl Trivariate {
                 _ => merged.push((e, c)),
             }
         }
-        merged.retain(|&(_, c)| c != 0.0);
+        merged.retain(|&(_, c)| nonzero(c));
         let degree = merged.iter().map(|&(e, _)| total(e)).max().unwrap_or(0);
         assert!(
             degree <= MAX_DEGREE,
@@ -100,7 +100,7 @@ impl Trivariate {
         let mut degree = 0;
         for i in (0..CUBE).rev() {
             let c = cube[i];
-            if c != 0.0 {
+            if nonzero(c) {
                 let e = [
                     (i / (SIDE * SIDE)) as u8,
                     (i / SIDE % SIDE) as u8,
@@ -162,12 +162,26 @@ impl Trivariate {
     /// coefficients), so neither Q(t) nor the gradient overflows or
     /// underflows for the scale k alone, and a power-of-two k changes no
     /// bit of any hit. Exact for every coefficient within 2^1022 of the
-    /// largest (subnormal ones included); smaller ones are dropped.
-    pub fn normalized(&self) -> Trivariate {
+    /// largest (subnormal ones included); smaller ones are dropped. Also
+    /// returns the exponent s of the factor 2^s applied (0 for the zero
+    /// polynomial; non-finite coefficients are left alone, s = 0).
+    pub fn normalized(&self) -> (Trivariate, i32) {
         let mut coeffs: Vec<f64> = self.terms.iter().map(|&(_, c)| c).collect();
-        if normalize_pow2(&mut coeffs).is_none() {
-            return self.clone(); // not finite: the caller refuses it
+        match normalize_pow2(&mut coeffs) {
+            Some(shift) => (self.with_coefficients(coeffs), shift),
+            None => (self.clone(), 0),
         }
+    }
+
+    /// self · 2^k, exact for every coefficient that stays in the normal
+    /// range; the others are dropped (see [`normalize_pow2`]).
+    pub fn scaled_pow2(&self, k: i32) -> Trivariate {
+        let coeffs = self.terms.iter().map(|&(_, c)| scale_pow2_normal(c, k));
+        self.with_coefficients(coeffs.collect())
+    }
+
+    /// The same monomials with new coefficients (zeros dropped).
+    fn with_coefficients(&self, coeffs: Vec<f64>) -> Trivariate {
         Trivariate::from_sorted(self.terms.iter().zip(coeffs).map(|(&(e, _), c)| (e, c)))
     }
 
@@ -349,7 +363,7 @@ impl Trivariate {
                 }
                 std::cmp::Ordering::Equal => {
                     let c = a[i].1 + sign * b[j].1;
-                    if c != 0.0 {
+                    if nonzero(c) {
                         terms.push((a[i].0, c));
                     }
                     i += 1;
@@ -380,7 +394,7 @@ impl Trivariate {
     /// Rebuilds from terms already in order with distinct exponents, dropping
     /// coefficients that became zero (underflow, or a zero factor).
     fn from_sorted(terms: impl Iterator<Item = ([u8; 3], f64)>) -> Trivariate {
-        let terms: Vec<_> = terms.filter(|&(_, c)| c != 0.0).collect();
+        let terms: Vec<_> = terms.filter(|&(_, c)| nonzero(c)).collect();
         let degree = terms.iter().map(|&(e, _)| total(e)).max().unwrap_or(0);
         Trivariate { terms, degree }
     }

@@ -314,10 +314,23 @@ pub(crate) fn pow2_reciprocal(x: f64) -> f64 {
     f64::from_bits(((1023 - e) as u64) << 52)
 }
 
+/// The bits of x, hidden from the optimiser: LLVM turns bit tests like
+/// `bits << 1 != 0` back into float comparisons (`x != 0.0`), which a
+/// thread that reads subnormals as zero (sturmray's do) answers wrongly.
+fn opaque_bits(x: f64) -> u64 {
+    std::hint::black_box(x.to_bits())
+}
+
+/// x ≠ 0, from the bits: true for subnormals whatever the thread's FTZ/DAZ
+/// mode.
+pub fn nonzero(x: f64) -> bool {
+    opaque_bits(x) << 1 != 0
+}
+
 /// ⌊log2 |x|⌋ for finite nonzero x, read from the bits, so it is exact for
 /// subnormals too and does not depend on the thread's FTZ/DAZ mode.
 pub(crate) fn log2_floor(x: f64) -> i32 {
-    let bits = x.to_bits() & !(1 << 63);
+    let bits = opaque_bits(x) & !(1 << 63);
     let biased = (bits >> 52) as i32;
     if biased == 0 {
         // Subnormal: the value is bits · 2^-1074.
@@ -340,7 +353,8 @@ fn pow2(k: i32) -> f64 {
 /// power of two, so a subnormal x is scaled exactly even on a thread that
 /// reads subnormals as zero (sturmray's threads do, main included).
 pub(crate) fn scale_pow2(x: f64, n: i32) -> f64 {
-    let (mantissa, exponent, sign) = num_traits::Float::integer_decode(x);
+    let (mantissa, exponent, sign) =
+        num_traits::Float::integer_decode(f64::from_bits(opaque_bits(x)));
     // mantissa < 2^53: an exact, normal f64 (or 0).
     let mut y = f64::from(sign) * mantissa as f64;
     let mut n = n.saturating_add(i32::from(exponent));
@@ -380,7 +394,7 @@ pub fn normalize_pow2(coeffs: &mut [f64]) -> Option<i32> {
     }
     let Some(largest) = coeffs
         .iter()
-        .filter(|c| c.to_bits() << 1 != 0)
+        .filter(|&&c| nonzero(c))
         .map(|&c| log2_floor(c))
         .max()
     else {
@@ -388,14 +402,20 @@ pub fn normalize_pow2(coeffs: &mut [f64]) -> Option<i32> {
     };
     let k = -largest;
     for c in coeffs.iter_mut() {
-        let scaled = scale_pow2(*c, k);
-        *c = if scaled.abs() < f64::MIN_POSITIVE {
-            0.0
-        } else {
-            scaled
-        };
+        *c = scale_pow2_normal(*c, k);
     }
     Some(k)
+}
+
+/// [`scale_pow2`], with a result below the normal range set to 0 (the
+/// same on threads that flush subnormals and threads that do not).
+pub(crate) fn scale_pow2_normal(x: f64, n: i32) -> f64 {
+    let scaled = scale_pow2(x, n);
+    if scaled.abs() < f64::MIN_POSITIVE {
+        0.0
+    } else {
+        scaled
+    }
 }
 
 /// `lead` times the product of (t - r) over `roots`, expanded in f64: the

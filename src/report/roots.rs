@@ -26,7 +26,7 @@ use crate::poly::MAX_DEGREE;
 use crate::poly::exact::{Isolation, Relative};
 use crate::poly::solve::{Method, Solver};
 use crate::poly::sturm::SturmSequence;
-use crate::poly::univariate::Poly;
+use crate::poly::univariate::{Poly, nonzero};
 
 /// The method name of the exact rational path (not a renderer method: it allocates).
 const EXACT: &str = "exact";
@@ -76,7 +76,7 @@ fn answer(line: &str, with_sturm: bool) -> Result<Value, String> {
     }
     // From the bits: this thread reads subnormals as zero, and a subnormal
     // coefficient is an ordinary nonzero number here.
-    match q.coeffs.iter().rposition(|c| c.to_bits() << 1 != 0) {
+    match q.coeffs.iter().rposition(|&c| nonzero(c)) {
         None => return Err("the polynomial is identically zero (every coefficient is 0)".into()),
         Some(0) => return Err("the polynomial is a nonzero constant: it has no roots".into()),
         Some(_) => {}
