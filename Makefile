@@ -94,10 +94,11 @@ wrapper-overhead: setup
 FUZZ_CASES ?= 1000000
 FUZZ_SECONDS ?= 60
 FUZZ_TARGETS := fuzz_input:fuzz_scene_parser fuzz_input:fuzz_obj_loader \
-	fuzz_poly:fuzz_poly_parser fuzz_poly:fuzz_root_finder fuzz_cli:fuzz_cli_end_to_end
+	fuzz_poly:fuzz_poly_parser fuzz_poly:fuzz_root_finder fuzz_cli:fuzz_cli_end_to_end \
+	hostile_poly:fuzz_roots_at_extreme_scales
 
 fuzz:
-	cargo test --no-run --test fuzz_input --test fuzz_poly --test fuzz_cli
+	cargo test --no-run --test fuzz_input --test fuzz_poly --test fuzz_cli --test hostile_poly
 	@failed=""; for target in $(FUZZ_TARGETS); do \
 	  crate=$${target%%:*}; name=$${target##*:}; \
 	  echo "fuzz $$name: $(FUZZ_CASES) cases or $(FUZZ_SECONDS) s"; \

@@ -12,7 +12,7 @@ use glam::{DAffine3, DVec3};
 use proptest::prelude::*;
 use serde_json::Value;
 
-use common::{scratch, sturmray, write};
+use common::{SQUARE, plane_scene, scratch, sturmray, write};
 use sturmray::geometry::{Box3, Shape, ShapeHit, Surface};
 use sturmray::poly::exact::{exact_count, exact_roots};
 use sturmray::poly::expr;
@@ -145,6 +145,23 @@ fn scaling_an_algebraic_surface_keeps_every_hit() {
     }
 }
 
+/// A normalised F can still have a huge gradient far from the origin: on
+/// x^16 − y^16 + z = 0 near (1e11, 1e11, 0), ∇F ≈ (16x^15, −16y^15, 1) is
+/// about 1.6e166, |∇F|² overflowed, and the normal normalised to zero
+/// (black). The hit's gradient is now scaled by a power of two first.
+#[test]
+fn huge_gradients_still_give_unit_normals() {
+    let s = shape("x^16 - y^16 + z", 1e12).unwrap();
+    // Along the gradient's direction, from 1 off either side to x = y.
+    let d = DVec3::new(1.0, -1.0, 0.0).normalize();
+    let o = DVec3::new(1e11 - 1.0, 1e11 + 1.0, 0.0);
+    let hit = s.intersect(o, d, 0.0, f64::INFINITY).expect("a hit");
+    // Coordinates near 1e11 are 1.5e-5 apart: t is no better than that.
+    assert!((hit.t - 2f64.sqrt()).abs() <= 1e-4, "{hit:?}");
+    let unit = hit.normal.normalize_or_zero();
+    assert!((unit - d).length() < 1e-12, "{hit:?}");
+}
+
 /// On a thread that reads subnormals as zero (the CLI's main thread, where
 /// scenes are parsed, and every render thread), 1e-310·F is still F: its
 /// coefficients were subnormal products, and "identically zero".
@@ -178,31 +195,14 @@ fn subnormal_scales_parse_on_flush_to_zero_threads() {
 #[test]
 fn scaled_surfaces_render_the_same_image() {
     let dir = scratch("poly-scaled-render");
+    write(&dir, "square.obj", SQUARE);
+    // The gallery's quartic, small, above the square it shadows.
     let scene = |expr: &str| {
-        format!(
-            r#"background = [0.1, 0.2, 0.3]
-[camera]
-eye = [0, -6, 3]
-look_at = [0, 0, 0]
-fov = 40
-width = 24
-height = 18
-[render]
-spp = 1
-[materials.gold]
-type = "diffuse"
-albedo = [0.8, 0.6, 0.2]
-[[objects]]
-type = "algebraic"
-expr = "{expr}"
-clip = {{ min = [-2.2, -2.2, -2.2], max = [2.2, 2.2, 2.2] }}
-material = "gold"
-[[lights]]
-type = "directional"
-direction = [-0.4, 0.7, -1]
-irradiance = [2, 2, 2]
-"#
-        )
+        plane_scene(&format!(
+            "[[objects]]\ntype = \"algebraic\"\nexpr = \"{expr}\"\n\
+             clip = {{ min = [-2.2, -2.2, -2.2], max = [2.2, 2.2, 2.2] }}\n\
+             material = \"paint\"\ntransform = {{ translate = [0, 0, 1], scale = 0.3 }}\n"
+        ))
     };
     let base = "x^4 - 5*x^2 + y^4 - 5*y^2 + z^4 - 5*z^2 + 11.8";
     let render = |name: &str, expr: &str| {
@@ -226,6 +226,10 @@ irradiance = [2, 2, 2]
         (exr, png)
     };
     let (exr, png) = render("f", base);
+    write(&dir, "empty.toml", &plane_scene(""));
+    assert!(sturmray(&dir, &["render", "empty.toml"]).status.success());
+    let empty = std::fs::read(dir.join("out/empty.png")).unwrap();
+    assert!(png != empty, "the surface must show in the image");
     for (i, k) in ["0.5^1000", "2^1000", "1e-310", "1e-300", "1e300", "-1e150"]
         .iter()
         .enumerate()
@@ -295,7 +299,9 @@ fn close(got: f64, want: f64, rel: f64) -> bool {
 /// "identically zero" for subnormal coefficients.
 #[test]
 fn roots_never_contradicts_itself() {
-    let cases: Vec<(Vec<f64>, Option<(f64, f64)>, Vec<f64>)> = vec![
+    // Coefficients, interval (None: the default), the roots.
+    type Case = (Vec<f64>, Option<(f64, f64)>, Vec<f64>);
+    let cases: Vec<Case> = vec![
         (
             vec![1e300, 0.0, -1e-300],
             Some((-1e308, 1e308)),
@@ -403,8 +409,10 @@ proptest! {
     /// are the reference; a subnormal root can be no closer than an ulp).
     #[test]
     fn fuzz_roots_at_extreme_scales(c in extreme_polynomial(FUZZ_DEGREE), method in 0usize..3) {
-        let mut solver = Solver::default();
-        solver.method = ["sturm-newton", "sturm-bisect", "closed"][method].parse().unwrap();
+        let solver = Solver {
+            method: ["sturm-newton", "sturm-bisect", "closed"][method].parse().unwrap(),
+            ..Solver::default()
+        };
         let (a, b) = (-f64::MAX, f64::MAX);
         let got = solver.certified_roots(&c, a, b).expect("finite input");
         let count = exact_count(&c, a, b).expect("finite input");

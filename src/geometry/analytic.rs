@@ -14,7 +14,7 @@ use crate::poly::MAX_DEGREE;
 use crate::poly::closed::quadratic;
 use crate::poly::solve::Solver;
 use crate::poly::trivariate::Trivariate;
-use crate::poly::univariate::Poly;
+use crate::poly::univariate::{Poly, normalize_pow2};
 
 /// A general quadric xᵀA x + b·x + c = 0 with symmetric A.
 #[derive(Clone, Debug, PartialEq)]
@@ -303,9 +303,14 @@ impl Shape {
     /// The nearest hit with t in (tmin, tmax) of the world ray o + t·d.
     pub fn intersect(&self, o: DVec3, d: DVec3, tmin: f64, tmax: f64) -> Option<ShapeHit> {
         let found = self.search(o, d, tmin, tmax, false)?;
+        // Scaled by a power of two (exact, direction unchanged): a gradient
+        // of 1e200 (degree 16 at 1e13 from the origin) would overflow |n|²,
+        // and normalising would give a zero normal, shaded black.
+        let mut gradient = self.surface.gradient(found.object_point).to_array();
+        normalize_pow2(&mut gradient);
         Some(ShapeHit {
             t: found.t,
-            normal: self.normal_to_world * self.surface.gradient(found.object_point),
+            normal: self.normal_to_world * DVec3::from(gradient),
         })
     }
 

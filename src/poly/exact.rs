@@ -1574,6 +1574,51 @@ mod tests {
     }
 
     #[test]
+    fn isolation_certifies_right_answers_only() {
+        // (x − 1)(x − 2)(x + 3)² on (−10, 10]: three distinct roots.
+        let p = from_int_roots(&[(1, 1), (2, 1), (-3, 2)]);
+        let iso = Isolation::new(&p, -10.0, 10.0).unwrap();
+        assert_eq!(iso.count(), 3);
+        let tol = 1e-12;
+        let off = |r: f64, by: f64| r + by * r.abs().max(1.0);
+        for relative in [Relative::MagnitudeOrOne, Relative::Magnitude] {
+            assert!(iso.certifies(&[-3.0, 1.0, 2.0], tol, relative));
+            assert!(iso.certifies(
+                &[off(-3.0, 0.5e-12), 1.0, off(2.0, -0.9e-12)],
+                tol,
+                relative
+            ));
+            // Too far, too few, too many, out of order, outside (a, b].
+            assert!(!iso.certifies(&[off(-3.0, 2e-12), 1.0, 2.0], tol, relative));
+            assert!(!iso.certifies(&[-3.0, 2.0], tol, relative));
+            assert!(!iso.certifies(&[-3.0, 1.0, 1.0, 2.0], tol, relative));
+            assert!(!iso.certifies(&[-3.0, 2.0, 1.0], tol, relative));
+            assert!(!iso.certifies(&[-3.0, 1.0, 2.0], 0.0, relative));
+            // Two values for one root: the second interval holds no root.
+            assert!(!iso.certifies(&[1.0, off(1.0, 0.5e-12), 2.0], tol, relative));
+            assert_eq!(iso.count(), 3);
+        }
+        // 1e28 t² − 1: roots ±1e-14; (0, 1] holds one. 1.4e-14 is within
+        // 1e-12 absolute (the renderer's tolerance below 1) but 40% off.
+        let c = [-1.0, 0.0, 1e28];
+        let iso = Isolation::new(&c, 0.0, 1.0).unwrap();
+        assert!(iso.certifies(&[1.4e-14], tol, Relative::MagnitudeOrOne));
+        assert!(!iso.certifies(&[1.4e-14], tol, Relative::Magnitude));
+        let roots = Isolation::new(&c, 0.0, 1.0)
+            .unwrap()
+            .roots(tol, Relative::Magnitude)
+            .unwrap();
+        assert!(iso.certifies(&roots, tol, Relative::Magnitude), "{roots:?}");
+        assert!((roots[0] - 1e-14).abs() <= 1e-12 * 1e-14);
+        // A root at exactly 0 is certified relatively only as 0 itself.
+        let c = [0.0, -1.0, 0.0, 1.0]; // t³ − t
+        let iso = Isolation::new(&c, -2.0, 2.0).unwrap();
+        assert!(iso.certifies(&[-1.0, 0.0, 1.0], tol, Relative::Magnitude));
+        assert!(!iso.certifies(&[-1.0, 1e-300, 1.0], tol, Relative::Magnitude));
+        assert!(iso.certifies(&[-1.0, 1e-300, 1.0], tol, Relative::MagnitudeOrOne));
+    }
+
+    #[test]
     fn irrational_roots_to_tolerance_and_correctly_rounded() {
         // x² − 2
         let c = [-2.0, 0.0, 1.0];
