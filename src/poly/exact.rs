@@ -1,5 +1,7 @@
 //! The exact (rational) polynomial path: the reference the f64 solver is
-//! tested against, and the backend of `sturmray roots --method exact`.
+//! tested against, the certificate every `sturmray roots` answer passes
+//! ([`Isolation`]: the exact count, and each f64 root alone within the
+//! tolerance of one exact root), and the answer when it does not.
 //!
 //! Why exact: every finite f64 is a dyadic rational, so the polynomial an f64
 //! caller means is known exactly. Floating-point Sturm sequences blur multiple

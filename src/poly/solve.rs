@@ -16,9 +16,10 @@
 //!
 //! Nothing on the rays' paths (`nearest`, `nearest_from`, `any`) allocates:
 //! Sturm chains and interval stacks are fixed arrays sized by
-//! [`MAX_DEGREE`], since every call runs per ray. `roots`, for the `roots`
-//! tool, checks the roots it found against the exact Sturm count and hands
-//! inputs f64 cannot settle to the exact path, which does allocate.
+//! [`MAX_DEGREE`], since every call runs per ray. `roots` and
+//! `certified_roots`, for the `roots` tool, return the f64 answer only when
+//! the exact isolation ([`Isolation::certifies`]) proves it, and otherwise
+//! the exact path's, which does allocate.
 
 use std::fmt;
 use std::str::FromStr;
