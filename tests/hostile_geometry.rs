@@ -350,6 +350,19 @@ type = "sphere"
 radius = 1
 transform = {{ scale = {:e}, translate = {} }}
 material = "paint"
+# Written at scene size, not scaled from unit size: the ray polynomial's
+# terms then differ by s^2, which must not make any of them negligible.
+[[objects]]
+type = "sphere"
+radius = {:e}
+transform = {{ translate = {} }}
+material = "paint"
+[[objects]]
+type = "torus"
+major = {:e}
+minor = {:e}
+transform = {{ translate = {} }}
+material = "paint"
 [[lights]]
 type = "point"
 position = {}
@@ -368,6 +381,11 @@ irradiance = [0.5, 0.5, 0.5]
         p([0.1, -0.3, 1.0]),
         0.08 * s,
         p([-0.25, 0.2, 0.08]),
+        0.06 * s,
+        p([0.25, 0.2, 0.06]),
+        0.07 * s,
+        0.02 * s,
+        p([0.2, -0.25, 0.02]),
         p([-0.3, -0.2, 0.5]),
         0.1 * s * s,
         0.1 * s * s,

@@ -64,6 +64,31 @@ impl Surface {
         }
     }
 
+    /// The same surface in coordinates scaled by 2^k (p' = 2^k p), exact: as
+    /// a polynomial, F(2^-k p') times a power of two.
+    fn at_scale_pow2(&self, k: i32) -> Surface {
+        let s = 2f64.powi(k);
+        match self {
+            Surface::Sphere { radius } => Surface::Sphere { radius: radius * s },
+            Surface::Torus { major, minor } => Surface::Torus {
+                major: major * s,
+                minor: minor * s,
+            },
+            // xᵀAx + b·x + c at x = p'/s, times s².
+            Surface::Quadric(q) => Surface::Quadric(Quadric {
+                a: q.a,
+                b: q.b * s,
+                c: q.c * s * s,
+            }),
+            // F and k·F are one surface: normalised once here, never per ray.
+            Surface::Algebraic(f) => {
+                // Normalised first, so no coefficient is subnormal when scaled.
+                let f = f.normalized().0.at_scale_pow2(-k);
+                Surface::Algebraic(Box::new(f.normalized().0))
+            }
+        }
+    }
+
     fn gradient(&self, p: DVec3) -> DVec3 {
         match self {
             Surface::Sphere { .. } => p,
@@ -187,6 +212,8 @@ pub struct Shape {
     normal_to_world: DMat3,
     /// Where the surface is searched, in object space: its own bounds clipped by the user's box.
     object_box: Box3,
+    /// Object space is the surface's own, scaled by 2^unit (see `new`).
+    unit: i32,
     world_bounds: Bounds,
     solver: Solver,
 }
@@ -251,21 +278,40 @@ impl Shape {
         if object_box.is_empty() {
             return Err("the clip box leaves nothing of the surface".into());
         }
-        let to_object = to_world.inverse();
-        // F and k·F are one surface: scaled once here, never per ray.
-        let surface = match surface {
-            Surface::Algebraic(f) => Surface::Algebraic(Box::new(f.normalized().0)),
-            other => other,
+        let world_bounds = world_bounds(&object_box, &to_world);
+        // Spheres and tori are solved at unit size: object space is rescaled
+        // by the power of two 2^unit that brings their box's extent near 1, so
+        // a torus of radius 1e8 is searched with the same numbers (and
+        // tolerances) as one of radius 1; the factor moves into the
+        // transform, exactly.
+        let unit = match surface {
+            Surface::Sphere { .. } | Surface::Torus { .. } => -(object_box.max - object_box.min)
+                .max_element()
+                .log2()
+                .round() as i32,
+            // A clip box says where to look, not how large the surface's
+            // features are: these keep their own units.
+            Surface::Quadric(_) | Surface::Algebraic(_) => 0,
         };
+        let to_object = DAffine3::from_scale(DVec3::splat(2f64.powi(unit))) * to_world.inverse();
         Ok(Shape {
-            world_bounds: world_bounds(&object_box, &to_world),
+            world_bounds,
             normal_to_world: to_object.matrix3.transpose(),
-            surface,
+            surface: surface.at_scale_pow2(unit),
             material,
             to_object,
-            object_box,
+            object_box: Box3 {
+                min: object_box.min * 2f64.powi(unit),
+                max: object_box.max * 2f64.powi(unit),
+            },
+            unit,
             solver,
         })
+    }
+
+    /// A one-line summary for `sturmray info`, in the units the scene gave.
+    pub fn describe(&self) -> String {
+        self.surface.at_scale_pow2(-self.unit).describe()
     }
 
     /// The centre and radius of the world-space sphere this shape is, if it is
@@ -361,7 +407,7 @@ impl Shape {
         // describe the surface near the ray's start, not far away from it.
         let start = o + t0 * d;
         Some(RayPoly {
-            q: self.surface.along(start, d).trimmed(1e-14),
+            q: self.surface.along(start, d).trimmed(1e-14, t1 - t0),
             hi: t1 - t0,
             start,
             d,

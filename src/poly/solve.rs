@@ -1341,8 +1341,8 @@ mod tests {
             let s = solver(*m);
             let cases: [(Poly, &[f64]); 3] = [
                 (p, &[0.5]),
-                (p.trimmed(1e-14), &[0.5]),
-                (q_noisy.trimmed(1e-14), &[0.25, 1.75]),
+                (p.trimmed(1e-14, 1.0), &[0.5]),
+                (q_noisy.trimmed(1e-14, 1.0), &[0.25, 1.75]),
             ];
             for (poly, want) in cases {
                 assert_near(&roots_of(&s, &poly, -2.0, 2.0), want, 1e-12);

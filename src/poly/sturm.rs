@@ -503,7 +503,7 @@ mod tests {
         let seq = SturmSequence::new(&p);
         assert_eq!(seq.count(-2.0, 2.0), 1);
         assert_eq!(seq.count(f64::NEG_INFINITY, f64::INFINITY), 2);
-        let seq = SturmSequence::new(&p.trimmed(1e-14));
+        let seq = SturmSequence::new(&p.trimmed(1e-14, 1.0));
         assert_eq!(seq.count(-2.0, 2.0), 1);
     }
 

@@ -180,6 +180,16 @@ impl Trivariate {
         self.with_coefficients(coeffs.collect())
     }
 
+    /// F(2^k p): each term c·x^i y^j z^l times 2^(k(i+j+l)), exact for every
+    /// coefficient that stays in the normal range (see [`Self::scaled_pow2`]).
+    pub fn at_scale_pow2(&self, k: i32) -> Trivariate {
+        let coeffs = self.terms.iter().map(|&(e, c)| {
+            let degree = i32::from(e[0]) + i32::from(e[1]) + i32::from(e[2]);
+            scale_pow2_normal(c, k * degree)
+        });
+        self.with_coefficients(coeffs.collect())
+    }
+
     /// The same monomials with new coefficients (zeros dropped).
     fn with_coefficients(&self, coeffs: Vec<f64>) -> Trivariate {
         Trivariate::from_sorted(self.terms.iter().zip(coeffs).map(|(&(e, _), c)| (e, c)))

@@ -159,15 +159,30 @@ impl Poly {
         )
     }
 
-    /// Drops leading coefficients that are negligible relative to the largest
-    /// |coefficient| (|c| <= rel * max|c|): a ray nearly parallel to a
-    /// cylinder's axis makes the t^2 coefficient round-off noise, and keeping
-    /// it would put a spurious root near infinity and make every division by
-    /// the polynomial ill-conditioned.
-    pub fn trimmed(&self, rel: f64) -> Poly {
-        let limit = rel * self.max_abs_coeff();
+    /// Drops leading terms that are negligible on [0, len]: c_n with
+    /// |c_n| len^n <= rel * max |c_k| len^k over the lower terms. A ray nearly
+    /// parallel to a cylinder's axis makes the t^2 coefficient round-off
+    /// noise, and keeping it would put a spurious root near infinity and make
+    /// every division by the polynomial ill-conditioned. The terms are
+    /// compared by what they contribute over the interval, not coefficient by
+    /// coefficient: along a sphere of radius 1e8 the t^2 coefficient is 1 and
+    /// the constant 1e16, yet both matter equally. Lengths below 1 count as 1
+    /// (then the comparison is the plain coefficients', which keeps more).
+    pub fn trimmed(&self, rel: f64, len: f64) -> Poly {
+        // 1/len^j, computed by repeated multiplication: at most 1, so it
+        // underflows harmlessly instead of overflowing at high degree.
+        let shrink = 1.0 / len.max(1.0);
         let mut degree = self.degree;
-        while degree > 0 && self.coeffs[degree].abs() <= limit {
+        while degree > 0 {
+            let mut weight = 1.0;
+            let mut largest = 0.0f64;
+            for c in self.coeffs[..degree].iter().rev() {
+                weight *= shrink;
+                largest = largest.max(c.abs() * weight);
+            }
+            if self.coeffs[degree].abs() > rel * largest {
+                break;
+            }
             degree -= 1;
         }
         Poly::from_array(self.coeffs, degree)
@@ -500,9 +515,21 @@ mod tests {
     #[test]
     fn trimmed_drops_round_off_leading_terms() {
         let p = Poly::new(&[2.0, -1.0, 1e-17, -3e-18]);
-        assert_eq!(p.trimmed(1e-14), Poly::new(&[2.0, -1.0]));
-        assert_eq!(p.trimmed(0.0), p);
-        assert_eq!(Poly::new(&[1e-20, 0.0]).trimmed(1e-14).degree(), 0);
+        assert_eq!(p.trimmed(1e-14, 1.0), Poly::new(&[2.0, -1.0]));
+        assert_eq!(p.trimmed(0.0, 1.0), p);
+        assert_eq!(Poly::new(&[1e-20, 0.0]).trimmed(1e-14, 1.0).degree(), 0);
+        // Along a sphere of radius 1e8 from its bounding box: t^2 matters as
+        // much as the constant over the 2e8 the ray crosses.
+        let sphere = Poly::new(&[-1e16, 2e8, 1.0]);
+        assert_eq!(sphere.trimmed(1e-14, 2e8), sphere);
+        // Noise is still noise over a long interval.
+        let noisy = Poly::new(&[-1e16, 2e8, 1e-20]);
+        assert_eq!(noisy.trimmed(1e-14, 2e8).degree(), 1);
+        // Over a huge interval the weights underflow, never overflow.
+        let mut long = [0.0; MAX_DEGREE + 1];
+        long[0] = 1.0;
+        long[MAX_DEGREE] = 1.0;
+        assert_eq!(Poly::new(&long).trimmed(1e-14, 1e300).degree(), MAX_DEGREE);
     }
 
     #[test]

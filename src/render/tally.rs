@@ -79,7 +79,7 @@ impl Node {
             ("background".to_string(), None)
         } else if hit.geom_id == scene.shapes_geom_id() {
             let shape = &scene.shapes[hit.prim_id as usize];
-            let what = format!("shape {} ({})", hit.prim_id, shape.surface.describe());
+            let what = format!("shape {} ({})", hit.prim_id, shape.describe());
             (what, Some(shape.material))
         } else {
             let mesh = &scene.meshes[hit.geom_id as usize];

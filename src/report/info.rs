@@ -65,11 +65,7 @@ pub fn describe(scene: &Scene, accel: &Accel) -> String {
         );
         for (i, shape) in scene.shapes.iter().enumerate() {
             let material = &scene.materials[shape.material as usize].name;
-            let _ = writeln!(
-                s,
-                "  {i:>3} {:<40} material {material}",
-                shape.surface.describe()
-            );
+            let _ = writeln!(s, "  {i:>3} {:<40} material {material}", shape.describe());
         }
     }
     let bounds = scene.bounds();
