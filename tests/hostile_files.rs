@@ -569,6 +569,20 @@ fn a_reader_that_stops_early_is_no_error() {
         assert_eq!(out.status.code(), Some(0), "{args:?}: {}", stderr(&out));
         assert!(stderr(&out).is_empty(), "{args:?}: {}", stderr(&out));
     }
+    // `roots` answers line by line: the reader is gone before the first.
+    let lines = "{\"coeffs\": [-1, 0, 1]}\n".repeat(1000);
+    write(&dir, "lines.jsonl", &lines);
+    let mut child = Command::new(env!("CARGO_BIN_EXE_sturmray"))
+        .arg("roots")
+        .stdin(std::fs::File::open(dir.join("lines.jsonl")).unwrap())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    let out = wait_at_most(child, Duration::from_secs(60));
+    assert_eq!(out.status.code(), Some(0), "roots: {}", stderr(&out));
+    assert!(stderr(&out).is_empty(), "roots: {}", stderr(&out));
 }
 
 /// Sends SIGINT to a child.

@@ -138,7 +138,11 @@ pub fn run(input: impl BufRead, mut output: impl Write, with_sturm: bool) -> Res
             any_bad = true;
             json!({ "error": message, "line": index + 1 })
         });
-        writeln!(output, "{reply}").map_err(write_error)?;
+        match writeln!(output, "{reply}") {
+            // A reader that stops early (`| head`) wants no more answers.
+            Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => break,
+            other => other.map_err(write_error)?,
+        }
     }
     Ok(any_bad)
 }
@@ -180,6 +184,29 @@ not json
         assert!(r[5]["error"].as_str().unwrap().contains("sturm-newton"));
         assert!(r[6]["error"].as_str().unwrap().contains("no roots"));
         assert_eq!(r[7]["count"], 2, "default interval holds every root");
+    }
+
+    /// An output that refuses every write, as a pipe whose reader is gone.
+    struct Closed(std::io::ErrorKind);
+
+    impl Write for Closed {
+        fn write(&mut self, _: &[u8]) -> std::io::Result<usize> {
+            Err(self.0.into())
+        }
+        fn flush(&mut self) -> std::io::Result<()> {
+            Ok(())
+        }
+    }
+
+    #[test]
+    fn a_reader_that_stops_early_is_no_error() {
+        let input = "{\"coeffs\": [-1, 0, 1]}\n".repeat(3);
+        let closed = Closed(std::io::ErrorKind::BrokenPipe);
+        assert!(!run(input.as_bytes(), closed, false).unwrap());
+        // Any other failure to write is one.
+        let full = Closed(std::io::ErrorKind::StorageFull);
+        let err = run(input.as_bytes(), full, false).unwrap_err().to_string();
+        assert!(err.contains("cannot write the answers"), "{err}");
     }
 
     #[test]
