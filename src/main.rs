@@ -606,8 +606,13 @@ fn run(command: Command) -> anyhow::Result<()> {
             Ok(())
         }
         Command::Accuracy { quick, json, plot } => {
-            sturmray::report::accuracy::command(quick, json.as_deref(), plot.as_deref())
-                .context("accuracy study failed")
+            let mut outputs: Vec<Role> = json.iter().map(|p| Role::new("--json", p)).collect();
+            outputs.extend(plot.iter().map(|p| Role::new("--plot", p)));
+            check_outputs(&[], &outputs)?;
+            let table =
+                sturmray::report::accuracy::command(quick, json.as_deref(), plot.as_deref())
+                    .context("accuracy study failed")?;
+            Ok(print(&table)?)
         }
     }
 }

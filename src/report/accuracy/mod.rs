@@ -14,11 +14,13 @@ pub mod plot;
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
+use std::io::Write as _;
 use std::path::Path;
 
 use serde::Serialize;
 
 use crate::error::Result;
+use crate::io::output::write_atomic;
 use crate::poly::solve::{Method, Solver};
 use cases::CaseSet;
 use measure::{Errors, Finder, ImageError};
@@ -278,31 +280,22 @@ pub fn table(records: &[Record]) -> String {
 }
 
 /// The `accuracy` command: runs the standard study from the current
-/// folder, prints the table, writes the records and the plot if asked.
-pub fn command(quick: bool, json: Option<&Path>, plot_path: Option<&Path>) -> Result<()> {
+/// folder, writes the records and the plot if asked (the caller has checked
+/// the paths), and returns the table to print.
+pub fn command(quick: bool, json: Option<&Path>, plot_path: Option<&Path>) -> Result<String> {
     let study = Study::standard(Path::new("."), quick)?;
     let records = run(&study)?;
-    print!("{}", table(&records));
     if let Some(path) = json {
-        create_parent(path)?;
         let text = serde_json::to_string_pretty(&records)
             .map_err(|e| crate::error::Error::Internal(format!("records to JSON: {e}")))?;
-        std::fs::write(path, text + "\n").map_err(|e| crate::error::Error::io(path, e))?;
+        write_atomic(path, |w| {
+            writeln!(w, "{text}").map_err(|e| crate::error::Error::io(path, e))
+        })?;
     }
     if let Some(path) = plot_path {
-        create_parent(path)?;
         plot::write_svg(path, &records)?;
     }
-    Ok(())
-}
-
-fn create_parent(path: &Path) -> Result<()> {
-    match path.parent() {
-        Some(dir) if !dir.as_os_str().is_empty() => {
-            std::fs::create_dir_all(dir).map_err(|e| crate::error::Error::io(dir, e))
-        }
-        _ => Ok(()),
-    }
+    Ok(table(&records))
 }
 
 #[cfg(test)]

@@ -3,11 +3,13 @@
 //! log axis (it spans 1e-2 to 1e-17); time on a linear one from 0, since
 //! the finders differ by factors under 3 and ratios read best from 0.
 
+use std::io::Write as _;
 use std::path::Path;
 
 use plotters::prelude::*;
 
 use crate::error::{Error, Result};
+use crate::io::output::write_atomic;
 use crate::report::accuracy::Record;
 
 /// Errors below this are drawn at it: a log axis has no zero, and a median
@@ -23,13 +25,17 @@ const COLOURS: [RGBColor; 6] = [
     RGBColor(140, 86, 75),
 ];
 
-/// Writes the plot of the pooled records ("all") as SVG.
+/// Writes the plot of the pooled records ("all") as SVG (atomically).
 pub fn write_svg(path: &Path, records: &[Record]) -> Result<()> {
+    let mut svg = String::new();
     draw(
-        SVGBackend::new(path, (900, 600)).into_drawing_area(),
+        SVGBackend::with_string(&mut svg, (900, 600)).into_drawing_area(),
         records,
     )
-    .map_err(|e| Error::Internal(format!("plot {}: {e}", path.display())))
+    .map_err(|e| Error::Internal(format!("plot {}: {e}", path.display())))?;
+    write_atomic(path, |w| {
+        w.write_all(svg.as_bytes()).map_err(|e| Error::io(path, e))
+    })
 }
 
 /// The curves: each finder's (error, ns per ray) points, loosest tolerance first.
