@@ -85,7 +85,7 @@ fn trace_refuses_rays_beyond_embrees_limit_by_index_on_every_backend() {
                 ],
             );
             let what = format!("{backend}, bad ray {i}");
-            assert_refused(&out, &["ray 2", word, "1.844e18"], &what);
+            assert_refused(&out, &["r.npy", "ray 2", word, "1.844e18"], &what);
             assert!(!dir.join("h.npy").exists(), "{what}: an output was written");
         }
         // At Embree's limit itself every backend traces, and the first ray hits.

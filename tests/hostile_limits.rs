@@ -180,6 +180,28 @@ fn ctrl_c_stops_a_pass_of_billions_of_samples() {
 }
 
 #[test]
+fn ctrl_c_stops_a_long_first_pass_after_its_grace() {
+    let dir = scratch("long-first-pass");
+    // One sample a pixel, but 257 rays each over 120,000 pixels: the first
+    // pass alone takes far longer than its second of grace.
+    let text = hall_of_mirrors(256).replace("width = 4\nheight = 3", "width = 400\nheight = 300");
+    write(&dir, "deep.toml", &text);
+    let (out, waited) = interrupt(
+        &dir,
+        &["render", "deep.toml", "-o", "d.exr"],
+        Duration::from_millis(1500),
+    );
+    assert_eq!(out.status.code(), Some(130), "{}", stderr(&out));
+    assert!(waited < PROMPTLY, "stopped {waited:?} after the signal");
+    let (header, film) = sturmray::io::state::read_state(&dir.join("d.state")).unwrap();
+    assert_eq!(
+        header.samples_done, 0,
+        "the first pass was cut, not finished"
+    );
+    assert!(film.pixels.iter().all(|p| p.samples == 0));
+}
+
+#[test]
 fn ctrl_c_stops_the_photon_pass() {
     let dir = scratch("huge-photons");
     write(&dir, "square.obj", SQUARE);

@@ -134,7 +134,9 @@ impl Accel {
                 for (hit, ray) in hits.iter_mut().zip(rays) {
                     *hit = self.intersect(ray);
                 }
-                Ok(())
+                // A panic caught in a query left a miss behind: say so now,
+                // as Embree's batch does, before anyone reads the hits.
+                self.check()
             }
         }
     }

@@ -46,7 +46,8 @@ pub struct RenderOptions {
     /// the rest. It must hold `region` and `samples_done` full passes.
     pub resume: Option<(Film, u32)>,
     /// Checked before every sample: once set, the render drops the pass under
-    /// way and returns the passes it finished.
+    /// way (the first, one sample a pixel, only if it has not ended a second
+    /// later) and returns the passes it finished.
     pub interrupt: Option<Arc<AtomicBool>>,
 }
 
@@ -62,6 +63,9 @@ pub struct RenderOutput {
     /// Samples whose radiance was NaN or infinite, counted as black.
     pub nonfinite: u64,
 }
+
+/// How long the first pass may go on after an interrupt (see `render`).
+const FIRST_PASS_GRACE: std::time::Duration = std::time::Duration::from_secs(1);
 
 /// Tiles are squares of this many pixels a side: small enough to balance two
 /// to many threads, large enough that scheduling costs nothing.
@@ -110,16 +114,24 @@ pub fn render(scene: &Scene, accel: &Accel, options: &RenderOptions) -> Result<R
     }
     let plan = plan(scene, options.all_effects);
     let pool = thread_pool(options.threads)?;
-    // Checked for every sample (after the first pass) and photon chunk, so an
-    // interrupt is honoured within moments whatever the pass size.
+    // Checked for every sample and photon chunk, so an interrupt is honoured
+    // within moments whatever the pass size.
     let stop = || {
         options
             .interrupt
             .as_ref()
             .is_some_and(|i| i.load(Ordering::Relaxed))
     };
+    // The first pass (one sample a pixel) may run on for a second after the
+    // signal, so a render stopped early still keeps some work; later passes,
+    // and a first one that takes longer, stop at once.
+    let noticed = std::sync::OnceLock::new();
+    let cut = |first: bool| {
+        stop() && (!first || noticed.get_or_init(Instant::now).elapsed() > FIRST_PASS_GRACE)
+    };
     let (caustics, photon_rays) =
         pool.install(|| photon_pass(scene, accel, &plan, options.progress, &stop))?;
+    accel.check()?;
     // An interrupted photon pass leaves no map: no pass can run without it.
     let photons_cut = plan.photon && caustics.is_none();
     let integrator = Tracer::new(scene, accel, plan, caustics.as_ref());
@@ -147,11 +159,11 @@ pub fn render(scene: &Scene, accel: &Accel, options: &RenderOptions) -> Result<R
     for range in passes {
         // A pass an interrupt cuts short is dropped whole: the film keeps
         // only complete passes, which is what its state can describe.
-        if stop() && (passes::interruptible(&range) || photons_cut) {
+        if stop() && (!passes::is_first(&range) || photons_cut) {
             break;
         }
         let film_ref = &film;
-        let interruptible = passes::interruptible(&range);
+        let first = passes::is_first(&range);
         let results: Option<Vec<(Vec<Pixel>, RayStats, u64)>> = pool.install(|| {
             tiles
                 .par_iter()
@@ -168,7 +180,7 @@ pub fn render(scene: &Scene, accel: &Accel, options: &RenderOptions) -> Result<R
                                 spp,
                                 adaptive,
                                 |k| {
-                                    if interruptible && stop() {
+                                    if cut(first) {
                                         return None;
                                     }
                                     let (ray, weight, mut rng) =

@@ -24,8 +24,8 @@ const FLOOR: f64 = 0.05;
 const PASSES: u32 = 8;
 
 /// The sample ranges of a render's passes, from sample `from` on. The first
-/// pass is one sample per pixel, quick at any spp: it always runs to its end,
-/// so an interrupt keeps some work, while later passes stop at once.
+/// pass is one sample per pixel, quick at any spp: an interrupt lets it end
+/// (within a grace period), so a render stopped early keeps some work.
 pub fn passes(spp: u32, adaptive: Option<&Adaptive>, from: u32) -> Vec<Range<u32>> {
     let (step, limit) = match adaptive {
         Some(a) => (spp, a.max_spp.max(spp)),
@@ -44,9 +44,9 @@ pub fn passes(spp: u32, adaptive: Option<&Adaptive>, from: u32) -> Vec<Range<u32
         .collect()
 }
 
-/// Whether an interrupt may cut this pass short: every pass but the first.
-pub fn interruptible(range: &Range<u32>) -> bool {
-    range.start > 0
+/// Whether this is a render's first pass (one sample per pixel).
+pub fn is_first(range: &Range<u32>) -> bool {
+    range.start == 0
 }
 
 /// Adds samples `range` to a pixel (`take(k)` traces sample k), unless
