@@ -288,10 +288,12 @@ fn print(text: &str) -> Result<(), Error> {
     }
 }
 
-/// SIGINT and SIGTERM during a render. The first stops the render after its
-/// current pass, so the work so far is written; a second ends the process at
-/// once, but never in the middle of writing: it waits for the files being
-/// written, so none is lost or torn.
+/// SIGINT and SIGTERM. During a render the first one stops the render (it
+/// drops the pass under way), so the work so far is written; a second ends
+/// the process at once. Commands that only write at their end (`trace`,
+/// `merge`, `bench`, `accuracy`) end at the first. Never in the middle of
+/// writing: the end waits for the files being written, so none is lost or
+/// torn and no temporary is left behind.
 struct Signals {
     interrupt: Arc<AtomicBool>,
     /// Set by a second signal.
@@ -300,8 +302,19 @@ struct Signals {
 }
 
 impl Signals {
+    /// For a render: the first signal asks it to stop.
     fn catch() -> Result<Signals, Error> {
-        let interrupt = Arc::new(AtomicBool::new(false));
+        Self::catch_after(false)
+    }
+
+    /// For the other commands that write: the first signal ends the process.
+    fn catch_at_once() -> Result<Signals, Error> {
+        Self::catch_after(true)
+    }
+
+    /// `stopping`: as if a first signal had come already.
+    fn catch_after(stopping: bool) -> Result<Signals, Error> {
+        let interrupt = Arc::new(AtomicBool::new(stopping));
         let again = Arc::new(AtomicBool::new(false));
         let writing = Arc::new(Mutex::new(()));
         let (first, second, lock) = (interrupt.clone(), again.clone(), writing.clone());
@@ -314,7 +327,7 @@ impl Signals {
                 std::process::exit(130);
             }
             note(format_args!(
-                "\ninterrupted: finishing this pass, then writing the image so far"
+                "\ninterrupted: stopping, then writing the image of the passes done"
             ));
         })
         .map_err(|e| Error::Internal(format!("cannot catch signals: {e}")))?;
@@ -349,6 +362,20 @@ fn write_text(path: &Path, text: &str) -> Result<(), Error> {
     write_atomic(path, |w| {
         w.write_all(text.as_bytes()).map_err(|e| Error::io(path, e))
     })
+}
+
+/// Every file the scenes at `files` are read from (loading them).
+fn sources_of(files: &[PathBuf]) -> Result<Vec<PathBuf>, Error> {
+    let mut sources = Vec::new();
+    for file in files {
+        sources.extend(Scene::load(file)?.sources);
+    }
+    Ok(sources)
+}
+
+/// `paths` as inputs described by `what`.
+fn roles<'a>(what: &str, paths: &'a [PathBuf]) -> Vec<Role<'a>> {
+    paths.iter().map(|p| Role::new(what, p)).collect()
 }
 
 /// The files a scene was read from, as inputs no output may replace.
@@ -386,8 +413,8 @@ fn run(command: Command) -> anyhow::Result<()> {
             frame,
             resume,
         } => {
-            // Caught from the start: the first signal stops the render after its
-            // current pass (its first, if the signal comes while loading).
+            // Caught from the start: the first signal stops the render, even
+            // while it loads (see `Signals`).
             let signals = Signals::catch()?;
             let scene_path = scene;
             let mut scene = load(&scene_path)?;
@@ -496,7 +523,11 @@ fn run(command: Command) -> anyhow::Result<()> {
                     Role::new("its PNG preview", &preview),
                 ],
             )?;
+            // Held while merge reads and writes: a signal waits for the files.
+            let signals = Signals::catch_at_once()?;
+            let writing = signals.writing();
             let summary = merge::merge(&output, &parts)?;
+            drop(writing);
             note(format_args!("wrote {}: {summary}", output.display()));
             Ok(())
         }
@@ -559,9 +590,11 @@ fn run(command: Command) -> anyhow::Result<()> {
             let mut inputs = scene_inputs(&scene);
             inputs.push(Role::new("--rays", &rays));
             check_outputs(&inputs, &[Role::new("--out", &out)])?;
+            let signals = Signals::catch_at_once()?;
             let rays = io::npy::read_rays(&rays)?;
             let accel = Accel::build(&scene, backend.into(), None)?;
             let hits = sturmray::render::trace_all(&accel, &rays, None)?;
+            let _writing = signals.writing();
             io::npy::write_hits(&out, &hits)?;
             Ok(())
         }
@@ -584,35 +617,50 @@ fn run(command: Command) -> anyhow::Result<()> {
             backends,
             c_harness,
         } => {
-            if let Some(path) = &json {
-                let inputs: Vec<Role> = scenes.iter().map(|s| Role::new("--scene", s)).collect();
-                check_outputs(&inputs, &[Role::new("--json", path)])?;
-            }
             let options = bench::Options {
                 quick,
                 scenes,
                 scene_root: PathBuf::from("scenes"),
                 backends: backends.into_iter().map(Backend::from).collect(),
             };
+            let signals = Signals::catch_at_once()?;
+            if let Some(path) = &json {
+                let sources = sources_of(&bench::scene_files(&options))?;
+                check_outputs(
+                    &roles("a bench scene's file", &sources),
+                    &[Role::new("--json", path)],
+                )?;
+            }
             if let Some(dir) = c_harness {
                 return bench::c_harness::run(&options, &dir, &mut std::io::stdout().lock())
                     .context("benchmark failed");
             }
             let records = bench::run(&options).context("benchmark failed")?;
             if let Some(path) = json {
+                let _writing = signals.writing();
                 write_text(&path, &(serde_json::to_string_pretty(&records)? + "\n"))?;
             }
             print(&(bench::table(&records) + &bench::incoherent_ratios(&records)))?;
             Ok(())
         }
         Command::Accuracy { quick, json, plot } => {
+            use sturmray::report::accuracy;
+            let signals = Signals::catch_at_once()?;
             let mut outputs: Vec<Role> = json.iter().map(|p| Role::new("--json", p)).collect();
             outputs.extend(plot.iter().map(|p| Role::new("--plot", p)));
-            check_outputs(&[], &outputs)?;
-            let table =
-                sturmray::report::accuracy::command(quick, json.as_deref(), plot.as_deref())
-                    .context("accuracy study failed")?;
-            Ok(print(&table)?)
+            let sources = sources_of(&accuracy::scene_files(Path::new(".")))?;
+            check_outputs(&roles("a study scene's file", &sources), &outputs)?;
+            let records = accuracy::command(quick).context("accuracy study failed")?;
+            {
+                let _writing = signals.writing();
+                if let Some(path) = &json {
+                    accuracy::write_json(path, &records)?;
+                }
+                if let Some(path) = &plot {
+                    accuracy::plot::write_svg(path, &records)?;
+                }
+            }
+            Ok(print(&accuracy::table(&records))?)
         }
     }
 }

@@ -207,12 +207,42 @@ fn no_output_replaces_an_input_or_another_output() {
         ),
         (
             &["bench", "--quick", "--scene", "s.toml", "--json", "s.toml"],
-            &["--json s.toml", "--scene s.toml"],
+            &["--json s.toml", "a bench scene's file s.toml"],
+        ),
+        (
+            &[
+                "bench",
+                "--quick",
+                "--scene",
+                "s.toml",
+                "--json",
+                "square.obj",
+            ],
+            &["--json square.obj", "a bench scene's file square.obj"],
         ),
     ];
     for (args, needles) in cases {
         refused(&dir, args, needles);
         assert!(snapshot(&dir) == before, "{args:?} changed a file");
+    }
+
+    // The studies read the repository's scenes: bench's standard set and
+    // accuracy's; refused before any work, so the repository is untouched.
+    let repo = Path::new(env!("CARGO_MANIFEST_DIR"));
+    for (args, needles) in [
+        (
+            &["bench", "--quick", "--json", "scenes/knot.toml"][..],
+            &[
+                "--json scenes/knot.toml",
+                "a bench scene's file scenes/knot.toml",
+            ][..],
+        ),
+        (
+            &["accuracy", "--quick", "--plot", "scenes/gallery/tori.toml"],
+            &["--plot", "a study scene's file ./scenes/gallery/tori.toml"],
+        ),
+    ] {
+        refused(repo, args, needles);
     }
 
     // merge: the output or its preview over a part or a part's state.

@@ -190,14 +190,24 @@ fn sizes(quick: bool) -> (usize, usize) {
     if quick { (100_000, 3) } else { (500_000, 3) }
 }
 
+/// The scene files a run reads: those asked for, or the standard set.
+pub fn scene_files(options: &Options) -> Vec<PathBuf> {
+    if options.scenes.is_empty() {
+        workload::scene_files(&options.scene_root)
+    } else {
+        options.scenes.clone()
+    }
+}
+
 pub fn run(options: &Options) -> Result<Vec<Record>> {
     let (count, reps) = sizes(options.quick);
-    let scenes = if options.scenes.is_empty() {
-        let files = workload::scene_files(&options.scene_root);
-        workload::scenes(&files, workload::mesh_sizes(options.quick))?
+    // The generated meshes join the standard set only.
+    let sizes = if options.scenes.is_empty() {
+        workload::mesh_sizes(options.quick)
     } else {
-        workload::scenes(&options.scenes, &[])?
+        &[]
     };
+    let scenes = workload::scenes(&scene_files(options), sizes)?;
     let backends = if options.backends.is_empty() {
         Backend::ALL.to_vec()
     } else {

@@ -46,9 +46,9 @@ pub const SCENES: &[&str] = &[
 /// camera rays through the pixel centres of images `width` pixels across.
 /// Scene paths are relative to `root`, the repository.
 pub fn hard_cases(root: &Path, width: u32) -> Result<Vec<CaseSet>> {
-    SCENES
+    super::scene_files(root)
         .iter()
-        .map(|path| scene_set(&root.join(path), width))
+        .map(|path| scene_set(path, width))
         .collect()
 }
 

@@ -279,23 +279,24 @@ pub fn table(records: &[Record]) -> String {
     out
 }
 
-/// The `accuracy` command: runs the standard study from the current
-/// folder, writes the records and the plot if asked (the caller has checked
-/// the paths), and returns the table to print.
-pub fn command(quick: bool, json: Option<&Path>, plot_path: Option<&Path>) -> Result<String> {
-    let study = Study::standard(Path::new("."), quick)?;
-    let records = run(&study)?;
-    if let Some(path) = json {
-        let text = serde_json::to_string_pretty(&records)
-            .map_err(|e| crate::error::Error::Internal(format!("records to JSON: {e}")))?;
-        write_atomic(path, |w| {
-            writeln!(w, "{text}").map_err(|e| crate::error::Error::io(path, e))
-        })?;
-    }
-    if let Some(path) = plot_path {
-        plot::write_svg(path, &records)?;
-    }
-    Ok(table(&records))
+/// The `accuracy` command's study, run from the current folder (it reads
+/// [`scene_files`]).
+pub fn command(quick: bool) -> Result<Vec<Record>> {
+    run(&Study::standard(Path::new("."), quick)?)
+}
+
+/// The scene files the standard study reads, from `root`.
+pub fn scene_files(root: &Path) -> Vec<std::path::PathBuf> {
+    cases::SCENES.iter().map(|s| root.join(s)).collect()
+}
+
+/// Writes the records as JSON (atomically).
+pub fn write_json(path: &Path, records: &[Record]) -> Result<()> {
+    let text = serde_json::to_string_pretty(records)
+        .map_err(|e| crate::error::Error::Internal(format!("records to JSON: {e}")))?;
+    write_atomic(path, |w| {
+        writeln!(w, "{text}").map_err(|e| crate::error::Error::io(path, e))
+    })
 }
 
 #[cfg(test)]
