@@ -75,7 +75,10 @@ fn weighted_average(sum: [f64; 3], weight: f64) -> [f32; 3] {
     if weight == 0.0 {
         return [0.0; 3];
     }
-    sum.map(|s| (s / weight) as f32)
+    // A filter with negative lobes can leave a weight sum near zero, whose
+    // quotient would overflow f32 to infinity: an image holds finite values.
+    let most = f64::from(f32::MAX);
+    sum.map(|s| (s / weight).clamp(-most, most) as f32)
 }
 
 fn average(sum: [f64; 3], n: u32) -> [f32; 3] {
@@ -224,6 +227,13 @@ impl Film {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_weight_sum_near_zero_gives_finite_values() {
+        // Mitchell's negative lobes: weights that nearly cancel.
+        let v = weighted_average([1e30, -1e30, 0.5], 1e-12);
+        assert_eq!(v, [f32::MAX, -f32::MAX, 5e11]);
+    }
 
     #[test]
     fn averages_and_nearest_depth() {

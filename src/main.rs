@@ -15,6 +15,7 @@ use sturmray::accel::{Accel, Backend};
 use sturmray::error::Error;
 use sturmray::film::Region;
 use sturmray::io;
+use sturmray::io::console::{note, print};
 use sturmray::io::output::{Role, check_distinct, prepare, write_atomic};
 use sturmray::render::job::{Job, Part, preview_path, state_path};
 use sturmray::render::{RayKind, RenderOptions, merge};
@@ -224,6 +225,11 @@ fn triple(v: [f32; 3]) -> String {
 }
 
 fn main() -> ExitCode {
+    // A panic is a bug, caught (in callbacks and backends) and reported as
+    // exit 1 with its message: one line on stderr, not a backtrace hint.
+    std::panic::set_hook(Box::new(|info| {
+        note(format_args!("sturmray: internal error (a bug): {info}"));
+    }));
     let cli = Cli::parse();
     // Not for `roots`: subnormal coefficients are ordinary numbers there, and
     // under DAZ even JSON parsing reads them as 0.
@@ -269,24 +275,6 @@ impl std::fmt::Display for Interrupted {
 }
 
 impl std::error::Error for Interrupted {}
-
-/// Says something on stderr. A closed stderr is no reason to fail (or,
-/// as `eprintln!` would, panic): the command's work is done all the same.
-fn note(args: std::fmt::Arguments) {
-    let _ = writeln!(std::io::stderr(), "{args}");
-}
-
-/// Writes a command's report to stdout. A reader that stops early (`|
-/// head`) is no error: the rest is simply not wanted.
-fn print(text: &str) -> Result<(), Error> {
-    let mut out = std::io::stdout().lock();
-    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
-        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
-            Err(Error::io("standard output", e))
-        }
-        _ => Ok(()),
-    }
-}
 
 /// SIGINT and SIGTERM. During a render the first one stops the render (it
 /// drops the pass under way), so the work so far is written; a second ends

@@ -284,11 +284,13 @@ impl Shape {
         // a torus of radius 1e8 is searched with the same numbers (and
         // tolerances) as one of radius 1; the factor moves into the
         // transform, exactly.
+        let extent = (object_box.max - object_box.min).max_element();
         let unit = match surface {
-            Surface::Sphere { .. } | Surface::Torus { .. } => -(object_box.max - object_box.min)
-                .max_element()
-                .log2()
-                .round() as i32,
+            // A box of no extent (a clip box that is one point) stays as it is.
+            Surface::Sphere { .. } | Surface::Torus { .. } if extent > 0.0 => {
+                -extent.log2().round() as i32
+            }
+            Surface::Sphere { .. } | Surface::Torus { .. } => 0,
             // A clip box says where to look, not how large the surface's
             // features are: these keep their own units.
             Surface::Quadric(_) | Surface::Algebraic(_) => 0,
@@ -353,7 +355,12 @@ impl Shape {
         // of 1e200 (degree 16 at 1e13 from the origin) would overflow |n|²,
         // and normalising would give a zero normal, shaded black.
         let mut gradient = self.surface.gradient(found.object_point).to_array();
-        normalize_pow2(&mut gradient);
+        // Only when needed: the scaling costs more than the comparison, and
+        // ordinary gradients square without harm.
+        let largest = gradient.iter().fold(0.0f64, |m, g| m.max(g.abs()));
+        if !(1e-100..=1e100).contains(&largest) {
+            normalize_pow2(&mut gradient);
+        }
         Some(ShapeHit {
             t: found.t,
             normal: self.normal_to_world * DVec3::from(gradient),

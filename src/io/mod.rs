@@ -11,6 +11,7 @@
 //! [`Error::Input`]: crate::error::Error::Input
 //! [`Error::Io`]: crate::error::Error::Io
 
+pub mod console;
 pub mod exr;
 pub mod input;
 pub mod npy;

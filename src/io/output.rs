@@ -31,6 +31,12 @@ pub fn write_atomic(
         let file = writer
             .into_inner()
             .map_err(|e| Error::io(path, e.into_error()))?;
+        // The replaced file's permissions carry over, as a plain write
+        // would keep them.
+        if let Ok(old) = std::fs::metadata(&target) {
+            file.set_permissions(old.permissions())
+                .map_err(|e| Error::io(path, e))?;
+        }
         // Synced before the rename: otherwise a crash could leave the new
         // name pointing at blocks that were never written.
         file.sync_all().map_err(|e| Error::io(path, e))?;
@@ -62,14 +68,14 @@ fn folder(path: &Path) -> &Path {
 /// other file has: `.NAME.PID.N.tmp`.
 fn create_temporary(target: &Path) -> std::io::Result<(PathBuf, File)> {
     static COUNTER: AtomicU64 = AtomicU64::new(0);
-    // Shortened, so a name near the file system's limit still has room.
-    let name: String = target
-        .file_name()
-        .unwrap_or_default()
-        .to_string_lossy()
-        .chars()
-        .take(64)
-        .collect();
+    // Shortened to at most 64 bytes (whole characters), so a name near the
+    // file system's limit (255 bytes) still has room.
+    let full = target.file_name().unwrap_or_default().to_string_lossy();
+    let mut end = full.len().min(64);
+    while !full.is_char_boundary(end) {
+        end -= 1;
+    }
+    let name = &full[..end];
     loop {
         let n = COUNTER.fetch_add(1, Ordering::Relaxed);
         let temporary = folder(target).join(format!(".{name}.{}.{n}.tmp", std::process::id()));
@@ -102,6 +108,14 @@ pub fn prepare(path: &Path) -> Result<()> {
         };
         return Err(Error::Input(format!(
             "{}: is {what}; sturmray writes its outputs only as regular files",
+            path.display()
+        )));
+    }
+    // Replacing it by rename would succeed (only the folder's permission
+    // counts), but a read-only file says it is not to be written.
+    if std::fs::metadata(path).is_ok_and(|m| m.permissions().readonly()) {
+        return Err(Error::Input(format!(
+            "{}: is read-only; sturmray does not replace it",
             path.display()
         )));
     }
@@ -231,6 +245,33 @@ mod tests {
         assert!(std::fs::symlink_metadata(&link).unwrap().is_symlink());
         assert_eq!(std::fs::read(&path).unwrap(), b"second");
         std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn a_replaced_file_keeps_its_permissions_and_read_only_ones_are_refused() {
+        use std::os::unix::fs::PermissionsExt;
+        let dir = dir("permissions");
+        let path = dir.join("private.exr");
+        std::fs::write(&path, "old").unwrap();
+        std::fs::set_permissions(&path, std::fs::Permissions::from_mode(0o600)).unwrap();
+        write_atomic(&path, |w| {
+            w.write_all(b"new").map_err(|e| Error::io(&path, e))
+        })
+        .unwrap();
+        assert_eq!(std::fs::read(&path).unwrap(), b"new");
+        let mode = std::fs::metadata(&path).unwrap().permissions().mode();
+        assert_eq!(mode & 0o777, 0o600);
+
+        std::fs::set_permissions(&path, std::fs::Permissions::from_mode(0o444)).unwrap();
+        let err = prepare(&path).unwrap_err().to_string();
+        assert!(err.contains("read-only"), "{err}");
+        // A name of 250 bytes in four-byte characters: its temporary still fits.
+        let long = dir.join("🦀".repeat(62));
+        write_atomic(&long, |w| {
+            w.write_all(b"x").map_err(|e| Error::io(&long, e))
+        })
+        .unwrap();
+        assert_eq!(std::fs::read(&long).unwrap(), b"x");
     }
 
     #[test]

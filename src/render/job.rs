@@ -6,7 +6,7 @@
 
 use std::path::{Path, PathBuf};
 
-use super::passes::passes;
+use super::passes::{passes, target};
 use super::{RenderOptions, RenderOutput, render};
 use crate::accel::{Accel, Backend};
 use crate::error::{Error, Result};
@@ -115,11 +115,7 @@ impl<'a> Job<'a> {
             height,
             region,
             spp,
-            target: scene
-                .render
-                .adaptive
-                .as_ref()
-                .map_or(spp, |a| a.max_spp.max(spp)),
+            target: target(spp, scene.render.adaptive.as_ref()),
             samples_done: 0,
             seed: scene.render.seed,
             scene_hash: scene.content_hash(),

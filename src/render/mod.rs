@@ -221,7 +221,7 @@ pub fn render(scene: &Scene, accel: &Accel, options: &RenderOptions) -> Result<R
     if let Some(bar) = progress {
         bar.finish_and_clear();
     }
-    let target = adaptive.map_or(spp, |a| a.max_spp.max(spp));
+    let target = passes::target(spp, adaptive);
     Ok(RenderOutput {
         film,
         stats,
@@ -257,16 +257,12 @@ fn photon_pass(
         return Ok((None, RayStats::default()));
     };
     if report {
-        // A note, not a result: stderr closed or a broken pipe is no failure
-        // (and `eprintln!` would panic on it).
-        use std::io::Write;
-        let _ = writeln!(
-            std::io::stderr(),
+        crate::io::console::note(format_args!(
             "photon map: {} of {} photons stored, radius {radius:.4}, {:.2} s",
             counts.stored,
             counts.emitted,
             start.elapsed().as_secs_f64()
-        );
+        ));
     }
     Ok((Some(map), counts.rays))
 }

@@ -27,9 +27,10 @@ const PASSES: u32 = 8;
 /// pass is one sample per pixel, quick at any spp: an interrupt lets it end
 /// (within a grace period), so a render stopped early keeps some work.
 pub fn passes(spp: u32, adaptive: Option<&Adaptive>, from: u32) -> Vec<Range<u32>> {
-    let (step, limit) = match adaptive {
-        Some(a) => (spp, a.max_spp.max(spp)),
-        None => (spp.div_ceil(PASSES).max(1), spp),
+    let limit = target(spp, adaptive);
+    let step = match adaptive {
+        Some(_) => spp,
+        None => spp.div_ceil(PASSES).max(1),
     };
     (0..limit)
         .step_by(step as usize)
@@ -42,6 +43,11 @@ pub fn passes(spp: u32, adaptive: Option<&Adaptive>, from: u32) -> Vec<Range<u32
         })
         .filter(|r| !r.is_empty() && r.start >= from)
         .collect()
+}
+
+/// The most samples a pixel takes: `spp`, or with adaptive sampling `max_spp`.
+pub fn target(spp: u32, adaptive: Option<&Adaptive>) -> u32 {
+    adaptive.map_or(spp, |a| a.max_spp.max(spp))
 }
 
 /// Whether this is a render's first pass (one sample per pixel).

@@ -223,11 +223,11 @@ pub fn run(options: &Options) -> Result<Vec<Record>> {
         let triangles = scene.triangle_count();
         let mut sets = None;
         for &backend in &backends {
-            eprintln!(
+            crate::io::console::note(format_args!(
                 "bench: {} ({triangles} triangles): building {}",
                 scene.name,
                 backend.name()
-            );
+            ));
             let start = Instant::now();
             let accel = Accel::build(scene, backend, None)?;
             let build_ms = start.elapsed().as_secs_f64() * 1e3;

@@ -106,11 +106,11 @@ pub fn run(study: &Study) -> Result<Vec<Record>> {
         .collect();
     let mut outcomes: BTreeMap<(usize, usize), Outcome> = BTreeMap::new();
     for (s, set) in study.sets.iter().enumerate() {
-        eprintln!(
+        crate::io::console::note(format_args!(
             "accuracy: {} ({} rays): exact reference",
             set.name,
             set.cases.len()
-        );
+        ));
         let reference = measure::reference(&set.cases);
         let reference_image = match &set.scene {
             Some(scene) => Some(measure::render_with(scene, REFERENCE)?),
@@ -136,7 +136,10 @@ pub fn run(study: &Study) -> Result<Vec<Record>> {
             );
         }
     }
-    eprintln!("accuracy: timing {} passes of each", study.reps);
+    crate::io::console::note(format_args!(
+        "accuracy: timing {} passes of each",
+        study.reps
+    ));
     for _ in 0..study.reps {
         for (s, set) in study.sets.iter().enumerate() {
             for (c, &(finder, tolerance)) in configs.iter().enumerate() {

@@ -61,11 +61,11 @@ pub fn run(options: &Options, dir: &Path, out: &mut impl Write) -> Result<()> {
                 scene.name
             )));
         }
-        eprintln!(
+        crate::io::console::note(format_args!(
             "bench: {} ({} triangles): building embree",
             scene.name,
             mesh.triangles.len()
-        );
+        ));
         // Built on one thread, as the C program builds: no builder threads are left
         // spinning beside the traced one.
         let accel = Accel::build(scene, Backend::Embree, Some(1))?;
