@@ -634,12 +634,18 @@ fn a_second_ctrl_c_while_writing_waits_for_whole_files() {
         &dir,
         &["render", "big.toml", "--tile", "0/1", "-o", "big.exr"],
     );
-    // Signals are caught from the start, once the process runs.
-    std::thread::sleep(Duration::from_millis(300));
-    interrupt(&child);
-    // Once a file appears, the writes have begun: interrupt again.
+    // Signals are caught from the start; threads beyond the main one and
+    // the signal handler's (the BVH build's, the render's) mean the output
+    // checks, whose temporaries would look like writes, are over.
     let start = Instant::now();
-    while names(&dir).len() == 3 {
+    let tasks = format!("/proc/{}/task", child.id());
+    while std::fs::read_dir(&tasks).map_or(0, |t| t.count()) < 3 {
+        assert!(start.elapsed() < Duration::from_secs(60), "never started");
+        std::thread::sleep(Duration::from_millis(1));
+    }
+    interrupt(&child);
+    // Once a temporary appears, the writes have begun: interrupt again.
+    while !names(&dir).iter().any(|n| n.starts_with(".big.")) {
         assert!(
             start.elapsed() < Duration::from_secs(120),
             "nothing written"
@@ -658,8 +664,10 @@ fn a_second_ctrl_c_while_writing_waits_for_whole_files() {
         .unwrap();
     let mut buf = vec![0; reader.output_buffer_size().unwrap()];
     reader.next_frame(&mut buf).unwrap();
+    // The one pass is kept, or dropped if it outlasted its grace after the
+    // first signal (a slow machine): either way the state reads back whole.
     let (header, _) = read_state(&dir.join("big.state")).unwrap();
-    assert_eq!(header.samples_done, 1);
+    assert!(header.samples_done <= 1, "{}", header.samples_done);
     assert_eq!(
         names(&dir),
         [
