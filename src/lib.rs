@@ -1,5 +1,5 @@
 //! sturmray: a ray tracer for triangle meshes mixed with exact analytic
-//! surfaces, on Intel Embree. See DESIGN.md in the shared folder for the map.
+//! surfaces, on Intel Embree. See ARCHITECTURE.md for the map.
 
 pub mod accel;
 pub mod error;

@@ -1,5 +1,5 @@
 //! OpenEXR output: the beauty image and its AOVs in one part (the EXR
-//! contract in DESIGN.md).
+//! contract in ARCHITECTURE.md).
 //!
 //! The file has one layer with the f32 channels `R`, `G`, `B` (beauty), `Z`
 //! (depth), `normal.X/Y/Z` and `albedo.R/G/B`, ZIP-compressed scanlines in

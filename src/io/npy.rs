@@ -1,4 +1,4 @@
-//! NumPy `.npy` files: rays in, hits out (the `trace` contract in DESIGN.md).
+//! NumPy `.npy` files: rays in, hits out (the `trace` contract in ARCHITECTURE.md).
 //!
 //! The format is small enough to write by hand
 //! (<https://numpy.org/doc/stable/reference/generated/numpy.lib.format.html>):

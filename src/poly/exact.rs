@@ -19,7 +19,7 @@
 //!   any integer gcd (a primitive PRS needs one per member, and with
 //!   coefficients spanning 1e±144 those took seconds). Each member's sign is
 //!   tracked so it is a *positive* multiple of the true Sturm remainder
-//!   (DESIGN.md: never normalise by a factor that may be negative). For a
+//!   (ARCHITECTURE.md: never normalise by a factor that may be negative). For a
 //!   square-free input, the sequence that proves gcd(p, p′) = 1 is itself
 //!   the Sturm chain, so it is built once.
 //! - Evaluation points are dyadic, m·2^e: midpoints of dyadic endpoints stay

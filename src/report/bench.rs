@@ -17,7 +17,7 @@ use crate::render::thread_pool;
 use crate::sampling::Rng;
 use crate::scene::Scene;
 
-/// One measurement, in the JSON form DESIGN.md fixes (plus `api`).
+/// One measurement, in the JSON form ARCHITECTURE.md fixes (plus `api`).
 #[derive(Clone, Debug, Serialize)]
 pub struct Record {
     pub backend: String,

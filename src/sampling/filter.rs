@@ -1,9 +1,9 @@
 //! Reconstruction filters by filter importance sampling (pbrt-v4): a pixel's
 //! sample is placed at an offset from the pixel centre drawn with density
 //! proportional to the filter, so each sample counts for its own pixel only
-//! (DESIGN.md: no splatting). The film then averages `weight × radiance` over
-//! the pixel's samples and divides by their count: the weights have mean 1, so
-//! images keep their brightness.
+//! (ARCHITECTURE.md: no splatting). The film then averages `weight ×
+//! radiance` over the pixel's samples and divides by their count: the weights
+//! have mean 1, so images keep their brightness.
 //!
 //! All four filters are separable, f(x, y) = f₁(x) f₁(y), and are sampled one
 //! axis at a time. Box, tent and Gaussian are sampled exactly (weight 1). The

@@ -5,7 +5,7 @@
 //!
 //! Everything here is a pure function of its arguments (of its key, for the
 //! generator), works in f32 at its interface and allocates nothing per sample,
-//! so a sample depends only on (seed, pixel, sample index): DESIGN.md's
+//! so a sample depends only on (seed, pixel, sample index): ARCHITECTURE.md's
 //! determinism rule. Inputs called `u` are uniform numbers in [0, 1).
 
 mod discrete;
