@@ -1,7 +1,7 @@
 """Cross-check `sturmray trace` against embreex (Embree 4 from PyPI).
 
-The OBJ is read here, in Python, by the design's `trace` contract (DESIGN.md,
-"Contracts"):
+The OBJ is read here, in Python, by the design's `trace` contract (ARCHITECTURE.md,
+"Contracts users and tests rely on"):
 objects are the `o`/`g` sections that have at least one face, in file order
 (faces before the first `o`/`g` form an object of their own); a polygon
 v0..vn-1 is fanned into (v0,v1,v2), (v0,v2,v3), ...; indices are 1-based,

@@ -1,7 +1,7 @@
 """`sturmray trace` on analytic shapes mixed with a mesh, against closed-form
 geometry computed here in float64 with numpy.
 
-Contract (DESIGN.md, trace): the analytic shapes are one geometry whose
+Contract (ARCHITECTURE.md, .npy rays and hits): the analytic shapes are one geometry whose
 geom_id is the number of meshes, and prim_id is the shape's index in the
 scene's list of shapes; `ng` is the normal from the surface's gradient.
 """

@@ -7,7 +7,7 @@
  * thread, one ray per rtcIntersect1 call ("single") and in streams of 256
  * through rtcIntersect1M ("batch", coherent for camera rays), as the wrapper
  * does, times it as sturmray's side does, and prints one line per measurement in the same format as the Rust
- * side, with a checksum of the hits. See README.md.
+ * side, with a checksum of the hits. See docs/benchmarks.md.
  *
  *   cc -O2 -std=c11 benches/c_harness/c_harness.c -lembree3 -o c_harness
  *   ./c_harness DIR NAME [REPS]
