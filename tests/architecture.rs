@@ -71,7 +71,9 @@ fn problems(
     }
     for module in declared {
         if !map.contains(module) {
-            found.push(format!("`{module}` is declared in lib.rs but not in the map"));
+            found.push(format!(
+                "`{module}` is declared in lib.rs but not in the map"
+            ));
         }
     }
     let position = |name: &str| map.iter().position(|row| row == name);
@@ -183,8 +185,14 @@ fn a_downward_use_passes_and_an_upward_one_fails() {
         ("render".to_owned(), "use crate::math::Ray;".to_owned()),
         ("math".to_owned(), "// see crate::render\n".to_owned()),
     ];
-    assert_eq!(problems(&map, |_| true, &declared, &down), Vec::<String>::new());
-    let up = [("math".to_owned(), "let x = crate::render::run();".to_owned())];
+    assert_eq!(
+        problems(&map, |_| true, &declared, &down),
+        Vec::<String>::new()
+    );
+    let up = [(
+        "math".to_owned(),
+        "let x = crate::render::run();".to_owned(),
+    )];
     assert_eq!(
         problems(&map, |_| true, &declared, &up),
         ["`math` uses `render`, which the map lists above it"]
