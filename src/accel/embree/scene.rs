@@ -9,8 +9,9 @@ use std::sync::Arc;
 use super::device::Device;
 use super::query::{self, Coherence};
 use super::sys;
-use super::user::{self, UserData, UserPrimitive};
+use super::user::{self, UserData};
 use crate::accel::panics::PanicSlot;
+use crate::accel::primitive::UserPrimitive;
 use crate::error::{Error, Result};
 use crate::math::{Bounds, Hit, Ray, Vec3};
 

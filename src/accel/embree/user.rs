@@ -14,28 +14,8 @@ use std::ffi::c_void;
 
 use super::sys;
 use crate::accel::panics::PanicSlot;
+use crate::accel::primitive::UserPrimitive;
 use crate::math::{Bounds, Ray, Vec3};
-
-/// What a user primitive reports for a hit.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct UserHit {
-    pub t: f32,
-    /// Geometric normal (any length; Embree stores it as given).
-    pub ng: Vec3,
-    pub u: f32,
-    pub v: f32,
-}
-
-/// A primitive Embree traces through Rust callbacks. Embree calls these from
-/// many threads at once, hence `&self` only and `Send + Sync`.
-pub trait UserPrimitive: Send + Sync + 'static {
-    /// World-space bounds.
-    fn bounds(&self) -> Bounds;
-    /// The nearest hit with t in [ray.tnear, ray.tfar), if any.
-    fn intersect(&self, ray: &Ray) -> Option<UserHit>;
-    /// Whether any hit lies in [ray.tnear, ray.tfar).
-    fn occluded(&self, ray: &Ray) -> bool;
-}
 
 /// What Embree's geometry user pointer points at: the primitives (primID
 /// indexes them) and the scene's panic slot.
