@@ -234,7 +234,7 @@ fn main() -> ExitCode {
     // Not for `roots`: subnormal coefficients are ordinary numbers there, and
     // under DAZ even JSON parsing reads them as 0.
     if !matches!(cli.command, Command::Roots { .. }) {
-        sturmray::accel::embree::enable_flush_to_zero();
+        sturmray::accel::ftz::enable_flush_to_zero();
     }
     match run(cli.command) {
         Ok(()) => ExitCode::SUCCESS,

@@ -3,7 +3,7 @@
 
 use glam::DVec3;
 
-use super::embree::{UserHit, UserPrimitive};
+use super::primitive::{UserHit, UserPrimitive};
 use crate::geometry::Shape;
 use crate::math::{Bounds, Ray};
 

@@ -4,7 +4,9 @@
 mod analytic;
 #[allow(unsafe_code)]
 pub mod embree;
+pub mod ftz;
 mod panics;
+pub mod primitive;
 pub mod rust_bvh;
 
 use std::panic::{AssertUnwindSafe, catch_unwind};

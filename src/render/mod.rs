@@ -22,7 +22,7 @@ pub use tally::{Node, RayKind, RayStats, Tally};
 pub use whitted::Whitted;
 
 use crate::accel::Accel;
-use crate::accel::embree::enable_flush_to_zero;
+use crate::accel::ftz::enable_flush_to_zero;
 use crate::error::{Error, Result};
 use crate::film::{Film, Pixel, Region, Sample};
 use crate::math::{Hit, Ray};

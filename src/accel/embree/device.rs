@@ -5,6 +5,7 @@ use std::ptr::NonNull;
 use std::sync::atomic::{AtomicI64, Ordering};
 use std::sync::{Arc, Mutex};
 
+use super::owned::UserPtr;
 use super::sys;
 use crate::error::{Error, Result};
 
@@ -32,9 +33,9 @@ impl Monitor {
 
 struct DeviceHandle {
     raw: NonNull<sys::RTCDeviceTy>,
-    // Boxed so its address, handed to Embree as the callbacks' user pointer, is stable.
-    // Declared after `raw`: the device is released before the monitor is freed.
-    monitor: Box<Monitor>,
+    // The callbacks' user pointer. Declared after `raw`: the device is released
+    // before the monitor is freed.
+    monitor: UserPtr<Monitor>,
 }
 
 impl Drop for DeviceHandle {
@@ -46,7 +47,8 @@ impl Drop for DeviceHandle {
 }
 
 // SAFETY: Embree's API documentation states that device-level calls (creating objects,
-// setting callbacks, querying properties) are thread-safe, and the monitor is a Mutex and an atomic.
+// setting callbacks, querying properties) are thread-safe, and the monitor, owned through
+// `UserPtr` like a Box, is a Mutex and an atomic.
 unsafe impl Send for DeviceHandle {}
 // SAFETY: as for Send: sharing `&DeviceHandle` only allows thread-safe device calls.
 unsafe impl Sync for DeviceHandle {}
@@ -93,8 +95,8 @@ extern "C" fn error_callback(user_ptr: *mut c_void, code: sys::RTCError, message
                 .to_string_lossy()
                 .into_owned()
         };
-        // SAFETY: `user_ptr` is the `Monitor` registered in `Device::with_config`, boxed
-        // inside the DeviceHandle, which outlives every call Embree makes on this device.
+        // SAFETY: `user_ptr` is the `Monitor` registered in `Device::with_config`, owned by
+        // the DeviceHandle, which releases the device before freeing it.
         let monitor = unsafe { &*(user_ptr as *const Monitor) };
         monitor.push(format!("{} (code {code})", text.trim_end()));
     });
@@ -130,14 +132,15 @@ impl Device {
         };
         let handle = DeviceHandle {
             raw,
-            monitor: Box::default(),
+            monitor: UserPtr::new(Box::default()),
         };
-        let monitor = &*handle.monitor as *const Monitor as *mut c_void;
-        // SAFETY: the monitor is boxed inside `handle` and outlives the device (field order
-        // and Drop above); the callbacks only use it through a shared reference.
+        let monitor = handle.monitor.as_c_void();
+        // SAFETY: the device is valid; the monitor is owned by `handle` and outlives the
+        // device (field order and Drop above); the callback only reads it through `&Monitor`.
+        unsafe { sys::rtcSetDeviceErrorFunction(raw.as_ptr(), Some(error_callback), monitor) };
+        // SAFETY: as for the error function.
         unsafe {
-            sys::rtcSetDeviceErrorFunction(raw.as_ptr(), Some(error_callback), monitor);
-            sys::rtcSetDeviceMemoryMonitorFunction(raw.as_ptr(), Some(memory_callback), monitor);
+            sys::rtcSetDeviceMemoryMonitorFunction(raw.as_ptr(), Some(memory_callback), monitor)
         };
         let device = Device(Arc::new(handle));
         let library = device.library_version();
@@ -166,7 +169,7 @@ impl Device {
 
     /// Bytes Embree currently holds for this device's scenes, from its memory monitor.
     pub fn bytes_in_use(&self) -> i64 {
-        self.0.monitor.bytes.load(Ordering::Relaxed)
+        self.0.monitor.get().bytes.load(Ordering::Relaxed)
     }
 
     pub(super) fn raw(&self) -> *mut sys::RTCDeviceTy {
@@ -175,7 +178,7 @@ impl Device {
 
     /// Turns every error Embree reported since the last check into an `Error`.
     pub(super) fn check(&self) -> Result<()> {
-        let errors = self.0.monitor.drain();
+        let errors = self.0.monitor.get().drain();
         if errors.is_empty() {
             Ok(())
         } else {

@@ -6,16 +6,16 @@
 //! error callback and are drained after builds, commits and batches.
 
 mod device;
-mod fpu;
+// Crate-visible for `accel::ftz`, the neutral name of its one function.
+pub(crate) mod fpu;
+mod owned;
 mod query;
 mod scene;
 mod sys;
 mod user;
 
 pub use device::{Device, HEADER_VERSION, Version};
-pub use fpu::enable_flush_to_zero;
 pub use scene::{BuildQuality, CommittedScene, SceneBuilder, SceneOptions};
-pub use user::{UserHit, UserPrimitive};
 
 #[cfg(test)]
 mod tests;

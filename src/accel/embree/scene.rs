@@ -2,15 +2,17 @@
 //! committed scene that answers queries from any number of threads.
 
 use std::any::Any;
-use std::ffi::c_void;
+use std::mem::MaybeUninit;
 use std::ptr::NonNull;
 use std::sync::Arc;
 
 use super::device::Device;
+use super::owned::UserPtr;
 use super::query::{self, Coherence};
 use super::sys;
-use super::user::{self, UserData, UserPrimitive};
+use super::user::{self, UserData};
 use crate::accel::panics::PanicSlot;
+use crate::accel::primitive::UserPrimitive;
 use crate::error::{Error, Result};
 use crate::math::{Bounds, Hit, Ray, Vec3};
 
@@ -62,9 +64,44 @@ impl Drop for GeometryHandle {
     }
 }
 
+/// Has Embree allocate a buffer of `items.len()` items for `geometry` (padded
+/// for its 16-byte loads) and copies `items` into it; false if Embree could
+/// not allocate it.
+fn fill_buffer<T>(
+    geometry: &mut GeometryHandle,
+    kind: sys::RTCBufferType,
+    format: sys::RTCFormat,
+    items: impl ExactSizeIterator<Item = T>,
+) -> bool {
+    let len = items.len();
+    // SAFETY: the geometry is new and unshared; Embree allocates `len` items of the given
+    // stride, owned by the geometry, and returns null on failure.
+    let raw = unsafe {
+        sys::rtcSetNewGeometryBuffer(
+            geometry.0.as_ptr(),
+            kind,
+            0,
+            format,
+            std::mem::size_of::<T>(),
+            len,
+        )
+    };
+    let Some(raw) = NonNull::new(raw.cast::<MaybeUninit<T>>()) else {
+        return false;
+    };
+    // SAFETY: `raw` holds `len` items of `T`, aligned (Embree aligns buffers to 16 bytes,
+    // more than the callers' 4-byte arrays need), uninitialised, hence `MaybeUninit`; the
+    // geometry that owns the buffer is borrowed exclusively while the slice lives.
+    let buffer = unsafe { std::slice::from_raw_parts_mut(raw.as_ptr(), len) };
+    for (slot, item) in buffer.iter_mut().zip(items) {
+        slot.write(item);
+    }
+    true
+}
+
 /// The primitives of user geometries, kept alive (and at a stable address) for
 /// as long as Embree's scene may call back into them.
-type UserStore = Vec<Box<dyn Any + Send + Sync>>;
+type UserStore = Vec<UserPtr<dyn Any + Send + Sync>>;
 
 /// A scene being built. Not `Sync`: Embree calls on one object are not thread-safe.
 pub struct SceneBuilder {
@@ -96,10 +133,9 @@ impl SceneBuilder {
             BuildQuality::High => sys::RTCBuildQuality_RTC_BUILD_QUALITY_HIGH,
         };
         // SAFETY: the scene is valid and not yet shared with any thread.
-        unsafe {
-            sys::rtcSetSceneFlags(raw.as_ptr(), flags);
-            sys::rtcSetSceneBuildQuality(raw.as_ptr(), quality);
-        }
+        unsafe { sys::rtcSetSceneFlags(raw.as_ptr(), flags) };
+        // SAFETY: as above.
+        unsafe { sys::rtcSetSceneBuildQuality(raw.as_ptr(), quality) };
         device.check()?;
         Ok(SceneBuilder {
             scene,
@@ -128,42 +164,24 @@ impl SceneBuilder {
                 "geometry {geom_id}: vertex index {bad} out of range (the mesh has {count} vertices)"
             )));
         }
-        let geometry = self.new_geometry(sys::RTCGeometryType_RTC_GEOMETRY_TYPE_TRIANGLE)?;
-        let g = geometry.0.as_ptr();
-        // SAFETY: `g` is a new, unshared triangle geometry. Each buffer is allocated by
-        // Embree for exactly `len` items of the stated 12-byte stride, checked for null,
-        // and filled with `len` items before commit.
-        unsafe {
-            let vertices = sys::rtcSetNewGeometryBuffer(
-                g,
-                sys::RTCBufferType_RTC_BUFFER_TYPE_VERTEX,
-                0,
-                sys::RTCFormat_RTC_FORMAT_FLOAT3,
-                std::mem::size_of::<[f32; 3]>(),
-                count,
-            ) as *mut [f32; 3];
-            let indices = sys::rtcSetNewGeometryBuffer(
-                g,
-                sys::RTCBufferType_RTC_BUFFER_TYPE_INDEX,
-                0,
-                sys::RTCFormat_RTC_FORMAT_UINT3,
-                std::mem::size_of::<[u32; 3]>(),
-                triangles.len(),
-            ) as *mut [u32; 3];
-            if vertices.is_null() || indices.is_null() {
-                self.device.check()?;
-                return Err(Error::Embree("cannot allocate geometry buffers".into()));
-            }
-            for (i, p) in positions.iter().enumerate() {
-                vertices.add(i).write(p.to_array());
-            }
-            std::ptr::copy_nonoverlapping(triangles.as_ptr(), indices, triangles.len());
-            sys::rtcSetGeometryMask(g, u32::MAX);
-            sys::rtcCommitGeometry(g);
-            sys::rtcAttachGeometryByID(self.scene.0.as_ptr(), g, geom_id);
+        let mut geometry = self.new_geometry(sys::RTCGeometryType_RTC_GEOMETRY_TYPE_TRIANGLE)?;
+        let vertices = fill_buffer(
+            &mut geometry,
+            sys::RTCBufferType_RTC_BUFFER_TYPE_VERTEX,
+            sys::RTCFormat_RTC_FORMAT_FLOAT3,
+            positions.iter().map(|p| p.to_array()),
+        );
+        let indices = fill_buffer(
+            &mut geometry,
+            sys::RTCBufferType_RTC_BUFFER_TYPE_INDEX,
+            sys::RTCFormat_RTC_FORMAT_UINT3,
+            triangles.iter().copied(),
+        );
+        if !(vertices && indices) {
+            self.device.check()?;
+            return Err(Error::Embree("cannot allocate geometry buffers".into()));
         }
-        drop(geometry);
-        self.device.check()
+        self.attach(geometry, geom_id)
     }
 
     /// Adds user primitives as geometry `geom_id`; primID i is `prims[i]`. The
@@ -174,32 +192,46 @@ impl SceneBuilder {
         }
         let count = u32::try_from(prims.len())
             .map_err(|_| Error::Input(format!("geometry {geom_id}: too many primitives")))?;
-        let data = Box::new(UserData {
+        let data: UserPtr<dyn Any + Send + Sync> = UserPtr::new(Box::new(UserData {
             prims: prims.into_boxed_slice(),
             panics: Arc::clone(&self.panics),
-        });
-        let user_ptr = &*data as *const UserData<T> as *mut c_void;
+        }));
+        let user_ptr = data.as_c_void();
+        // Stored before Embree sees the pointer, so it stays alive on every path.
+        self.user_data.push(data);
         let geometry = self.new_geometry(sys::RTCGeometryType_RTC_GEOMETRY_TYPE_USER)?;
         let g = geometry.0.as_ptr();
-        // SAFETY: `g` is a new, unshared user geometry. The user pointer is the boxed
-        // UserData<T>, which `self.user_data` keeps alive, unmoved, until after Embree's
-        // scene is released; the callbacks are monomorphised for that same T.
+        // SAFETY: `g` is a new, unshared user geometry.
+        unsafe { sys::rtcSetGeometryUserPrimitiveCount(g, count) };
+        // SAFETY: the user pointer is the UserData<T> that `self.user_data` owns until after
+        // Embree's scene is released (field order); callbacks only read it through `&`.
+        unsafe { sys::rtcSetGeometryUserData(g, user_ptr) };
+        // SAFETY: the callbacks are monomorphised for the T of the user data just set.
         unsafe {
-            sys::rtcSetGeometryUserPrimitiveCount(g, count);
-            sys::rtcSetGeometryUserData(g, user_ptr);
             sys::rtcSetGeometryBoundsFunction(
                 g,
                 Some(user::bounds_callback::<T>),
                 std::ptr::null_mut(),
-            );
-            sys::rtcSetGeometryIntersectFunction(g, Some(user::intersect_callback::<T>));
-            sys::rtcSetGeometryOccludedFunction(g, Some(user::occluded_callback::<T>));
-            sys::rtcSetGeometryMask(g, u32::MAX);
-            sys::rtcCommitGeometry(g);
-            sys::rtcAttachGeometryByID(self.scene.0.as_ptr(), g, geom_id);
-        }
+            )
+        };
+        // SAFETY: as for the bounds function.
+        unsafe { sys::rtcSetGeometryIntersectFunction(g, Some(user::intersect_callback::<T>)) };
+        // SAFETY: as for the bounds function.
+        unsafe { sys::rtcSetGeometryOccludedFunction(g, Some(user::occluded_callback::<T>)) };
+        self.attach(geometry, geom_id)
+    }
+
+    /// Commits a filled geometry, visible to every ray, and attaches it as
+    /// `geom_id`; Embree's scene takes its own reference, ours is dropped.
+    fn attach(&mut self, geometry: GeometryHandle, geom_id: u32) -> Result<()> {
+        let g = geometry.0.as_ptr();
+        // SAFETY: `g` is a valid geometry not yet attached, so not shared with any thread.
+        unsafe { sys::rtcSetGeometryMask(g, u32::MAX) };
+        // SAFETY: as above; its buffers and callbacks are all set.
+        unsafe { sys::rtcCommitGeometry(g) };
+        // SAFETY: the scene is valid and owned by `self`, which no other thread can reach.
+        unsafe { sys::rtcAttachGeometryByID(self.scene.0.as_ptr(), g, geom_id) };
         drop(geometry);
-        self.user_data.push(data);
         self.device.check()
     }
 
@@ -244,7 +276,8 @@ pub struct CommittedScene {
 }
 
 // SAFETY: the scene is owned uniquely and never mutated after commit; Embree documents
-// rtcIntersect*/rtcOccluded* on a committed scene as thread-safe.
+// rtcIntersect*/rtcOccluded* on a committed scene as thread-safe; the user data, owned
+// through `UserPtr` like a Box, are `Send + Sync`.
 unsafe impl Send for CommittedScene {}
 // SAFETY: as for Send; `&CommittedScene` only permits those queries and bounds reads.
 unsafe impl Sync for CommittedScene {}

@@ -6,7 +6,8 @@
     dead_code,
     unsafe_op_in_unsafe_fn,
     clippy::all,
-    clippy::undocumented_unsafe_blocks
+    clippy::undocumented_unsafe_blocks,
+    clippy::multiple_unsafe_ops_per_block
 )]
 
 include!(concat!(env!("OUT_DIR"), "/embree_sys.rs"));

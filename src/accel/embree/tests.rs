@@ -2,6 +2,8 @@
 //! record, hits and misses on known geometry, errors from the device callback.
 
 use super::*;
+use crate::accel::ftz::enable_flush_to_zero;
+use crate::accel::primitive::{UserHit, UserPrimitive};
 use crate::error::Error;
 use crate::math::{Hit, Ray, Vec3};
 

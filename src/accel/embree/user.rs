@@ -11,31 +11,12 @@
 //! to invoke from the callbacks.
 
 use std::ffi::c_void;
+use std::mem::MaybeUninit;
 
 use super::sys;
 use crate::accel::panics::PanicSlot;
+use crate::accel::primitive::UserPrimitive;
 use crate::math::{Bounds, Ray, Vec3};
-
-/// What a user primitive reports for a hit.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct UserHit {
-    pub t: f32,
-    /// Geometric normal (any length; Embree stores it as given).
-    pub ng: Vec3,
-    pub u: f32,
-    pub v: f32,
-}
-
-/// A primitive Embree traces through Rust callbacks. Embree calls these from
-/// many threads at once, hence `&self` only and `Send + Sync`.
-pub trait UserPrimitive: Send + Sync + 'static {
-    /// World-space bounds.
-    fn bounds(&self) -> Bounds;
-    /// The nearest hit with t in [ray.tnear, ray.tfar), if any.
-    fn intersect(&self, ray: &Ray) -> Option<UserHit>;
-    /// Whether any hit lies in [ray.tnear, ray.tfar).
-    fn occluded(&self, ray: &Ray) -> bool;
-}
 
 /// What Embree's geometry user pointer points at: the primitives (primID
 /// indexes them) and the scene's panic slot.
@@ -44,47 +25,61 @@ pub(super) struct UserData<T> {
     pub(super) panics: std::sync::Arc<PanicSlot>,
 }
 
-/// Lane `i` of an SoA packet of N: field `f` (in 4-byte words) of the record.
-/// Embree's `RTCRayN_*`/`RTCHitN_*` accessors are FORCEINLINE; this is their layout.
-struct Packet {
-    base: *mut u32,
+/// An SoA record of N lanes seen as 4-byte words: field `f` of lane `i` is
+/// word `f * N + i`. Embree's `RTCRayN_*`/`RTCHitN_*` accessors are
+/// FORCEINLINE; this is their layout. `W` is `u32` for the ray fields, which
+/// Embree fills, and `MaybeUninit<u32>` for the hit fields, which are only
+/// written (Embree's own packets may leave them uninitialised).
+struct Packet<'a, W> {
+    words: &'a mut [W],
     n: usize,
 }
 
-impl Packet {
+impl<'a, W> Packet<'a, W> {
+    /// The first `fields` fields of the record at `base`, for `n` lanes.
+    ///
     /// # Safety
-    /// `base` must point at an SoA record of `n` lanes holding field `f`, lane `i < n`.
-    unsafe fn f32(&self, f: usize, i: usize) -> f32 {
-        // SAFETY: guaranteed by the caller.
-        unsafe { f32::from_bits(*self.base.add(f * self.n + i)) }
+    /// `base` must point at a live SoA record of `n` lanes with at least
+    /// `fields` fields, writable, touched by nothing else for `'a`; `W` must
+    /// be `u32`, with the fields initialised, or `MaybeUninit<u32>`.
+    unsafe fn new(base: *mut u32, fields: usize, n: usize) -> Packet<'a, W> {
+        // SAFETY: guaranteed by the caller; `MaybeUninit<u32>` has the layout of `u32`.
+        let words = unsafe { std::slice::from_raw_parts_mut(base.cast::<W>(), fields * n) };
+        Packet { words, n }
     }
 
-    /// # Safety
-    /// As for `f32`, and the record must be writable.
-    unsafe fn set_f32(&self, f: usize, i: usize, v: f32) {
-        // SAFETY: guaranteed by the caller.
-        unsafe { *self.base.add(f * self.n + i) = v.to_bits() }
+    fn word(&mut self, f: usize, i: usize) -> &mut W {
+        &mut self.words[f * self.n + i]
+    }
+}
+
+impl Packet<'_, u32> {
+    fn f32(&self, f: usize, i: usize) -> f32 {
+        f32::from_bits(self.words[f * self.n + i])
     }
 
-    /// # Safety
-    /// As for `set_f32`.
-    unsafe fn set_u32(&self, f: usize, i: usize, v: u32) {
-        // SAFETY: guaranteed by the caller.
-        unsafe { *self.base.add(f * self.n + i) = v }
+    fn set_f32(&mut self, f: usize, i: usize, v: f32) {
+        *self.word(f, i) = v.to_bits();
     }
 
-    /// # Safety
-    /// As for `f32`.
-    unsafe fn ray(&self, i: usize) -> Ray {
-        // SAFETY: fields 0..9 of an RTCRayN: org xyz, tnear, dir xyz, time, tfar.
-        unsafe {
-            Ray {
-                origin: Vec3::new(self.f32(0, i), self.f32(1, i), self.f32(2, i)),
-                dir: Vec3::new(self.f32(4, i), self.f32(5, i), self.f32(6, i)),
-                tnear: self.f32(3, i),
-                tfar: self.f32(8, i),
-            }
+    /// Lane `i`: fields 0..9 of an RTCRayN are org xyz, tnear, dir xyz, time, tfar.
+    fn ray(&self, i: usize) -> Ray {
+        Ray {
+            origin: Vec3::new(self.f32(0, i), self.f32(1, i), self.f32(2, i)),
+            dir: Vec3::new(self.f32(4, i), self.f32(5, i), self.f32(6, i)),
+            tnear: self.f32(3, i),
+            tfar: self.f32(TFAR, i),
         }
+    }
+}
+
+impl Packet<'_, MaybeUninit<u32>> {
+    fn set_f32(&mut self, f: usize, i: usize, v: f32) {
+        self.set_u32(f, i, v.to_bits());
+    }
+
+    fn set_u32(&mut self, f: usize, i: usize, v: u32) {
+        self.word(f, i).write(v);
     }
 }
 
@@ -98,6 +93,14 @@ const PRIM_ID: usize = 5;
 const GEOM_ID: usize = 6;
 const INST_ID: usize = 7;
 const LEVELS: usize = sys::RTC_MAX_INSTANCE_LEVEL_COUNT as usize;
+/// The ray fields the callbacks read or write: up to tfar.
+const RAY_FIELDS: usize = TFAR + 1;
+/// The hit fields the intersect callback writes: all of RTCHitN.
+const HIT_FIELDS: usize = if cfg!(embree_inst_prim_id) {
+    INST_ID + 2 * LEVELS
+} else {
+    INST_ID + LEVELS
+};
 
 /// The primitive and its data behind a callback's user pointer.
 ///
@@ -141,23 +144,25 @@ pub(super) extern "C" fn intersect_callback<T: UserPrimitive>(
     // SAFETY: the user pointer is our UserData<T>.
     let (data, prim) = unsafe { primitive::<T>(args.geometryUserPtr, args.primID) };
     let n = args.N as usize;
-    let rays = Packet {
-        base: args.rayhit as *mut u32,
-        n,
-    };
-    let hits = Packet {
-        // SAFETY: the hit part of an RTCRayHitN starts after the 12 ray words of N lanes.
-        base: unsafe { (args.rayhit as *mut u32).add(RAY_WORDS * n) },
-        n,
-    };
-    for i in 0..n {
-        // SAFETY: `valid` has N entries.
-        let valid = unsafe { &mut *args.valid.add(i) };
+    let base = args.rayhit.cast::<u32>();
+    // SAFETY: `rayhit` is a live, writable RTCRayHitN of N lanes that Embree filled with
+    // the rays and lends to this call; its hit part, after the ray's 12 words, is disjoint.
+    let mut rays = unsafe { Packet::<u32>::new(base, RAY_FIELDS, n) };
+    // SAFETY: the hit part of that RTCRayHitN starts after the 12 ray words of N lanes;
+    // the pointer stays inside the record.
+    let hit_base = unsafe { base.add(RAY_WORDS * n) };
+    // SAFETY: RTCHitN has HIT_FIELDS fields of N lanes, writable, lent to this call and
+    // disjoint from `rays`; it is only written, so may be uninitialised.
+    let mut hits = unsafe { Packet::<MaybeUninit<u32>>::new(hit_base, HIT_FIELDS, n) };
+    // SAFETY: Embree passes the instance stack of the traversal, valid for the call.
+    let context = unsafe { &*args.context };
+    // SAFETY: `valid` has N initialised, writable entries, lent to this call.
+    let valid = unsafe { std::slice::from_raw_parts_mut(args.valid, n) };
+    for (i, valid) in valid.iter_mut().enumerate() {
         if *valid != -1 {
             continue;
         }
-        // SAFETY: lane i < N of a live RTCRayHitN.
-        let ray = unsafe { rays.ray(i) };
+        let ray = rays.ray(i);
         let found = data
             .panics
             .guard(None, || prim.and_then(|p| p.intersect(&ray)));
@@ -170,22 +175,18 @@ pub(super) extern "C" fn intersect_callback<T: UserPrimitive>(
             }
             continue;
         };
-        // SAFETY: lane i < N of a live, writable RTCRayHitN; the context is valid for the call.
-        unsafe {
-            rays.set_f32(TFAR, i, hit.t);
-            hits.set_f32(NG_X, i, hit.ng.x);
-            hits.set_f32(NG_X + 1, i, hit.ng.y);
-            hits.set_f32(NG_X + 2, i, hit.ng.z);
-            hits.set_f32(U, i, hit.u);
-            hits.set_f32(V, i, hit.v);
-            hits.set_u32(PRIM_ID, i, args.primID);
-            hits.set_u32(GEOM_ID, i, args.geomID);
-            let context = &*args.context;
-            for level in 0..LEVELS {
-                hits.set_u32(INST_ID + level, i, context.instID[level]);
-                #[cfg(embree_inst_prim_id)]
-                hits.set_u32(INST_ID + LEVELS + level, i, context.instPrimID[level]);
-            }
+        rays.set_f32(TFAR, i, hit.t);
+        hits.set_f32(NG_X, i, hit.ng.x);
+        hits.set_f32(NG_X + 1, i, hit.ng.y);
+        hits.set_f32(NG_X + 2, i, hit.ng.z);
+        hits.set_f32(U, i, hit.u);
+        hits.set_f32(V, i, hit.v);
+        hits.set_u32(PRIM_ID, i, args.primID);
+        hits.set_u32(GEOM_ID, i, args.geomID);
+        for level in 0..LEVELS {
+            hits.set_u32(INST_ID + level, i, context.instID[level]);
+            #[cfg(embree_inst_prim_id)]
+            hits.set_u32(INST_ID + LEVELS + level, i, context.instPrimID[level]);
         }
         // Embree 4: the callback reports the accepted hit.
         #[cfg(embree4)]
@@ -203,24 +204,21 @@ pub(super) extern "C" fn occluded_callback<T: UserPrimitive>(
     // SAFETY: the user pointer is our UserData<T>.
     let (data, prim) = unsafe { primitive::<T>(args.geometryUserPtr, args.primID) };
     let n = args.N as usize;
-    let rays = Packet {
-        base: args.ray as *mut u32,
-        n,
-    };
-    for i in 0..n {
-        // SAFETY: `valid` has N entries.
-        let valid = unsafe { &mut *args.valid.add(i) };
+    // SAFETY: `ray` is a live, writable RTCRayN of N lanes that Embree filled and lends to
+    // this call.
+    let mut rays = unsafe { Packet::<u32>::new(args.ray.cast(), RAY_FIELDS, n) };
+    // SAFETY: `valid` has N initialised, writable entries, lent to this call.
+    let valid = unsafe { std::slice::from_raw_parts_mut(args.valid, n) };
+    for (i, valid) in valid.iter_mut().enumerate() {
         if *valid != -1 {
             continue;
         }
-        // SAFETY: lane i < N of a live RTCRayN.
-        let ray = unsafe { rays.ray(i) };
+        let ray = rays.ray(i);
         let blocked = data
             .panics
             .guard(false, || prim.is_some_and(|p| p.occluded(&ray)));
         if blocked {
-            // SAFETY: lane i < N of a live, writable RTCRayN.
-            unsafe { rays.set_f32(TFAR, i, f32::NEG_INFINITY) };
+            rays.set_f32(TFAR, i, f32::NEG_INFINITY);
         }
         #[cfg(embree4)]
         {

@@ -3,7 +3,7 @@
 //! give it (mesh index and triangle index; `shapes_geom_id` and shape index).
 
 use super::triangle;
-use crate::accel::embree::UserPrimitive;
+use crate::accel::primitive::UserPrimitive;
 use crate::error::{Error, Result};
 use crate::geometry::Shape;
 use crate::math::{Bounds, Hit, Ray, Vec3};

@@ -17,7 +17,7 @@ use std::path::Path;
 use std::time::Instant;
 
 use super::{CHUNK, Options, ray_sets, sizes, workload};
-use crate::accel::embree::enable_flush_to_zero;
+use crate::accel::ftz::enable_flush_to_zero;
 use crate::accel::{Accel, Backend};
 use crate::error::{Error, Result};
 use crate::io::npy;
