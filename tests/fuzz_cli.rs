@@ -15,6 +15,7 @@ use std::process::Command;
 use std::time::{Duration, Instant};
 
 use proptest::prelude::*;
+use sturmray::math::{Ray, Vec3};
 
 /// Numbers that have broken renderers: zeros, signs, the coordinate limit
 /// and around it, f32's edges, subnormals and non-numbers.
@@ -176,33 +177,24 @@ fn mesh() -> impl Strategy<Value = (String, String)> {
     })
 }
 
-/// Rays as a float32 (N, 6) .npy: origin and direction, extreme or not.
-fn rays() -> impl Strategy<Value = Vec<u8>> {
+/// Rays, extreme or not, written by the library's own writer as a float32
+/// (N, 8) .npy (origin, direction, tnear, tfar).
+fn rays() -> impl Strategy<Value = Vec<[f32; 8]>> {
+    // Mostly ordinary, so that most ray files reach the trace.
     let component = prop_oneof![
-        4 => -4.0f32..4.0,
+        30 => -4.0f32..4.0,
         1 => prop::sample::select(vec![
-            0.0, -0.0, 1e-30, 1e-45, 1e17, 1e18, 1.8e18, 2e18, 1e30, f32::MAX, f32::NAN,
-            f32::INFINITY, f32::NEG_INFINITY,
+            0.0, -0.0, 1e-30, 1e-45, 1e9, 2e9, 1e17, 1e18, 1.8e18, 2e18, 1e30, f32::MAX,
+            f32::NAN, f32::INFINITY, f32::NEG_INFINITY,
         ]),
     ];
-    prop::collection::vec(prop::collection::vec(component, 6), 1..5).prop_map(|rays| {
-        let header = format!(
-            "{{'descr': '<f4', 'fortran_order': False, 'shape': ({}, 6), }}",
-            rays.len()
-        );
-        let mut header = header.into_bytes();
-        while (10 + header.len() + 1) % 64 != 0 {
-            header.push(b' ');
-        }
-        header.push(b'\n');
-        let mut bytes = b"\x93NUMPY\x01\x00".to_vec();
-        bytes.extend_from_slice(&(header.len() as u16).to_le_bytes());
-        bytes.extend_from_slice(&header);
-        for v in rays.iter().flatten() {
-            bytes.extend_from_slice(&v.to_le_bytes());
-        }
-        bytes
-    })
+    let tnear =
+        prop_oneof![12 => Just(0.0f32), 1 => prop::sample::select(vec![-1.0, 5.0, f32::NAN])];
+    let tfar =
+        prop_oneof![12 => Just(f32::INFINITY), 1 => prop::sample::select(vec![0.0, 1.0, f32::NAN])];
+    let ray = (prop::collection::vec(component, 6), tnear, tfar)
+        .prop_map(|(v, near, far)| [v[0], v[1], v[2], v[3], v[4], v[5], near, far]);
+    prop::collection::vec(ray, 1..5)
 }
 
 /// One command line, with the outputs it names (which it may change).
@@ -343,7 +335,7 @@ fn check_outputs(files: &BTreeMap<PathBuf, Vec<u8>>) -> Result<(), TestCaseError
 fn case(
     scene: &str,
     (obj, mtl): &(String, String),
-    rays: &[u8],
+    rays: &[[f32; 8]],
     run: &Run,
 ) -> Result<(), TestCaseError> {
     let dir = std::env::temp_dir().join(format!("sturmray-fuzz-cli-{}", std::process::id()));
@@ -352,7 +344,16 @@ fn case(
     std::fs::write(dir.join("s.toml"), scene).unwrap();
     std::fs::write(dir.join("m.obj"), obj).unwrap();
     std::fs::write(dir.join("m.mtl"), mtl).unwrap();
-    std::fs::write(dir.join("rays.npy"), rays).unwrap();
+    let rays: Vec<Ray> = rays
+        .iter()
+        .map(|r| Ray {
+            origin: Vec3::new(r[0], r[1], r[2]),
+            dir: Vec3::new(r[3], r[4], r[5]),
+            tnear: r[6],
+            tfar: r[7],
+        })
+        .collect();
+    sturmray::io::npy::write_rays(&dir.join("rays.npy"), &rays).unwrap();
     let before = snapshot(&dir);
     let mut commands: Vec<(Vec<String>, Vec<String>)> = Vec::new();
     let owned = |args: &[&str]| args.iter().map(|s| s.to_string()).collect::<Vec<_>>();
