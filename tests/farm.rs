@@ -220,11 +220,7 @@ fn an_interrupted_render_resumes_to_the_identical_image() {
     // The render catches signals from its start and stops after the pass it is
     // in, so this lands midway unless the whole render takes under 0.2 s.
     std::thread::sleep(std::time::Duration::from_millis(200));
-    let kill = Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
-        .status()
-        .unwrap();
-    assert!(kill.success());
+    common::interrupt(&child);
     let out = child.wait_with_output().unwrap();
     assert_eq!(out.status.code(), Some(130), "{}", stderr(&out));
     let (header, _) = sturmray::io::state::read_state(&dir.join("cut.state")).unwrap();

@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
-use common::{SQUARE, plane_scene, scratch, sturmray, write};
+use common::{SQUARE, interrupt, plane_scene, scratch, sturmray, write};
 use sturmray::io::state::{StateHeader, read_state, write_state};
 
 fn stderr(out: &Output) -> String {
@@ -613,15 +613,6 @@ fn a_reader_that_stops_early_is_no_error() {
     let out = wait_at_most(child, Duration::from_secs(60));
     assert_eq!(out.status.code(), Some(0), "roots: {}", stderr(&out));
     assert!(stderr(&out).is_empty(), "roots: {}", stderr(&out));
-}
-
-/// Sends SIGINT to a child.
-fn interrupt(child: &Child) {
-    let status = Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
-        .status()
-        .unwrap();
-    assert!(status.success());
 }
 
 #[test]

@@ -68,22 +68,14 @@ fn trace_refuses_rays_beyond_embrees_limit_by_index_on_every_backend() {
         ("direction", vec![0.0, 0.0, 1.0, 1e-5, 1e-39, -3e38]),
     ];
     for backend in BACKENDS {
+        let trace = || {
+            let args = ["trace", "s.toml", "--rays", "r.npy", "--out", "h.npy"];
+            sturmray(&dir, &[&args[..], &["--backend", backend]].concat())
+        };
         for (i, (word, row)) in bad.iter().enumerate() {
             write_rays(&dir, "r.npy", &[good.clone(), good.clone(), row.clone()]);
             let _ = std::fs::remove_file(dir.join("h.npy"));
-            let out = sturmray(
-                &dir,
-                &[
-                    "trace",
-                    "s.toml",
-                    "--rays",
-                    "r.npy",
-                    "--out",
-                    "h.npy",
-                    "--backend",
-                    backend,
-                ],
-            );
+            let out = trace();
             let what = format!("{backend}, bad ray {i}");
             assert_refused(&out, &["r.npy", "ray 2", word, "1.844e18"], &what);
             assert!(!dir.join("h.npy").exists(), "{what}: an output was written");
@@ -91,19 +83,7 @@ fn trace_refuses_rays_beyond_embrees_limit_by_index_on_every_backend() {
         // At Embree's limit itself every backend traces, and the first ray hits.
         let edge = vec![1.8e18, 0.0, 1.0, -1.8e18, 0.0, -1.8e18];
         write_rays(&dir, "r.npy", &[good.clone(), edge]);
-        let out = sturmray(
-            &dir,
-            &[
-                "trace",
-                "s.toml",
-                "--rays",
-                "r.npy",
-                "--out",
-                "h.npy",
-                "--backend",
-                backend,
-            ],
-        );
+        let out = trace();
         assert!(out.status.success(), "{backend}: {}", stderr(&out));
     }
 }

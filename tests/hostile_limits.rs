@@ -147,11 +147,7 @@ fn interrupt(dir: &Path, args: &[&str], after: Duration) -> (Output, Duration) {
         .unwrap();
     std::thread::sleep(after);
     let sent = Instant::now();
-    let kill = Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
-        .status()
-        .unwrap();
-    assert!(kill.success());
+    common::interrupt(&child);
     let out = child.wait_with_output().unwrap();
     (out, sent.elapsed())
 }

@@ -27,6 +27,15 @@ pub fn sturmray(dir: &Path, args: &[&str]) -> Output {
         .expect("the sturmray binary runs")
 }
 
+/// Sends SIGINT to a running child, as Ctrl-C would.
+pub fn interrupt(child: &std::process::Child) {
+    let status = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(status.success());
+}
+
 /// A square [-1, 1]² in the plane z = 0 (two triangles), as OBJ text.
 pub const SQUARE: &str = "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nf 1 2 3 4\n";
 
