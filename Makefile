@@ -49,10 +49,10 @@ test: setup lint test-rust test-python
 
 lint:
 	cargo fmt --check
-	cargo clippy --all-targets -- -D warnings
+	cargo clippy --workspace --all-targets -- -D warnings
 
 test-rust:
-	cargo test
+	cargo test --workspace
 
 # The binary the Rust tests build (`cargo test --no-run` makes it for the
 # integration tests): `cargo build` would rebuild every dependency whose
@@ -67,7 +67,7 @@ embree4:
 # The whole Rust suite and the Python cross-checks, built against Embree 4 in a
 # target folder of their own (the binary finds the library through its rpath).
 test-embree4: setup embree4
-	EMBREE_DIR=$(EMBREE4_DIR) cargo test --target-dir $(EMBREE4_TARGET)
+	EMBREE_DIR=$(EMBREE4_DIR) cargo test --workspace --target-dir $(EMBREE4_TARGET)
 	EMBREE_DIR=$(EMBREE4_DIR) cargo test --no-run --target-dir $(EMBREE4_TARGET)
 	$(EMBREE4_TARGET)/debug/sturmray info scenes/knot.toml | grep -q "^backend    Embree 4\."
 	STURMRAY_BIN=$(EMBREE4_TARGET)/debug/sturmray $(PYTHON) -m pytest tests -q

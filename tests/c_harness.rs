@@ -47,7 +47,7 @@ fn c_and_rust_report_the_same_hits() {
     let mut cc = Command::new("cc");
     cc.args(["-O2", "-std=c11", "-Wall", "-Wextra", "-Werror"])
         .arg(root.join("benches/c_harness/c_harness.c"));
-    // The Embree sturmray was built with (build.rs reads the same variable).
+    // The Embree sturmray was built with (ffi/build.rs reads the same variable).
     if let Some(embree) = std::env::var_os("EMBREE_DIR") {
         let embree = Path::new(&embree);
         let lib = embree.join("lib");
