@@ -143,6 +143,16 @@ impl Accel {
         }
     }
 
+    /// Whether a query has panicked since the last `check` (which reports
+    /// it): one atomic load, for loops that should stop at once.
+    pub fn panicked(&self) -> bool {
+        match self {
+            Accel::Embree(s) => s.panics().happened(),
+            Accel::Obvhs(s) => s.panics().happened(),
+            Accel::Bvh(s) => s.panics().happened(),
+        }
+    }
+
     /// Reports errors the backend raised during queries since the last
     /// check, and panics caught in them.
     pub fn check(&self) -> Result<()> {

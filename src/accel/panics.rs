@@ -30,9 +30,16 @@ impl PanicSlot {
         self.happened.store(true, Ordering::Release);
     }
 
+    /// Whether a panic was recorded since the last `take`: one atomic load,
+    /// cheap enough for a render to ask after every sample, so it stops
+    /// within the sample after a panic instead of at the end of a pass.
+    pub(crate) fn happened(&self) -> bool {
+        self.happened.load(Ordering::Acquire)
+    }
+
     /// The first panic since the last call, if any. One atomic load when none happened.
     pub(crate) fn take(&self) -> Option<String> {
-        if !self.happened.load(Ordering::Acquire) {
+        if !self.happened() {
             return None;
         }
         self.happened.store(false, Ordering::Release);
@@ -66,8 +73,10 @@ mod tests {
         let slot = PanicSlot::default();
         assert_eq!(slot.guard(0, || 7), 7);
         slot.check("nothing").unwrap();
+        assert!(!slot.happened());
         let value: i32 = slot.guard(-1, || panic!("boom {}", 3));
         assert_eq!(value, -1);
+        assert!(slot.happened(), "seen before anyone takes it");
         let err = slot.check("the test traversal").unwrap_err();
         assert!(matches!(err, Error::Internal(_)), "{err}");
         assert!(
@@ -75,6 +84,7 @@ mod tests {
                 .contains("the test traversal panicked: boom 3"),
             "{err}"
         );
+        assert!(!slot.happened(), "taken by the check");
         slot.check("nothing").unwrap();
     }
 }

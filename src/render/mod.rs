@@ -125,12 +125,16 @@ pub fn render(scene: &Scene, accel: &Accel, options: &RenderOptions) -> Result<R
     // The first pass (one sample a pixel) may run on for a second after the
     // signal, so a render stopped early still keeps some work; later passes,
     // and a first one that takes longer, stop at once.
+    // A panic caught in a query stops every worker at its next sample (no
+    // grace: the render has failed), and the check after the pass reports it.
     let noticed = std::sync::OnceLock::new();
     let cut = |first: bool| {
-        stop() && (!first || noticed.get_or_init(Instant::now).elapsed() > FIRST_PASS_GRACE)
+        accel.panicked()
+            || stop() && (!first || noticed.get_or_init(Instant::now).elapsed() > FIRST_PASS_GRACE)
     };
+    let photons_stop = || stop() || accel.panicked();
     let (caustics, photon_rays) =
-        pool.install(|| photon_pass(scene, accel, &plan, options.progress, &stop))?;
+        pool.install(|| photon_pass(scene, accel, &plan, options.progress, &photons_stop))?;
     accel.check()?;
     // An interrupted photon pass leaves no map: no pass can run without it.
     let photons_cut = plan.photon && caustics.is_none();

@@ -1,6 +1,7 @@
 //! The safe wrapper around Embree: ALL of the crate's unsafe code lives here.
 //!
-//! Bindings come from the installed header at build time (`sys`). Handles are
+//! Bindings come from the installed header at build time (`sys`, the
+//! embree-sys crate in ffi/). Handles are
 //! `NonNull` newtypes released on drop; a scene is built by a `SceneBuilder`
 //! and queried only once committed; Embree errors reach Rust through the device
 //! error callback and are drained after builds, commits and batches.
@@ -11,7 +12,8 @@ pub(crate) mod fpu;
 mod owned;
 mod query;
 mod scene;
-mod sys;
+// The raw bindings, from the workspace's embree-sys crate (ffi/).
+use embree_sys as sys;
 mod user;
 
 pub use device::{Device, HEADER_VERSION, Version};

@@ -386,6 +386,11 @@ impl CommittedScene {
         }
     }
 
+    /// The slot that records panics caught in this scene's callbacks.
+    pub(crate) fn panics(&self) -> &PanicSlot {
+        &self.panics
+    }
+
     /// Errors Embree reported, and panics caught in user-geometry callbacks,
     /// since the last check (renders call this once at the end).
     pub fn check(&self) -> Result<()> {

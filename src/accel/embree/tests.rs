@@ -307,6 +307,7 @@ fn a_panicking_callback_is_a_miss_and_an_error_not_an_abort() {
     let ray = Ray::new(Vec3::new(-0.5, 0.0, 10.0), -Vec3::Z);
     assert_eq!(scene.intersect(&ray), Hit::MISS);
     assert!(!scene.occluded(&ray));
+    assert!(scene.panics().happened(), "visible before the check");
     let err = scene.check().unwrap_err();
     assert!(
         matches!(err, Error::Internal(_)) && err.to_string().contains("test panic"),

@@ -101,6 +101,11 @@ impl SahScene {
         })
     }
 
+    /// The slot that records panics caught in this BVH's queries.
+    pub(crate) fn panics(&self) -> &PanicSlot {
+        &self.panics
+    }
+
     /// A panic caught in a query since the last check.
     pub fn check(&self) -> Result<()> {
         self.panics.check("the bvh traversal")
