@@ -29,7 +29,7 @@
 use std::f32::consts::{FRAC_1_PI, PI, TAU};
 
 use super::fresnel;
-use crate::math::Vec3;
+use crate::math::{Frame, Vec3};
 use crate::sampling::warp;
 use crate::shading::{Material, MaterialKind};
 
@@ -41,41 +41,6 @@ pub const COS_EPS: f32 = 1e-6;
 /// half-vectors stop being representable well in f32; a smoother surface is
 /// a mirror and should use [`Bsdf::Mirror`].
 pub const MIN_ALPHA: f32 = 1e-3;
-
-/// An orthonormal, right-handed shading frame (s × t = n) with the normal as
-/// local +z.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Frame {
-    pub s: Vec3,
-    pub t: Vec3,
-    pub n: Vec3,
-}
-
-impl Frame {
-    /// The frame around a unit normal by Duff et al. 2017 ("Building an
-    /// Orthonormal Basis, Revisited"): branchless and accurate for every
-    /// normal, including those near −z where Frisvad's original loses
-    /// orthogonality. s and t are a smooth-enough but arbitrary rotation about
-    /// n; nothing here is anisotropic, so the choice does not matter.
-    pub fn from_normal(n: Vec3) -> Frame {
-        let sign = 1.0f32.copysign(n.z);
-        let a = -1.0 / (sign + n.z);
-        let b = n.x * n.y * a;
-        let s = Vec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x);
-        let t = Vec3::new(b, sign + n.y * n.y * a, -n.y);
-        Frame { s, t, n }
-    }
-
-    /// World to local: the components along s, t and n.
-    pub fn to_local(&self, v: Vec3) -> Vec3 {
-        Vec3::new(v.dot(self.s), v.dot(self.t), v.dot(self.n))
-    }
-
-    /// Local to world.
-    pub fn to_world(&self, v: Vec3) -> Vec3 {
-        self.s * v.x + self.t * v.y + self.n * v.z
-    }
-}
 
 /// Which kind of scattering a sample took: the ray kind for statistics and
 /// for path-space decisions (photons are stored at diffuse vertices only).
@@ -680,34 +645,6 @@ mod tests {
                 },
             ),
         ]
-    }
-
-    #[test]
-    fn frame_is_orthonormal_right_handed_and_invertible() {
-        let mut r = rng(1);
-        let mut normals = vec![
-            Vec3::Z,
-            Vec3::NEG_Z,
-            Vec3::X,
-            Vec3::NEG_Y,
-            Vec3::new(1e-4, 0.0, -1.0).normalize(),
-            Vec3::new(0.0, -1e-7, -1.0).normalize(),
-            Vec3::new(0.6, 0.8, -0.0),
-        ];
-        normals.extend((0..1000).map(|_| uniform_sphere(&mut r)));
-        for n in normals {
-            let f = Frame::from_normal(n);
-            for (a, b) in [(f.s, f.t), (f.s, f.n), (f.t, f.n)] {
-                assert!(a.dot(b).abs() < 1e-6, "{n}: {a} {b}");
-            }
-            for v in [f.s, f.t] {
-                assert!((v.length() - 1.0).abs() < 1e-6, "{n}: {v}");
-            }
-            assert!((f.s.cross(f.t) - f.n).length() < 1e-6, "{n}");
-            let v = Vec3::new(0.2, -0.7, 0.5);
-            assert!((f.to_world(f.to_local(v)) - v).length() < 1e-6);
-            assert!((f.to_local(n) - Vec3::Z).length() < 1e-6);
-        }
     }
 
     #[test]
