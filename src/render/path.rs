@@ -16,11 +16,11 @@ use super::photon::{self, PhotonMap};
 use super::tally::{Node, RayKind, Tally};
 use crate::accel::Accel;
 use crate::film::Sample;
-use crate::math::{Ray, Vec3, offset};
+use crate::math::{Frame, Ray, Vec3, offset};
 use crate::sampling::Rng;
 use crate::sampling::mis::power_heuristic;
 use crate::scene::{Interaction, Scene};
-use crate::shading::{Bsdf, Frame, Lobe};
+use crate::shading::{Bsdf, Lobe};
 
 /// Bounces before Russian roulette may end a path.
 const ROULETTE_AFTER: u32 = 3;

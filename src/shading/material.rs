@@ -126,7 +126,7 @@ impl Material {
         match self.kind {
             MaterialKind::Plastic => {}
             MaterialKind::Metal => {
-                let frame = crate::shading::Frame::from_normal(n);
+                let frame = crate::math::Frame::from_normal(n);
                 return crate::shading::Bsdf::from_material(self).eval(&frame, wo, wi);
             }
             _ => return diffuse,

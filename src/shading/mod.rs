@@ -4,5 +4,8 @@ mod bsdf;
 pub mod fresnel;
 mod material;
 
-pub use bsdf::{Bsdf, BsdfSample, COS_EPS, Frame, Lobe, MIN_ALPHA, Transport, shininess_to_alpha};
+pub use bsdf::{
+    Bsdf, BsdfSample, COS_EPS, Dielectric, Lambert, Lobe, MIN_ALPHA, Metal, Mirror, Plastic,
+    Transport, shininess_to_alpha,
+};
 pub use material::{Material, MaterialKind};

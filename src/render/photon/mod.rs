@@ -22,10 +22,10 @@ pub use grid::Photon;
 use super::tally::{RayKind, RayStats, Tally};
 use crate::accel::Accel;
 use crate::lights::Light;
-use crate::math::{Bounds, Ray, Vec3, offset};
+use crate::math::{Bounds, Frame, Ray, Vec3, offset};
 use crate::sampling::{Discrete, Rng};
 use crate::scene::Scene;
-use crate::shading::{Bsdf, Frame, Transport};
+use crate::shading::{Bsdf, Lambert, Plastic, Transport};
 
 /// The "pixel" of the photons' random streams: an index no image reaches, so
 /// photon i's stream never meets a camera sample's.
@@ -38,7 +38,9 @@ const CHUNK: u32 = 4096;
 /// that reflects something. Glossy-only and specular surfaces do not store.
 pub fn receives(bsdf: &Bsdf) -> bool {
     match bsdf {
-        Bsdf::Lambert { albedo } | Bsdf::Plastic { albedo, .. } => albedo.max_element() > 0.0,
+        Bsdf::Lambert(Lambert { albedo }) | Bsdf::Plastic(Plastic { albedo, .. }) => {
+            albedo.max_element() > 0.0
+        }
         _ => false,
     }
 }
