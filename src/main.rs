@@ -62,28 +62,33 @@ fn main() -> ExitCode {
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
-        // 128 + SIGINT, as shells report a process a Ctrl-C ended; the image and
-        // film state so far are written.
-        Err(err) if err.is::<Interrupted>() => ExitCode::from(130),
-        Err(err) => {
-            // The chain without repeats: an error's own text often includes its source's.
-            let mut message = String::new();
-            for cause in err.chain() {
-                let text = cause.to_string();
-                if !message.contains(&text) {
-                    if !message.is_empty() {
-                        message += ": ";
-                    }
-                    message += &text;
-                }
+        Err(err) => exit_code(&err),
+    }
+}
+
+/// Reports a failed command on stderr and gives its exit code.
+fn exit_code(err: &anyhow::Error) -> ExitCode {
+    // 128 + SIGINT, as shells report a process a Ctrl-C ended; the image and
+    // film state so far are written.
+    if err.is::<Interrupted>() {
+        return ExitCode::from(130);
+    }
+    // The chain without repeats: an error's own text often includes its source's.
+    let mut message = String::new();
+    for cause in err.chain() {
+        let text = cause.to_string();
+        if !message.contains(&text) {
+            if !message.is_empty() {
+                message += ": ";
             }
-            note(format_args!("sturmray: {message}"));
-            let bad_input = err.chain().any(|cause| {
-                cause
-                    .downcast_ref::<Error>()
-                    .is_some_and(Error::is_bad_input)
-            });
-            ExitCode::from(if bad_input { 2 } else { 1 })
+            message += &text;
         }
     }
+    note(format_args!("sturmray: {message}"));
+    let bad_input = err.chain().any(|cause| {
+        cause
+            .downcast_ref::<Error>()
+            .is_some_and(Error::is_bad_input)
+    });
+    ExitCode::from(if bad_input { 2 } else { 1 })
 }

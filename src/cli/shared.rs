@@ -12,6 +12,7 @@ use sturmray::io::console::note;
 use sturmray::io::output::{Role, check_distinct, prepare, write_atomic};
 use sturmray::scene::Scene;
 
+// `--backend`: the doc comments of the values are their help text.
 #[derive(Clone, Copy, ValueEnum)]
 pub enum BackendArg {
     Embree,
