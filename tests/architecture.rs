@@ -1,7 +1,7 @@
 //! ARCHITECTURE.md's module map matches the code: every module it lists
-//! exists, every top-level module of the crate is listed, and no module uses
-//! one listed above it (the map lists the highest layer first, so every
-//! dependency points down the page).
+//! exists, every top-level module of the library and of the binary is
+//! listed, and no module uses one listed above it (the map lists the highest
+//! layer first, so every dependency points down the page).
 //!
 //! The map is the code block between `<!-- module-map:start -->` and
 //! `<!-- module-map:end -->`. A row starts at the left margin with a module
@@ -30,16 +30,18 @@ fn parse_map(doc: &str) -> Result<Vec<String>, String> {
     Ok(rows)
 }
 
-/// The top-level modules a source text names in code: `crate::x` in the
-/// library, `sturmray::x` in main.rs. Comment lines are skipped: a doc link
-/// is not a dependency.
-fn used_modules(source: &str, prefix: &str) -> Vec<String> {
+/// The top-level modules a source text names in code after one of
+/// `prefixes`. Comment lines are skipped: a doc link is not a dependency.
+fn used_modules(source: &str, prefixes: &[&str]) -> Vec<String> {
     let mut used = Vec::new();
     for line in source.lines() {
         if line.trim_start().starts_with("//") {
             continue;
         }
-        for (at, _) in line.match_indices(prefix) {
+        let found = prefixes
+            .iter()
+            .flat_map(|&prefix| line.match_indices(prefix).map(move |(at, _)| (at, prefix)));
+        for (at, prefix) in found {
             let rest = &line[at + prefix.len()..];
             let name: String = rest
                 .chars()
@@ -54,13 +56,14 @@ fn used_modules(source: &str, prefix: &str) -> Vec<String> {
 }
 
 /// Everything wrong with `map` against the crate: rows that name no module
-/// (`exists`), modules `lib.rs` declares that the map leaves out, and uses
-/// that run upward. `sources` pairs each top-level row with the text of its
-/// files.
+/// (`exists`), modules `lib.rs` (`declared`) or `main.rs` (`binary`)
+/// declares that the map leaves out, and uses that run upward. `sources`
+/// pairs each top-level row with the text of its files.
 fn problems(
     map: &[String],
     exists: impl Fn(&str) -> bool,
     declared: &[String],
+    binary: &[String],
     sources: &[(String, String)],
 ) -> Vec<String> {
     let mut found = Vec::new();
@@ -69,11 +72,14 @@ fn problems(
             found.push(format!("the map lists `{row}`, which is not in src/"));
         }
     }
-    for module in declared {
-        if !map.contains(module) {
-            found.push(format!(
-                "`{module}` is declared in lib.rs but not in the map"
-            ));
+    let files = [("lib.rs", declared), ("main.rs", binary)];
+    for (file, modules) in files {
+        for module in modules {
+            if !map.contains(module) {
+                found.push(format!(
+                    "`{module}` is declared in {file} but not in the map"
+                ));
+            }
         }
     }
     let position = |name: &str| map.iter().position(|row| row == name);
@@ -81,12 +87,14 @@ fn problems(
         let Some(own) = position(module) else {
             continue;
         };
-        let prefix = if module == "main.rs" {
-            "sturmray::"
+        // The binary names the library's modules `sturmray::x` and its own
+        // `crate::x`.
+        let prefixes: &[&str] = if module == "main.rs" || binary.contains(module) {
+            &["sturmray::", "crate::"]
         } else {
-            "crate::"
+            &["crate::"]
         };
-        for used in used_modules(source, prefix) {
+        for used in used_modules(source, prefixes) {
             if let Some(at) = position(&used)
                 && at < own
             {
@@ -138,24 +146,30 @@ fn module_source(row: &str) -> String {
     text
 }
 
+/// The modules `file` (in src/) declares, its lines that start with `keyword`.
+fn declared_modules(file: &str, keyword: &str) -> Vec<String> {
+    fs::read_to_string(src().join(file))
+        .unwrap()
+        .lines()
+        .filter_map(|line| line.strip_prefix(keyword))
+        .map(|rest| rest.trim_end_matches(';').to_owned())
+        .collect()
+}
+
 #[test]
 fn the_module_map_matches_the_code() {
     let doc =
         fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("ARCHITECTURE.md")).unwrap();
     let map = parse_map(&doc).unwrap();
-    let lib = fs::read_to_string(src().join("lib.rs")).unwrap();
-    let declared: Vec<String> = lib
-        .lines()
-        .filter_map(|line| line.strip_prefix("pub mod "))
-        .map(|rest| rest.trim_end_matches(';').to_owned())
-        .collect();
+    let declared = declared_modules("lib.rs", "pub mod ");
     assert!(!declared.is_empty(), "lib.rs declares no modules");
+    let binary = declared_modules("main.rs", "mod ");
     let sources: Vec<(String, String)> = map
         .iter()
         .filter(|row| !row.contains("::"))
         .map(|row| (row.clone(), module_source(row)))
         .collect();
-    let found = problems(&map, module_exists, &declared, &sources);
+    let found = problems(&map, module_exists, &declared, &binary, &sources);
     assert!(found.is_empty(), "ARCHITECTURE.md:\n{}", found.join("\n"));
 }
 
@@ -186,7 +200,7 @@ fn a_downward_use_passes_and_an_upward_one_fails() {
         ("math".to_owned(), "// see crate::render\n".to_owned()),
     ];
     assert_eq!(
-        problems(&map, |_| true, &declared, &down),
+        problems(&map, |_| true, &declared, &[], &down),
         Vec::<String>::new()
     );
     let up = [(
@@ -194,7 +208,7 @@ fn a_downward_use_passes_and_an_upward_one_fails() {
         "let x = crate::render::run();".to_owned(),
     )];
     assert_eq!(
-        problems(&map, |_| true, &declared, &up),
+        problems(&map, |_| true, &declared, &[], &up),
         ["`math` uses `render`, which the map lists above it"]
     );
 }
@@ -207,12 +221,44 @@ fn a_missing_or_unlisted_module_fails() {
         |row| row != "render::plan",
         &fake(&["render", "math", "film"]),
         &[],
+        &[],
     );
     assert_eq!(
         found,
         [
             "the map lists `render::plan`, which is not in src/",
             "`film` is declared in lib.rs but not in the map",
+        ]
+    );
+}
+
+#[test]
+fn the_binary_is_checked_through_both_of_its_prefixes() {
+    let map = parse_map(&FAKE.replace("math      vectors", "cli   subcommands\nmath      vectors"))
+        .unwrap();
+    let declared = fake(&["render", "math"]);
+    let down = [(
+        "cli".to_owned(),
+        "use sturmray::math::Ray;\nuse crate::cli::shared;".to_owned(),
+    )];
+    assert_eq!(
+        problems(&map, |_| true, &declared, &fake(&["cli"]), &down),
+        Vec::<String>::new()
+    );
+    // Only the binary names the library `sturmray::`: in a library module
+    // that text is not a use.
+    let up = [
+        ("cli".to_owned(), "use sturmray::render::job;".to_owned()),
+        (
+            "math".to_owned(),
+            "// sturmray::render\nsturmray::render".to_owned(),
+        ),
+    ];
+    assert_eq!(
+        problems(&map, |_| true, &declared, &fake(&["cli", "signals"]), &up),
+        [
+            "`signals` is declared in main.rs but not in the map",
+            "`cli` uses `render`, which the map lists above it",
         ]
     );
 }

@@ -1,18 +1,37 @@
 //! `sturmray info`: what a scene holds and what will trace it.
 
 use std::fmt::Write;
+use std::path::PathBuf;
 
-use crate::accel::Accel;
-use crate::lights::Light;
-use crate::math::Vec3;
-use crate::render::Plan;
-use crate::scene::Scene;
+use sturmray::accel::Accel;
+use sturmray::io::console::print;
+use sturmray::lights::Light;
+use sturmray::math::Vec3;
+use sturmray::render::Plan;
+use sturmray::scene::Scene;
+
+use super::shared::{BackendArg, load};
+
+/// Print the backend in use, the objects, triangle count, lights and settings.
+#[derive(clap::Args)]
+pub struct Args {
+    scene: PathBuf,
+    #[arg(long, value_enum, default_value = "embree")]
+    backend: BackendArg,
+}
+
+pub fn run(args: Args) -> anyhow::Result<()> {
+    let scene = load(&args.scene)?;
+    let accel = Accel::build(&scene, args.backend.into(), None)?;
+    print(&describe(&scene, &accel))?;
+    Ok(())
+}
 
 fn v(x: Vec3) -> String {
     format!("[{}, {}, {}]", x.x, x.y, x.z)
 }
 
-pub fn describe(scene: &Scene, accel: &Accel) -> String {
+fn describe(scene: &Scene, accel: &Accel) -> String {
     let mut s = String::new();
     let c = &scene.camera;
     let r = &scene.render;

@@ -21,12 +21,32 @@ use std::io::{BufRead, Write};
 use serde::Deserialize;
 use serde_json::{Value, json};
 
-use crate::error::{Error, Result};
-use crate::poly::MAX_DEGREE;
-use crate::poly::exact::{Isolation, Relative};
-use crate::poly::solve::{Method, Solver};
-use crate::poly::sturm::SturmSequence;
-use crate::poly::univariate::{Poly, nonzero};
+use sturmray::error::{Error, Result};
+use sturmray::poly::MAX_DEGREE;
+use sturmray::poly::exact::{Isolation, Relative};
+use sturmray::poly::solve::{Method, Solver};
+use sturmray::poly::sturm::SturmSequence;
+use sturmray::poly::univariate::{Poly, nonzero};
+
+/// Find polynomial roots: JSON lines {"coeffs": [c0, c1, ...], "interval": [a, b],
+/// "method": "..."} on stdin, one JSON line out per line.
+#[derive(clap::Args)]
+pub struct Args {
+    /// Also print the Sturm sequence and its sign table at a and b.
+    #[arg(long)]
+    sturm: bool,
+}
+
+/// Answers stdin on stdout; any bad line makes the command's error (exit 2)
+/// once every line is answered.
+pub fn run(Args { sturm }: Args) -> anyhow::Result<()> {
+    let any_bad = answer_all(std::io::stdin().lock(), std::io::stdout().lock(), sturm)?;
+    if any_bad {
+        let message = "some lines were not understood (see their error lines)";
+        return Err(Error::Input(message.into()).into());
+    }
+    Ok(())
+}
 
 /// The method name of the exact rational path (not a renderer method: it allocates).
 const EXACT: &str = "exact";
@@ -125,7 +145,7 @@ fn answer(line: &str, with_sturm: bool) -> Result<Value, String> {
 }
 
 /// Answers every line of `input`; returns whether any line was bad.
-pub fn run(input: impl BufRead, mut output: impl Write, with_sturm: bool) -> Result<bool> {
+fn answer_all(input: impl BufRead, mut output: impl Write, with_sturm: bool) -> Result<bool> {
     let mut any_bad = false;
     let write_error = |e: std::io::Error| Error::Input(format!("cannot write the answers: {e}"));
     for (index, line) in input.lines().enumerate() {
@@ -153,7 +173,7 @@ mod tests {
 
     fn ask(lines: &str, sturm: bool) -> (Vec<Value>, bool) {
         let mut out = Vec::new();
-        let bad = run(lines.as_bytes(), &mut out, sturm).unwrap();
+        let bad = answer_all(lines.as_bytes(), &mut out, sturm).unwrap();
         let replies = String::from_utf8(out)
             .unwrap()
             .lines()
@@ -202,10 +222,12 @@ not json
     fn a_reader_that_stops_early_is_no_error() {
         let input = "{\"coeffs\": [-1, 0, 1]}\n".repeat(3);
         let closed = Closed(std::io::ErrorKind::BrokenPipe);
-        assert!(!run(input.as_bytes(), closed, false).unwrap());
+        assert!(!answer_all(input.as_bytes(), closed, false).unwrap());
         // Any other failure to write is one.
         let full = Closed(std::io::ErrorKind::StorageFull);
-        let err = run(input.as_bytes(), full, false).unwrap_err().to_string();
+        let err = answer_all(input.as_bytes(), full, false)
+            .unwrap_err()
+            .to_string();
         assert!(err.contains("cannot write the answers"), "{err}");
     }
 

@@ -1,0 +1,83 @@
+//! What several subcommands share: the `--backend` choice, loading a scene,
+//! and the checks that no output replaces an input or another output.
+
+use std::io::Write as _;
+use std::path::{Path, PathBuf};
+
+use clap::ValueEnum;
+
+use sturmray::accel::Backend;
+use sturmray::error::Error;
+use sturmray::io::console::note;
+use sturmray::io::output::{Role, check_distinct, prepare, write_atomic};
+use sturmray::scene::Scene;
+
+// `--backend`: the doc comments of the values are their help text.
+#[derive(Clone, Copy, ValueEnum)]
+pub enum BackendArg {
+    Embree,
+    /// obvhs's compressed wide BVH (pure Rust).
+    Obvhs,
+    /// The bvh crate's binary SAH BVH (pure Rust).
+    Bvh,
+    /// The faster of the pure-Rust backends (obvhs).
+    RustBvh,
+}
+
+impl From<BackendArg> for Backend {
+    fn from(b: BackendArg) -> Backend {
+        match b {
+            BackendArg::Embree => Backend::Embree,
+            BackendArg::Obvhs => Backend::Obvhs,
+            BackendArg::Bvh => Backend::Bvh,
+            BackendArg::RustBvh => Backend::FASTEST_RUST,
+        }
+    }
+}
+
+/// Refuses outputs that would replace an input or each other, then makes
+/// sure each can be written (see [`prepare`]), before any work is done.
+pub fn check_outputs(inputs: &[Role], outputs: &[Role]) -> Result<(), Error> {
+    check_distinct(inputs, outputs)?;
+    outputs.iter().try_for_each(|o| prepare(o.path))
+}
+
+/// Writes a text output (JSON) atomically.
+pub fn write_text(path: &Path, text: &str) -> Result<(), Error> {
+    write_atomic(path, |w| {
+        w.write_all(text.as_bytes()).map_err(|e| Error::io(path, e))
+    })
+}
+
+/// Every file the scenes at `files` are read from (loading them).
+pub fn sources_of(files: &[PathBuf]) -> Result<Vec<PathBuf>, Error> {
+    let mut sources = Vec::new();
+    for file in files {
+        sources.extend(Scene::load(file)?.sources);
+    }
+    Ok(sources)
+}
+
+/// `paths` as inputs described by `what`.
+pub fn roles<'a>(what: &str, paths: &'a [PathBuf]) -> Vec<Role<'a>> {
+    paths.iter().map(|p| Role::new(what, p)).collect()
+}
+
+/// The files a scene was read from, as inputs no output may replace.
+pub fn scene_inputs(scene: &Scene) -> Vec<Role<'_>> {
+    let mut files = scene.sources.iter();
+    let first = files.next().map(|s| Role::new("the scene", s));
+    first
+        .into_iter()
+        .chain(files.map(|s| Role::new("the scene's file", s)))
+        .collect()
+}
+
+/// Loads a scene and prints its warnings, once per command.
+pub fn load(path: &Path) -> Result<Scene, Error> {
+    let scene = Scene::load(path)?;
+    for warning in &scene.warnings {
+        note(format_args!("sturmray: warning: {warning}"));
+    }
+    Ok(scene)
+}
