@@ -12,7 +12,7 @@ use super::obj::MAX_COORDINATE;
 use super::shapes::{self, ShapeFile, ShapeKind};
 use super::{
     Adaptive, Camera, CameraKey, Integrator, MAX_COLOUR, MAX_DEPTH, PhotonSettings, RenderSettings,
-    Scene, headlight, load_obj, locate, suggest,
+    Scene, headlight, load_obj, locate,
 };
 use crate::error::{Error, Result};
 use crate::geometry::{Box3, Shape};
@@ -20,6 +20,7 @@ use crate::lights::Light;
 use crate::math::{Bounds, Vec3};
 use crate::poly::solve::{Method, Solver};
 use crate::shading::{Material, MaterialKind};
+use crate::suggest;
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]

@@ -8,7 +8,6 @@ mod interaction;
 mod locate;
 mod obj;
 mod shapes;
-mod suggest;
 
 use std::path::{Path, PathBuf};
 
