@@ -7,7 +7,6 @@ mod hash;
 mod interaction;
 mod locate;
 mod obj;
-mod shapes;
 
 use std::path::{Path, PathBuf};
 
