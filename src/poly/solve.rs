@@ -32,7 +32,7 @@ use crate::poly::univariate::{Poly, normalize_pow2};
 
 /// How an isolated root is refined. Names are stable: the CLI, `accuracy`
 /// and `bench` use them.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 pub enum Method {
     /// Interval halving: one bit per step, never fails.
     SturmBisect,
@@ -103,7 +103,7 @@ impl FromStr for Method {
 /// A root finder: the refinement method, the tolerance (see the module
 /// docs) and a cap on refinement steps per root, which bounds the time per
 /// ray whatever the input.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct Solver {
     pub method: Method,
     pub tolerance: f64,
