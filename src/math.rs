@@ -113,7 +113,7 @@ impl Hit {
 }
 
 /// An axis-aligned box.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct Bounds {
     pub min: Vec3,
     pub max: Vec3,

@@ -17,7 +17,7 @@ use crate::poly::trivariate::Trivariate;
 use crate::poly::univariate::{Poly, normalize_pow2};
 
 /// A general quadric xᵀA x + b·x + c = 0 with symmetric A.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct Quadric {
     pub a: DMat3,
     pub b: DVec3,
@@ -35,7 +35,7 @@ impl Quadric {
 }
 
 /// The surface in its own object space.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub enum Surface {
     Sphere {
         radius: f64,
@@ -146,7 +146,7 @@ impl Surface {
 }
 
 /// An axis-aligned box in f64.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct Box3 {
     pub min: DVec3,
     pub max: DVec3,
@@ -202,7 +202,7 @@ pub struct ShapeHit {
 }
 
 /// An analytic surface placed in the world.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize)]
 pub struct Shape {
     pub surface: Surface,
     /// Index into the scene's materials.

@@ -5,7 +5,7 @@ use crate::math::{Bounds, Mat4, Vec3, unit};
 /// One OBJ object: its own vertices, triangles in file order (after fan
 /// triangulation) and one material index per triangle. Degenerate triangles
 /// are kept, so a triangle's index is its index in the file.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
 pub struct Mesh {
     pub name: String,
     pub positions: Vec<Vec3>,

@@ -16,7 +16,7 @@ pub use emit::Emission;
 use crate::math::Vec3;
 use crate::sampling::warp;
 
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub enum Light {
     /// Radiant intensity I (W/sr per channel): irradiance I·cosθ / d² at distance d.
     Point { position: Vec3, intensity: Vec3 },

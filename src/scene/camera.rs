@@ -18,14 +18,14 @@ pub struct CameraProblem {
 }
 
 /// Where the camera is at one frame of an animation.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct CameraKey {
     pub frame: u32,
     pub eye: Vec3,
     pub look_at: Vec3,
 }
 
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct Camera {
     /// A keyframed path, frames increasing; empty for a still camera.
     pub keys: Vec<CameraKey>,

@@ -7,8 +7,6 @@ mod hash;
 mod interaction;
 mod locate;
 mod obj;
-mod shapes;
-mod suggest;
 
 use std::path::{Path, PathBuf};
 
@@ -25,7 +23,7 @@ use crate::sampling::Filter;
 use crate::shading::Material;
 
 /// Which light transport the render computes.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
 pub enum Integrator {
     /// Local shading, shadow rays, specular reflection and refraction.
     #[default]
@@ -37,14 +35,14 @@ pub enum Integrator {
 /// Adaptive supersampling: after its base samples a pixel takes further rounds
 /// of as many while the standard error of its mean luminance is above
 /// `threshold` times the mean, up to `max_spp` samples.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct Adaptive {
     pub max_spp: u32,
     pub threshold: f32,
 }
 
 /// Per-render settings.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct RenderSettings {
     pub spp: u32,
     /// How many specular bounces the ray tree follows, at most [`MAX_DEPTH`].
@@ -72,7 +70,7 @@ pub const MAX_COLOUR: f32 = 1e18;
 pub const MAX_DEPTH: u32 = 256;
 
 /// The photon pass for caustics (light → specular → diffuse transport).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct PhotonSettings {
     /// Photons emitted from the lights; 0 turns the pass off.
     pub count: u32,

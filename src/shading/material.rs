@@ -7,7 +7,7 @@ use crate::math::Vec3;
 /// What a surface does with light. The local shading of the foundation
 /// renderer uses albedo, specular and emission; the specular kinds gain their
 /// ray-tree behaviour with the shading layer.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 pub enum MaterialKind {
     Diffuse,
     /// Diffuse plus a Blinn-Phong highlight.
@@ -19,7 +19,7 @@ pub enum MaterialKind {
     Emissive,
 }
 
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct Material {
     pub name: String,
     pub kind: MaterialKind,

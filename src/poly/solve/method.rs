@@ -7,7 +7,7 @@ use std::str::FromStr;
 
 /// How an isolated root is refined. Names are stable: the CLI, `accuracy`
 /// and `bench` use them.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 pub enum Method {
     /// Interval halving: one bit per step, never fails.
     SturmBisect,
@@ -78,7 +78,7 @@ impl FromStr for Method {
 /// A root finder: the refinement method, the tolerance (see the
 /// [`crate::poly::solve`] docs) and a cap on refinement steps per root,
 /// which bounds the time per ray whatever the input.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct Solver {
     pub method: Method,
     pub tolerance: f64,

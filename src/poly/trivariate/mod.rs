@@ -25,7 +25,7 @@ const CUBE: usize = SIDE * SIDE * SIDE;
 /// by y, then z), merged, with zero coefficients dropped. That order is the
 /// nesting [`Trivariate::substitute_ray`] walks, and it makes equality of
 /// polynomials plain equality of the term lists.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct Trivariate {
     terms: Vec<([u8; 3], f64)>,
     degree: usize,

@@ -18,7 +18,7 @@ use std::str::FromStr;
 use crate::error::{Error, Result};
 
 /// A separable reconstruction filter; offsets and radii are in pixels.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub enum Filter {
     /// 1 on [−radius, radius]²; radius 0.5 is plain jittering in the pixel.
     Box { radius: f32 },

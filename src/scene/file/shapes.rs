@@ -2,52 +2,11 @@
 //! and the surface and default clip box they make.
 
 use glam::{DMat3, DVec3};
-use serde::Deserialize;
 
+use super::super::obj::MAX_COORDINATE;
+use super::schema::{ShapeFile, ShapeKind};
 use crate::geometry::{Box3, Quadric, Surface};
 use crate::poly::expr;
-
-/// The analytic object types, as spelled in `[[objects]] type = "..."`.
-#[derive(Clone, Copy, Debug)]
-pub(super) enum ShapeKind {
-    Sphere,
-    Quadric,
-    Ellipsoid,
-    Cylinder,
-    Cone,
-    Hyperboloid1,
-    Hyperboloid2,
-    Paraboloid,
-    HyperbolicParaboloid,
-    Torus,
-    Algebraic,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-pub(super) struct ClipFile {
-    pub min: [f64; 3],
-    pub max: [f64; 3],
-}
-
-/// Every parameter any analytic type takes; `surface` checks that each type
-/// gets the ones it needs and no others.
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-pub(super) struct ShapeFile {
-    pub material: Option<String>,
-    #[serde(default)]
-    pub transform: super::file::TransformFile,
-    pub clip: Option<ClipFile>,
-    radius: Option<f64>,
-    radii: Option<Vec<f64>>,
-    major: Option<f64>,
-    minor: Option<f64>,
-    a: Option<[[f64; 3]; 3]>,
-    b: Option<[f64; 3]>,
-    c: Option<f64>,
-    expr: Option<String>,
-}
 
 /// An error in one object: the parameter at fault ("" for the object as a
 /// whole), so the message can name its line, and what was expected.
@@ -55,13 +14,12 @@ pub(super) type FieldError = (&'static str, String);
 
 fn positive(name: &'static str, v: Option<f64>, meaning: &str) -> Result<f64, FieldError> {
     let v = v.ok_or(("", format!("missing `{name}` ({meaning})")))?;
-    if v > 0.0 && v <= super::obj::MAX_COORDINATE {
+    if v > 0.0 && v <= MAX_COORDINATE {
         Ok(v)
     } else {
-        let max = super::obj::MAX_COORDINATE;
         Err((
             name,
-            format!("expected a number > 0 and at most {max:e}, found {v}"),
+            format!("expected a number > 0 and at most {MAX_COORDINATE:e}, found {v}"),
         ))
     }
 }
@@ -86,6 +44,20 @@ impl ShapeFile {
             }
         }
         names
+    }
+
+    /// Refuses a parameter that the type, which takes `allowed`, does not use.
+    fn takes(&self, allowed: &[&str]) -> Result<(), FieldError> {
+        match self.given().into_iter().find(|g| !allowed.contains(g)) {
+            Some(extra) => Err((
+                extra,
+                format!(
+                    "`{extra}` does not apply to this type (it takes {})",
+                    allowed.join(", ")
+                ),
+            )),
+            None => Ok(()),
+        }
     }
 
     fn radius(&self) -> Result<f64, FieldError> {
@@ -128,38 +100,27 @@ fn clip(min: [f64; 3], max: [f64; 3]) -> Option<Box3> {
 
 /// The surface of an analytic object and its default clip box (None when the
 /// surface bounds itself or, for general quadrics and algebraic surfaces, when
-/// the file must give one).
+/// the file must give one). Each type's arm first names the parameters it
+/// takes, so a type is added in one place.
 pub(super) fn surface(
     kind: ShapeKind,
     f: &ShapeFile,
     constants: &[(&str, f64)],
 ) -> Result<(Surface, Option<Box3>), FieldError> {
     use ShapeKind::*;
-    let allowed: &[&str] = match kind {
-        Sphere | Cylinder | Cone => &["radius"],
-        Ellipsoid | Hyperboloid1 | Hyperboloid2 | Paraboloid | HyperbolicParaboloid => &["radii"],
-        Quadric => &["a", "b", "c"],
-        Torus => &["major", "minor"],
-        Algebraic => &["expr"],
-    };
-    if let Some(extra) = f.given().into_iter().find(|g| !allowed.contains(g)) {
-        return Err((
-            extra,
-            format!(
-                "`{extra}` does not apply to this type (it takes {})",
-                allowed.join(", ")
-            ),
-        ));
-    }
     let inv2 = |r: f64| 1.0 / (r * r);
     Ok(match kind {
-        Sphere => (
-            Surface::Sphere {
-                radius: f.radius()?,
-            },
-            None,
-        ),
+        Sphere => {
+            f.takes(&["radius"])?;
+            (
+                Surface::Sphere {
+                    radius: f.radius()?,
+                },
+                None,
+            )
+        }
         Ellipsoid => {
+            f.takes(&["radii"])?;
             let [a, b, c] = f.radii::<3>()?;
             (
                 diagonal([inv2(a), inv2(b), inv2(c)], [0.0; 3], -1.0),
@@ -168,6 +129,7 @@ pub(super) fn surface(
         }
         // Axis z, z in [-1, 1].
         Cylinder => {
+            f.takes(&["radius"])?;
             let r = f.radius()?;
             (
                 diagonal([1.0, 1.0, 0.0], [0.0; 3], -r * r),
@@ -176,6 +138,7 @@ pub(super) fn surface(
         }
         // Apex at the origin, radius r at z = 1; one nappe, z in [0, 1].
         Cone => {
+            f.takes(&["radius"])?;
             let r = f.radius()?;
             (
                 diagonal([1.0, 1.0, -r * r], [0.0; 3], 0.0),
@@ -184,6 +147,7 @@ pub(super) fn surface(
         }
         // x²/a² + y²/b² − z²/c² = 1, z in [-1, 1].
         Hyperboloid1 => {
+            f.takes(&["radii"])?;
             let [a, b, c] = f.radii::<3>()?;
             let k = (1.0 + inv2(c)).sqrt();
             (
@@ -193,6 +157,7 @@ pub(super) fn surface(
         }
         // x²/a² + y²/b² − z²/c² = −1: two sheets, |z| in [c, c + 1].
         Hyperboloid2 => {
+            f.takes(&["radii"])?;
             let [a, b, c] = f.radii::<3>()?;
             let h = c + 1.0;
             let k = (h * h * inv2(c) - 1.0).sqrt();
@@ -203,6 +168,7 @@ pub(super) fn surface(
         }
         // z = x²/a² + y²/b², z in [0, 1].
         Paraboloid => {
+            f.takes(&["radii"])?;
             let [a, b] = f.radii::<2>()?;
             (
                 diagonal([inv2(a), inv2(b), 0.0], [0.0, 0.0, -1.0], 0.0),
@@ -211,6 +177,7 @@ pub(super) fn surface(
         }
         // z = x²/a² − y²/b², over x in [-a, a], y in [-b, b].
         HyperbolicParaboloid => {
+            f.takes(&["radii"])?;
             let [a, b] = f.radii::<2>()?;
             (
                 diagonal([inv2(a), -inv2(b), 0.0], [0.0, 0.0, -1.0], 0.0),
@@ -218,6 +185,7 @@ pub(super) fn surface(
             )
         }
         Quadric => {
+            f.takes(&["a", "b", "c"])?;
             let a = f.a.ok_or((
                 "",
                 "missing `a` (a symmetric 3×3 matrix, as rows)".to_string(),
@@ -242,11 +210,13 @@ pub(super) fn surface(
             (surface, None)
         }
         Torus => {
+            f.takes(&["major", "minor"])?;
             let major = positive("major", f.major, "the radius of the tube's centre circle")?;
             let minor = positive("minor", f.minor, "the radius of the tube")?;
             (Surface::Torus { major, minor }, None)
         }
         Algebraic => {
+            f.takes(&["expr"])?;
             let missing = (
                 "",
                 "missing `expr`, e.g. \"x^4 + y^4 + z^4 - 1\"".to_string(),

@@ -1,0 +1,425 @@
+//! The TOML scene format (see scenes/README.md): loading a `Scene` from a
+//! file, one function per section. The schema is read by serde (`schema`),
+//! each value checked (`check`), and analytic objects built by their type
+//! (`shapes`).
+
+mod check;
+mod schema;
+mod shapes;
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use glam::{DAffine3, DMat4, DVec3};
+
+use check::Check;
+pub(super) use check::physical_memory;
+use schema::{
+    CameraFile, IntegratorFile, KindFile, LightFile, MaterialFile, MeshFile, Object, RenderFile,
+    ScaleFile, SceneFile, ShapeFile, ShapeKind, TransformFile,
+};
+
+use super::obj::MAX_COORDINATE;
+use super::{
+    Adaptive, Camera, CameraKey, Integrator, PhotonSettings, RenderSettings, Scene, headlight,
+    load_obj,
+};
+use crate::error::{Error, Result};
+use crate::geometry::{Box3, Mesh, Shape, Surface};
+use crate::lights::Light;
+use crate::math::Vec3;
+use crate::poly::solve::{Method, Solver};
+use crate::shading::{Material, MaterialKind};
+use crate::suggest;
+
+pub(super) fn load(path: &Path) -> Result<Scene> {
+    let text = crate::io::input::read_text(path)?;
+    let file: SceneFile = toml::from_str(&text).map_err(|e| Error::Scene {
+        path: path.to_owned(),
+        message: suggest::with_suggestion(&e.to_string()),
+    })?;
+    let check = Check { path, text: &text };
+    let render = render(&check, &file.render)?;
+    check.render(&render)?;
+    let background = check.colour("background", file.background.unwrap_or([0.0; 3]))?;
+    let mut scene = Scene::empty(path, render, background);
+    for (name, m) in &file.materials {
+        scene.materials.push(material(&check, name, m)?);
+    }
+    let solver = solver(&check, &file.render)?;
+    let objects = Objects {
+        check: &check,
+        dir: path.parent().unwrap_or(Path::new(".")),
+        constants: file
+            .constants
+            .iter()
+            .map(|(k, v)| (k.as_str(), *v))
+            .collect(),
+        materials: &file.materials,
+        solver,
+    };
+    for (index, object) in file.objects.iter().enumerate() {
+        match object.view() {
+            Object::Shape(kind, shape) => objects.shape(&mut scene, index, kind, shape)?,
+            Object::Mesh(mesh) => objects.mesh(&mut scene, index, mesh)?,
+        }
+    }
+    for (index, entry) in file.lights.iter().enumerate() {
+        light(&check, &mut scene, index, entry, solver)?;
+    }
+    scene.camera = match &file.camera {
+        Some(c) => camera(&check, c)?,
+        None => {
+            let bounds = scene.bounds();
+            if bounds.is_empty() {
+                return Err(check.error("camera", "missing, and there is no geometry to frame"));
+            }
+            let camera = Camera::framing(bounds, 640, 480);
+            camera
+                .check()
+                .map_err(|p| check.error("camera", p.message))?;
+            if file.lights.is_empty() {
+                scene.lights.push(headlight(&camera));
+            }
+            camera
+        }
+    };
+    scene.gather_emitters();
+    Ok(scene)
+}
+
+/// `[render]`, with the defaults for what it leaves out.
+fn render(check: &Check, file: &RenderFile) -> Result<RenderSettings> {
+    let defaults = RenderSettings::default();
+    Ok(RenderSettings {
+        spp: file.spp.unwrap_or(defaults.spp),
+        max_depth: file.max_depth.unwrap_or(defaults.max_depth),
+        seed: file.seed.unwrap_or(defaults.seed),
+        min_weight: file.min_weight.unwrap_or(defaults.min_weight),
+        filter: match &file.filter {
+            Some(name) => name.parse().map_err(|e| check.error("render.filter", e))?,
+            None => defaults.filter,
+        },
+        integrator: match file.integrator {
+            Some(IntegratorFile::Whitted) | None => Integrator::Whitted,
+            Some(IntegratorFile::Path) => Integrator::Path,
+        },
+        adaptive: file.adaptive.as_ref().map(|a| Adaptive {
+            max_spp: a.max_spp,
+            threshold: a.threshold,
+        }),
+        photons: match &file.photons {
+            Some(p) => PhotonSettings {
+                count: p.count.unwrap_or(defaults.photons.count),
+                radius: p.radius.or(defaults.photons.radius),
+            },
+            None => defaults.photons,
+        },
+    })
+}
+
+/// The root finder of `[render]` (`method`, `tolerance`) for analytic shapes.
+fn solver(check: &Check, render: &RenderFile) -> Result<Solver> {
+    let mut solver = Solver::default();
+    if let Some(name) = &render.method {
+        solver.method = name
+            .parse::<Method>()
+            .map_err(|e| check.error("render.method", e))?;
+    }
+    if let Some(tolerance) = render.tolerance {
+        if !(tolerance > 0.0 && tolerance < 1.0) {
+            return Err(check.error(
+                "render.tolerance",
+                format!("expected a number in (0, 1), found {tolerance}"),
+            ));
+        }
+        solver.tolerance = tolerance;
+    }
+    Ok(solver)
+}
+
+/// `[camera]`, with its path of keys.
+fn camera(check: &Check, c: &CameraFile) -> Result<Camera> {
+    let eye = check.finite("camera.eye", c.eye)?;
+    let look_at = check.finite("camera.look_at", c.look_at)?;
+    let up = check.direction("camera.up", c.up)?;
+    check.image(c.fov, c.width, c.height)?;
+    let mut keys = Vec::with_capacity(c.keys.len());
+    for (i, k) in c.keys.iter().enumerate() {
+        let key = |field: &str| format!("camera.keys[{i}].{field}");
+        let (eye, look_at) = (
+            check.finite(&key("eye"), k.eye)?,
+            check.finite(&key("look_at"), k.look_at)?,
+        );
+        if keys
+            .last()
+            .is_some_and(|last: &CameraKey| last.frame >= k.frame)
+        {
+            return Err(check.error(
+                &key("frame"),
+                format!("frames must increase, found {} after a later one", k.frame),
+            ));
+        }
+        keys.push(CameraKey {
+            frame: k.frame,
+            eye,
+            look_at,
+        });
+    }
+    let camera = Camera {
+        keys,
+        eye,
+        look_at,
+        up,
+        fov: c.fov,
+        width: c.width,
+        height: c.height,
+    };
+    camera.check().map_err(|p| check.error(&p.key, p.message))?;
+    Ok(camera)
+}
+
+/// One `[materials.NAME]` table.
+fn material(check: &Check, name: &str, m: &MaterialFile) -> Result<Material> {
+    let key = |field: &str| format!("materials.{name}.{field}");
+    let colour = |field: &str, v: Option<[f32; 3]>, default: f32| match v {
+        Some(v) => check.colour(&key(field), v),
+        None => Ok(Vec3::splat(default)),
+    };
+    let kind = match m.kind {
+        KindFile::Diffuse => MaterialKind::Diffuse,
+        KindFile::Plastic => MaterialKind::Plastic,
+        KindFile::Mirror => MaterialKind::Mirror,
+        KindFile::Metal => MaterialKind::Metal,
+        KindFile::Dielectric => MaterialKind::Dielectric,
+        KindFile::Emissive => MaterialKind::Emissive,
+    };
+    let ior = m.ior.unwrap_or(1.5);
+    check.positive(&key("ior"), ior)?;
+    let shininess = m.shininess.unwrap_or(50.0);
+    if !(shininess >= 0.0 && shininess.is_finite()) {
+        return Err(check.error(
+            &key("shininess"),
+            format!("expected a number >= 0, found {shininess}"),
+        ));
+    }
+    let roughness = m.roughness.unwrap_or(0.3);
+    if !(0.0..=1.0).contains(&roughness) {
+        return Err(check.error(
+            &key("roughness"),
+            format!("expected a number from 0 to 1, found {roughness}"),
+        ));
+    }
+    let specular_default = if kind == MaterialKind::Plastic {
+        0.04
+    } else {
+        0.0
+    };
+    Ok(Material {
+        name: name.to_owned(),
+        kind,
+        albedo: colour("albedo", m.albedo, 0.7)?,
+        specular: colour("specular", m.specular, specular_default)?,
+        shininess,
+        roughness,
+        ior,
+        emission: colour("radiance", m.radiance, 0.0)?,
+    })
+}
+
+/// What every `[[objects]]` entry is built with.
+struct Objects<'a> {
+    check: &'a Check<'a>,
+    /// The scene file's folder, which OBJ paths are relative to.
+    dir: &'a Path,
+    constants: Vec<(&'a str, f64)>,
+    materials: &'a BTreeMap<String, MaterialFile>,
+    solver: Solver,
+}
+
+impl Objects<'_> {
+    /// An analytic object of type `kind`.
+    fn shape(
+        &self,
+        scene: &mut Scene,
+        index: usize,
+        kind: ShapeKind,
+        shape: &ShapeFile,
+    ) -> Result<()> {
+        let check = self.check;
+        let material = match self.material(index, &shape.material)? {
+            Some(m) => m,
+            None => scene.default_material(),
+        };
+        let key = format!("objects[{index}]");
+        let (surface, default_clip) =
+            shapes::surface(kind, shape, &self.constants).map_err(|(field, message)| {
+                let key = if field.is_empty() {
+                    key.clone()
+                } else {
+                    format!("{key}.{field}")
+                };
+                check.error(&key, message)
+            })?;
+        let clip = match &shape.clip {
+            Some(c) => Some(Box3 {
+                min: check.finite64(&format!("{key}.clip.min"), c.min)?,
+                max: check.finite64(&format!("{key}.clip.max"), c.max)?,
+            }),
+            None => None,
+        };
+        let to_world = self.transform(index, &shape.transform)?;
+        let shape = Shape::new(
+            surface,
+            to_world,
+            clip.or(default_clip),
+            material,
+            self.solver,
+        )
+        .map_err(|e| check.error(&key, e))?;
+        check.bounds(&key, shape.bounds())?;
+        scene.shapes.push(shape);
+        Ok(())
+    }
+
+    /// A `type = "mesh"` object: the meshes of an OBJ file, placed.
+    fn mesh(&self, scene: &mut Scene, index: usize, mesh: &MeshFile) -> Result<()> {
+        let check = self.check;
+        let material = self.material(index, &mesh.material)?;
+        let transform = self.transform(index, &mesh.transform)?;
+        let first = scene.meshes.len();
+        let obj_path = self.dir.join(&mesh.file);
+        // A file that cannot be read is named with the line that asks for it.
+        let obj = load_obj(&obj_path).map_err(|e| match e {
+            Error::Io { .. } => check.error(&format!("objects[{index}].file"), e),
+            other => other,
+        })?;
+        scene.add_obj(&obj_path, obj, material);
+        let matrix = DMat4::from(transform).as_mat4();
+        for m in &mut scene.meshes[first..] {
+            m.transform(&matrix);
+            check.bounds(&format!("objects[{index}]"), m.bounds())?;
+        }
+        Ok(())
+    }
+
+    fn transform(&self, index: usize, t: &TransformFile) -> Result<DAffine3> {
+        let key = |field: &str| format!("objects[{index}].transform.{field}");
+        let vector = |field: &str, v: Option<[f64; 3]>| {
+            self.check.finite64(&key(field), v.unwrap_or([0.0; 3]))
+        };
+        let translate = vector("translate", t.translate)?;
+        let rotate = vector("rotate", t.rotate)?;
+        let scale = match t.scale {
+            None => DVec3::ONE,
+            Some(ScaleFile::Uniform(s)) => DVec3::splat(s),
+            Some(ScaleFile::Axes(s)) => DVec3::from(s),
+        };
+        if !scale.is_finite()
+            || scale.abs().min_element() < 1e-12
+            || scale.abs().max_element() > 1e12
+        {
+            return Err(self.check.error(
+                &key("scale"),
+                format!("expected finite factors between 1e-12 and 1e12 in size, found {scale}"),
+            ));
+        }
+        let r = rotate * (std::f64::consts::PI / 180.0);
+        let rotation =
+            DMat4::from_rotation_z(r.z) * DMat4::from_rotation_y(r.y) * DMat4::from_rotation_x(r.x);
+        Ok(DAffine3::from_mat4(
+            DMat4::from_translation(translate) * rotation * DMat4::from_scale(scale),
+        ))
+    }
+
+    /// The index of the material an object names, if it names one.
+    fn material(&self, index: usize, name: &Option<String>) -> Result<Option<u32>> {
+        let Some(name) = name else {
+            return Ok(None);
+        };
+        match self.materials.keys().position(|k| k == name) {
+            Some(i) => Ok(Some(i as u32)),
+            None => {
+                let hint = suggest::closest(name, self.materials.keys().map(String::as_str))
+                    .map_or(String::new(), |c| format!("; did you mean `{c}`?"));
+                Err(self.check.error(
+                    &format!("objects[{index}].material"),
+                    format!("no material named `{name}` in [materials]{hint}"),
+                ))
+            }
+        }
+    }
+}
+
+/// One `[[lights]]` entry. Area lights are emissive geometry: camera and
+/// bounce rays see them, they cast shadows, and `gather_emitters` makes them
+/// sampled lights.
+fn light(
+    check: &Check,
+    scene: &mut Scene,
+    index: usize,
+    light: &LightFile,
+    solver: Solver,
+) -> Result<()> {
+    let key = |field: &str| format!("lights[{index}].{field}");
+    match light {
+        LightFile::Point(p) => scene.lights.push(Light::Point {
+            position: check.finite(&key("position"), p.position)?,
+            intensity: check.colour(&key("intensity"), p.intensity)?,
+        }),
+        LightFile::Directional(d) => scene.lights.push(Light::Directional {
+            direction: check.direction(&key("direction"), d.direction)?,
+            irradiance: check.colour(&key("irradiance"), d.irradiance)?,
+        }),
+        LightFile::Sphere(l) => {
+            let center = check.finite(&key("center"), l.center)?;
+            let radiance = check.colour(&key("radiance"), l.radiance)?;
+            if !(l.radius > 0.0 && f64::from(l.radius) <= MAX_COORDINATE) {
+                return Err(check.error(
+                    &key("radius"),
+                    format!(
+                        "expected a number > 0 and at most {MAX_COORDINATE:e}, found {}",
+                        l.radius
+                    ),
+                ));
+            }
+            let material = scene.light_material(index, radiance);
+            let place = DAffine3::from_translation(center.as_dvec3());
+            let surface = Surface::Sphere {
+                radius: f64::from(l.radius),
+            };
+            let shape = Shape::new(surface, place, None, material, solver)
+                .map_err(|e| check.error(&key("radius"), e))?;
+            check.bounds(&key("radius"), shape.bounds())?;
+            scene.shapes.push(shape);
+        }
+        LightFile::Quad(l) => {
+            let corner = check.finite(&key("corner"), l.corner)?;
+            let edge1 = check.finite(&key("edge1"), l.edge1)?;
+            let edge2 = check.finite(&key("edge2"), l.edge2)?;
+            let radiance = check.colour(&key("radiance"), l.radiance)?;
+            if edge1.cross(edge2).length() <= 0.0 {
+                return Err(check.error(
+                    &key("edge1"),
+                    "the quad has zero area: its edges are parallel or zero",
+                ));
+            }
+            // Counter-clockwise seen from the side edge1 × edge2 points to, which
+            // is the side it emits on.
+            let material = scene.light_material(index, radiance);
+            scene.meshes.push(Mesh {
+                name: format!("light {index}"),
+                positions: vec![
+                    corner,
+                    corner + edge1,
+                    corner + edge1 + edge2,
+                    corner + edge2,
+                ],
+                triangles: vec![[0, 1, 2], [0, 2, 3]],
+                materials: vec![material; 2],
+            });
+            check.bounds(&key("corner"), scene.bounds())?;
+        }
+    }
+    Ok(())
+}

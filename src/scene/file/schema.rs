@@ -1,0 +1,265 @@
+//! The serde schema of the TOML scene format (see scenes/README.md): what each
+//! table may hold, as read, before any value is checked. Every table denies
+//! unknown keys, so a typo is an error that names the line and suggests the
+//! key meant.
+
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+
+use serde::Deserialize;
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct SceneFile {
+    pub background: Option<[f32; 3]>,
+    /// Names usable in `expr` of algebraic objects.
+    #[serde(default)]
+    pub constants: BTreeMap<String, f64>,
+    pub camera: Option<CameraFile>,
+    #[serde(default)]
+    pub render: RenderFile,
+    #[serde(default)]
+    pub materials: BTreeMap<String, MaterialFile>,
+    #[serde(default)]
+    pub objects: Vec<ObjectFile>,
+    #[serde(default)]
+    pub lights: Vec<LightFile>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct CameraFile {
+    pub eye: [f32; 3],
+    pub look_at: [f32; 3],
+    #[serde(default = "y_up")]
+    pub up: [f32; 3],
+    pub fov: f32,
+    pub width: u32,
+    pub height: u32,
+    /// A camera path: where the camera is at some frames (`render --frame K`).
+    #[serde(default)]
+    pub keys: Vec<CameraKeyFile>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct CameraKeyFile {
+    pub frame: u32,
+    pub eye: [f32; 3],
+    pub look_at: [f32; 3],
+}
+
+fn y_up() -> [f32; 3] {
+    [0.0, 1.0, 0.0]
+}
+
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RenderFile {
+    pub spp: Option<u32>,
+    pub max_depth: Option<u32>,
+    pub seed: Option<u64>,
+    pub min_weight: Option<f32>,
+    /// "box", "tent", "gaussian" or "mitchell".
+    pub filter: Option<String>,
+    pub integrator: Option<IntegratorFile>,
+    /// The root finder for analytic surfaces, by its stable name.
+    pub method: Option<String>,
+    pub tolerance: Option<f64>,
+    pub adaptive: Option<AdaptiveFile>,
+    pub photons: Option<PhotonsFile>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct AdaptiveFile {
+    pub max_spp: u32,
+    pub threshold: f32,
+}
+
+/// `photons = { count, radius }`: the caustic photon pass.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct PhotonsFile {
+    pub count: Option<u32>,
+    pub radius: Option<f32>,
+}
+
+#[derive(Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub(super) enum IntegratorFile {
+    Whitted,
+    Path,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, rename_all = "lowercase")]
+pub(super) enum KindFile {
+    Diffuse,
+    Plastic,
+    Mirror,
+    Metal,
+    Dielectric,
+    Emissive,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct MaterialFile {
+    #[serde(rename = "type")]
+    pub kind: KindFile,
+    pub albedo: Option<[f32; 3]>,
+    pub specular: Option<[f32; 3]>,
+    pub shininess: Option<f32>,
+    pub roughness: Option<f32>,
+    pub ior: Option<f32>,
+    pub radiance: Option<[f32; 3]>,
+}
+
+/// Declares the analytic shape types once. From the one list come the
+/// `[[objects]]` types (serde's internally tagged enum, beside `mesh`),
+/// [`ShapeKind`], which `shapes::surface` matches on for each type's
+/// parameters and surface, and the mapping between the two. A macro because
+/// serde's other ways to share the `type` key between a fixed variant and a
+/// list (`flatten`, `untagged` variants) lose `deny_unknown_fields` or its
+/// "unknown field"/"unknown variant" messages, which scene files rely on.
+macro_rules! objects {
+    ($($(#[$doc:meta])* $shape:ident,)+) => {
+        #[derive(Deserialize)]
+        #[serde(tag = "type", rename_all = "snake_case")]
+        pub(super) enum ObjectFile {
+            Mesh(MeshFile),
+            $($shape(ShapeFile),)+
+        }
+
+        /// The analytic object types, as spelled in `[[objects]] type = "..."`.
+        #[derive(Clone, Copy, Debug)]
+        pub(super) enum ShapeKind {
+            $($(#[$doc])* $shape,)+
+        }
+
+        impl ObjectFile {
+            /// Which kind of object this is, with its parameters.
+            pub fn view(&self) -> Object<'_> {
+                match self {
+                    ObjectFile::Mesh(mesh) => Object::Mesh(mesh),
+                    $(ObjectFile::$shape(shape) => Object::Shape(ShapeKind::$shape, shape),)+
+                }
+            }
+        }
+    };
+}
+
+objects! {
+    Sphere,
+    /// A general quadric xᵀAx + b·x + c, which needs a clip box.
+    Quadric,
+    Ellipsoid,
+    Cylinder,
+    Cone,
+    Hyperboloid1,
+    Hyperboloid2,
+    Paraboloid,
+    HyperbolicParaboloid,
+    Torus,
+    /// A polynomial written as an expression, which needs a clip box.
+    Algebraic,
+}
+
+/// An object of the file, by what the loader builds from it.
+pub(super) enum Object<'a> {
+    Mesh(&'a MeshFile),
+    Shape(ShapeKind, &'a ShapeFile),
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct MeshFile {
+    pub file: PathBuf,
+    pub material: Option<String>,
+    #[serde(default)]
+    pub transform: TransformFile,
+}
+
+/// Every parameter any analytic type takes; `shapes::surface` checks that
+/// each type gets the ones it needs and no others.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct ShapeFile {
+    pub material: Option<String>,
+    #[serde(default)]
+    pub transform: TransformFile,
+    pub clip: Option<ClipFile>,
+    pub radius: Option<f64>,
+    pub radii: Option<Vec<f64>>,
+    pub major: Option<f64>,
+    pub minor: Option<f64>,
+    pub a: Option<[[f64; 3]; 3]>,
+    pub b: Option<[f64; 3]>,
+    pub c: Option<f64>,
+    pub expr: Option<String>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct ClipFile {
+    pub min: [f64; 3],
+    pub max: [f64; 3],
+}
+
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub(super) struct TransformFile {
+    pub translate: Option<[f64; 3]>,
+    /// Degrees about x, then y, then z.
+    pub rotate: Option<[f64; 3]>,
+    pub scale: Option<ScaleFile>,
+}
+
+#[derive(Deserialize)]
+#[serde(untagged)]
+pub(super) enum ScaleFile {
+    Uniform(f64),
+    Axes([f64; 3]),
+}
+
+#[derive(Deserialize)]
+#[serde(tag = "type", rename_all = "lowercase")]
+pub(super) enum LightFile {
+    Point(PointFile),
+    Directional(DirectionalFile),
+    Sphere(SphereLightFile),
+    Quad(QuadLightFile),
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct SphereLightFile {
+    pub center: [f32; 3],
+    pub radius: f32,
+    pub radiance: [f32; 3],
+}
+
+/// A parallelogram corner + s·edge1 + t·edge2, emitting towards edge1 × edge2.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct QuadLightFile {
+    pub corner: [f32; 3],
+    pub edge1: [f32; 3],
+    pub edge2: [f32; 3],
+    pub radiance: [f32; 3],
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct PointFile {
+    pub position: [f32; 3],
+    pub intensity: [f32; 3],
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct DirectionalFile {
+    pub direction: [f32; 3],
+    pub irradiance: [f32; 3],
+}
