@@ -62,7 +62,7 @@ impl From<&Hit> for HitRecord {
 /// misses, which is how embreex callers switch rays off.
 pub fn read_rays(path: &Path) -> Result<Vec<Ray>> {
     let (file, len) = super::input::open_regular(path)?;
-    let bad = |msg: String| Error::Input(format!("{}: {msg}", path.display()));
+    let bad = |msg| refused(path, msg);
     let mut reader = BufReader::new(file.take(len));
 
     let (header, start) = read_header(&mut reader, len).map_err(bad)?;
@@ -130,7 +130,7 @@ fn checked_rays<T: npyz::Deserialize>(
     to_f32: fn(T) -> f32,
     as_f32: &str,
 ) -> Result<Vec<Ray>> {
-    let bad = |msg: String| Error::Input(format!("{}: {msg}", path.display()));
+    let bad = |msg| refused(path, msg);
     // The dtype was checked to be T's, so npyz has no reason to refuse it.
     let values = data.data::<T>().map_err(|e| bad(e.to_string()))?;
     let mut rays = Vec::with_capacity((values.len() / cols as u64).min(1 << 16) as usize);
@@ -144,6 +144,11 @@ fn checked_rays<T: npyz::Deserialize>(
         }
     }
     Ok(rays)
+}
+
+/// A ray file refused: `msg` after the file's name.
+fn refused(path: &Path, msg: String) -> Error {
+    Error::Input(format!("{}: {msg}", path.display()))
 }
 
 /// The ray of one row (origin, direction, and tnear, tfar if given), or
