@@ -199,11 +199,11 @@ pub fn write_mesh(
     write_2d(triangles_path, 3, triangles.iter().flatten().copied())
 }
 
-/// Writes a 2-D array of `cols` columns, row after row, atomically. npyz's
-/// header for it is the one `np.save` writes: it leaves room for a 20-digit
-/// row count and pads the shorter count it writes with spaces, which are
-/// part of the padding NumPy puts there too (64-byte alignment leaves a
-/// (N, 8) float32 header 128 bytes long either way).
+/// Writes a 2-D array of `cols` columns, row after row, atomically. npyz
+/// leaves room in the header for a 20-digit row count and pads the count it
+/// writes with spaces; for the float32 and uint32 arrays written here the
+/// header is 128 bytes with any count, so it is byte for byte the one
+/// `np.save` writes (the round-trip test pins it).
 fn write_2d<T: AutoSerialize>(
     path: &Path,
     cols: u64,
