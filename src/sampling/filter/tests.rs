@@ -1,4 +1,3 @@
-
 use super::*;
 use crate::sampling::{ONE_MINUS_EPSILON, Rng};
 
