@@ -6,8 +6,10 @@ use crate::math::Vec3;
 
 /// What a surface does with light. The local shading of the foundation
 /// renderer uses albedo, specular and emission; the specular kinds gain their
-/// ray-tree behaviour with the shading layer.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+/// ray-tree behaviour with the shading layer. Read from a scene file's `type = "diffuse"` (lowercase there only: the
+/// scene hash serialises the names as written here).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all(deserialize = "lowercase"))]
 pub enum MaterialKind {
     Diffuse,
     /// Diffuse plus a Blinn-Phong highlight.

@@ -15,8 +15,8 @@ use glam::{DAffine3, DMat4, DVec3};
 use check::Check;
 pub(super) use check::physical_memory;
 use schema::{
-    CameraFile, IntegratorFile, KindFile, LightFile, MaterialFile, MeshFile, Object, RenderFile,
-    ScaleFile, SceneFile, ShapeFile, ShapeKind, TransformFile,
+    CameraFile, IntegratorFile, LightFile, MaterialFile, MeshFile, Object, RenderFile, ScaleFile,
+    SceneFile, ShapeFile, ShapeKind, TransformFile,
 };
 
 use super::obj::MAX_COORDINATE;
@@ -186,14 +186,7 @@ fn material(check: &Check, name: &str, m: &MaterialFile) -> Result<Material> {
         Some(v) => check.colour(&key(field), v),
         None => Ok(Vec3::splat(default)),
     };
-    let kind = match m.kind {
-        KindFile::Diffuse => MaterialKind::Diffuse,
-        KindFile::Plastic => MaterialKind::Plastic,
-        KindFile::Mirror => MaterialKind::Mirror,
-        KindFile::Metal => MaterialKind::Metal,
-        KindFile::Dielectric => MaterialKind::Dielectric,
-        KindFile::Emissive => MaterialKind::Emissive,
-    };
+    let kind = m.kind;
     let ior = m.ior.unwrap_or(1.5);
     check.positive(&key("ior"), ior)?;
     let shininess = m.shininess.unwrap_or(50.0);

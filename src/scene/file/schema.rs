@@ -8,6 +8,8 @@ use std::path::PathBuf;
 
 use serde::Deserialize;
 
+use crate::shading::MaterialKind;
+
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct SceneFile {
@@ -93,21 +95,10 @@ pub(super) enum IntegratorFile {
 }
 
 #[derive(Deserialize)]
-#[serde(deny_unknown_fields, rename_all = "lowercase")]
-pub(super) enum KindFile {
-    Diffuse,
-    Plastic,
-    Mirror,
-    Metal,
-    Dielectric,
-    Emissive,
-}
-
-#[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct MaterialFile {
     #[serde(rename = "type")]
-    pub kind: KindFile,
+    pub kind: MaterialKind,
     pub albedo: Option<[f32; 3]>,
     pub specular: Option<[f32; 3]>,
     pub shininess: Option<f32>,
