@@ -6,7 +6,7 @@
 use std::fmt;
 
 use crate::scene::{Integrator, Scene};
-use crate::shading::{Bsdf, Material, MaterialKind};
+use crate::shading::{Bsdf, Finish, Material, MaterialKind};
 
 use super::photon;
 
@@ -14,9 +14,10 @@ use super::photon;
 pub struct Plan {
     /// Shadow rays towards lights, from surfaces that shade locally.
     pub shadow: bool,
-    /// Specular reflection rays, from mirrors and dielectrics.
+    /// Specular reflection rays, from mirrors, dielectrics and classic
+    /// materials with a reflection (or a transmission that can reflect totally).
     pub reflection: bool,
-    /// Refraction rays, through dielectrics.
+    /// Refraction rays, through dielectrics and classic materials that transmit.
     pub refraction: bool,
     /// Diffuse and glossy bounces: global illumination, by the path tracer.
     pub diffuse: bool,
@@ -50,24 +51,34 @@ impl Plan {
                 .any(|(m, &u)| u && test(m))
         };
         let uses = |kinds: &[MaterialKind]| uses_where(&|m| kinds.contains(&m.kind));
-        let local = uses(&[
-            MaterialKind::Diffuse,
-            MaterialKind::Plastic,
-            MaterialKind::Metal,
-        ]);
+        // A classic material calls for each effect only if its finish has it.
+        let classic = |effect: &dyn Fn(&Finish, f32) -> bool| {
+            uses_where(&|m| m.kind == MaterialKind::Classic && effect(&m.finish, m.ior))
+        };
+        let classic_local = classic(&|f, _| f.shades_locally());
+        let local = classic_local
+            || uses(&[
+                MaterialKind::Diffuse,
+                MaterialKind::Plastic,
+                MaterialKind::Metal,
+            ]);
         let deep = scene.render.max_depth > 0;
         Plan {
             shadow: local && !scene.lights.is_empty(),
-            reflection: deep && uses(&[MaterialKind::Mirror, MaterialKind::Dielectric]),
-            refraction: deep && uses(&[MaterialKind::Dielectric]),
+            reflection: deep
+                && (uses(&[MaterialKind::Mirror, MaterialKind::Dielectric])
+                    || classic(&|f, ior| f.reflects(ior))),
+            refraction: deep
+                && (uses(&[MaterialKind::Dielectric]) || classic(&|f, _| f.transmits())),
             diffuse: deep
                 && scene.render.integrator == Integrator::Path
-                && uses(&[
-                    MaterialKind::Diffuse,
-                    MaterialKind::Plastic,
-                    MaterialKind::Metal,
-                    MaterialKind::Emissive,
-                ]),
+                && (classic_local
+                    || uses(&[
+                        MaterialKind::Diffuse,
+                        MaterialKind::Plastic,
+                        MaterialKind::Metal,
+                        MaterialKind::Emissive,
+                    ])),
             // A caustic needs a light, a specular surface to bend its light and a
             // diffuse one to catch it.
             photon: deep

@@ -134,14 +134,88 @@ impl Whitted<'_> {
                 if let Some(map) = self.caustics {
                     radiance += map.caustic(it.p, it.n, |wi| material.local_brdf(it.n, wo, wi));
                 }
-                if self.plan.forced {
-                    // What a renderer without a plan pays: both branches, weighted by zero.
-                    let mirror = fresnel::reflect(ray.dir, it.n);
-                    let _ = self.spawn(it, mirror, depth, weight, RayKind::Reflection, walk);
-                    let _ = self.spawn(it, ray.dir, depth, weight, RayKind::Refraction, walk);
-                }
+                self.force(ray, it, depth, weight, [true, true], walk);
+            }
+            MaterialKind::Classic => {
+                radiance += self.classic(ray, it, material, depth, weight, walk);
             }
         }
+        radiance
+    }
+
+    /// What a renderer without a plan pays where the material has no such
+    /// branch: the reflected and refracted rays `missing` names, weighted by zero.
+    fn force(
+        &self,
+        ray: &Ray,
+        it: &Interaction,
+        depth: u32,
+        weight: Vec3,
+        missing: [bool; 2],
+        walk: &mut Walk<'_>,
+    ) {
+        if !self.plan.forced {
+            return;
+        }
+        if missing[0] {
+            let mirror = fresnel::reflect(ray.dir, it.n);
+            let _ = self.spawn(it, mirror, depth, weight, RayKind::Reflection, walk);
+        }
+        if missing[1] {
+            let _ = self.spawn(it, ray.dir, depth, weight, RayKind::Refraction, walk);
+        }
+    }
+
+    /// POV-Ray's finish as a ray tree: ambient, and the lights through shadow
+    /// rays, for the part of the pigment that does not transmit; a reflected
+    /// branch weighted by the reflected fraction (tinted by `metallic`); a
+    /// refracted branch weighted by `transmit`, which total internal
+    /// reflection adds to the reflected one.
+    fn classic(
+        &self,
+        ray: &Ray,
+        it: &Interaction,
+        material: &Material,
+        depth: u32,
+        weight: Vec3,
+        walk: &mut Walk<'_>,
+    ) -> Vec3 {
+        let finish = &material.finish;
+        let wo = -ray.dir;
+        let mut radiance = finish.ambient_colour(material.albedo);
+        if self.plan.shadow {
+            radiance += self.direct(it, material, wo, depth, weight, walk);
+        }
+        let outward = if it.front { it.n } else { -it.n };
+        let mut reflected = finish.reflectance(wo.dot(outward), material.ior);
+        let refracted = if finish.transmits() {
+            let dir = fresnel::refract(wo, outward, material.ior);
+            if dir.is_none() {
+                reflected += finish.transmit;
+            }
+            dir
+        } else {
+            None
+        };
+        let r = finish.tint(material.albedo) * reflected;
+        if self.plan.reflection && reflected > 0.0 {
+            let dir = fresnel::reflect(ray.dir, it.n);
+            radiance += r * self.spawn(it, dir, depth, weight * r, RayKind::Reflection, walk);
+        }
+        if self.plan.refraction
+            && let Some(dir) = refracted
+        {
+            let t = finish.transmit;
+            radiance += t * self.spawn(it, dir, depth, weight * t, RayKind::Refraction, walk);
+        }
+        self.force(
+            ray,
+            it,
+            depth,
+            weight,
+            [reflected == 0.0, refracted.is_none()],
+            walk,
+        );
         radiance
     }
 

@@ -3,6 +3,7 @@
 use std::f32::consts::PI;
 
 use crate::math::Vec3;
+use crate::shading::Finish;
 
 /// What a surface does with light. The local shading of the foundation
 /// renderer uses albedo, specular and emission; the specular kinds gain their
@@ -19,6 +20,9 @@ pub enum MaterialKind {
     Metal,
     Dielectric,
     Emissive,
+    /// POV-Ray's finish and interior: diffuse, Blinn and Phong highlights,
+    /// and fractions of mirror reflection and refraction (see [`Finish`]).
+    Classic,
 }
 
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
@@ -37,6 +41,10 @@ pub struct Material {
     pub ior: f32,
     /// Emitted radiance (Ke).
     pub emission: Vec3,
+    /// A classic material's finish; other kinds carry the default unused,
+    /// which the scene hash skips so their hashes are unchanged.
+    #[serde(skip_serializing_if = "Finish::is_default")]
+    pub finish: Finish,
 }
 
 impl Material {
@@ -55,6 +63,7 @@ impl Material {
             roughness: 0.3,
             ior: 1.5,
             emission: Vec3::ZERO,
+            finish: Finish::default(),
         }
     }
 
@@ -103,6 +112,7 @@ impl Material {
             // Ni = 1 (or missing) in a glass material means "not set": use glass's 1.5.
             ior: m.optical_density.filter(|&n| n > 1.0).unwrap_or(1.5),
             emission,
+            finish: Finish::default(),
         }
     }
 
@@ -122,11 +132,13 @@ impl Material {
 
     /// The local reflection model (cosine not included): Lambert plus, for
     /// plastic, a normalised Blinn-Phong lobe, for unit vectors n, wo (towards
-    /// the viewer) and wi (towards the light).
+    /// the viewer) and wi (towards the light); a classic material's is
+    /// POV-Ray's ([`Finish::local_brdf`]).
     pub fn local_brdf(&self, n: Vec3, wo: Vec3, wi: Vec3) -> Vec3 {
         let diffuse = self.albedo / PI;
         match self.kind {
             MaterialKind::Plastic => {}
+            MaterialKind::Classic => return self.finish.local_brdf(self.albedo, n, wo, wi),
             MaterialKind::Metal => {
                 let frame = crate::math::Frame::from_normal(n);
                 return crate::shading::Bsdf::from_material(self).eval(&frame, wo, wi);

@@ -1,11 +1,13 @@
 //! Materials and the local shading model.
 
 mod bsdf;
+mod finish;
 pub mod fresnel;
 mod material;
 
 pub use bsdf::{
-    Bsdf, BsdfSample, COS_EPS, Dielectric, Lambert, Lobe, MIN_ALPHA, Metal, Mirror, Plastic,
-    Transport, shininess_to_alpha,
+    Bsdf, BsdfSample, COS_EPS, Classic, Dielectric, Lambert, Lobe, MIN_ALPHA, Metal, Mirror,
+    Plastic, Transport, shininess_to_alpha,
 };
+pub use finish::Finish;
 pub use material::{Material, MaterialKind};

@@ -89,6 +89,15 @@ impl Check<'_> {
         }
     }
 
+    /// A fraction in [0, 1], such as a classic finish's `diffuse` or `reflection`.
+    pub fn fraction(&self, key: &str, v: f32) -> Result<f32> {
+        if (0.0..=1.0).contains(&v) {
+            Ok(v)
+        } else {
+            Err(self.error(key, format!("expected a number from 0 to 1, found {v}")))
+        }
+    }
+
     /// The camera's field of view and image size, and the film's memory.
     pub fn image(&self, fov: f32, width: u32, height: u32) -> Result<()> {
         if !(fov > 0.0 && fov < 180.0) {

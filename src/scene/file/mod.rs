@@ -15,8 +15,8 @@ use glam::{DAffine3, DMat4, DVec3};
 use check::Check;
 pub(super) use check::physical_memory;
 use schema::{
-    CameraFile, IntegratorFile, LightFile, MaterialFile, MeshFile, Object, RenderFile, ScaleFile,
-    SceneFile, ShapeFile, ShapeKind, TransformFile,
+    CameraFile, IntegratorFile, LightFile, MaterialFile, MeshFile, MetallicFile, Object,
+    RenderFile, ScaleFile, SceneFile, ShapeFile, ShapeKind, SpecularFile, TransformFile,
 };
 
 use super::obj::MAX_COORDINATE;
@@ -29,7 +29,7 @@ use crate::geometry::{Box3, Mesh, Shape, Surface};
 use crate::lights::Light;
 use crate::math::Vec3;
 use crate::poly::solve::{Method, Solver};
-use crate::shading::{Material, MaterialKind};
+use crate::shading::{Finish, Material, MaterialKind};
 use crate::suggest;
 
 pub(super) fn load(path: &Path) -> Result<Scene> {
@@ -187,7 +187,9 @@ fn material(check: &Check, name: &str, m: &MaterialFile) -> Result<Material> {
         None => Ok(Vec3::splat(default)),
     };
     let kind = m.kind;
-    let ior = m.ior.unwrap_or(1.5);
+    let classic = kind == MaterialKind::Classic;
+    // A classic material's interior is POV-Ray's: ior 1 (no bending) unless given.
+    let ior = m.ior.unwrap_or(if classic { 1.0 } else { 1.5 });
     check.positive(&key("ior"), ior)?;
     let shininess = m.shininess.unwrap_or(50.0);
     if !(shininess >= 0.0 && shininess.is_finite()) {
@@ -196,11 +198,13 @@ fn material(check: &Check, name: &str, m: &MaterialFile) -> Result<Material> {
             format!("expected a number >= 0, found {shininess}"),
         ));
     }
-    let roughness = m.roughness.unwrap_or(0.3);
-    if !(0.0..=1.0).contains(&roughness) {
+    let roughness = m.roughness.unwrap_or(if classic { 0.05 } else { 0.3 });
+    // A classic highlight's exponent is 1/roughness: 0 has none.
+    let low = if classic { "above 0" } else { "from 0" };
+    if !(0.0..=1.0).contains(&roughness) || (classic && roughness == 0.0) {
         return Err(check.error(
             &key("roughness"),
-            format!("expected a number from 0 to 1, found {roughness}"),
+            format!("expected a number {low} to 1, found {roughness}"),
         ));
     }
     let specular_default = if kind == MaterialKind::Plastic {
@@ -208,16 +212,118 @@ fn material(check: &Check, name: &str, m: &MaterialFile) -> Result<Material> {
     } else {
         0.0
     };
+    let (specular, finish) = if classic {
+        (Vec3::ZERO, finish(check, name, m, roughness)?)
+    } else {
+        let specular = match m.specular {
+            Some(SpecularFile::Colour(v)) => Some(v),
+            Some(SpecularFile::Amount(_)) => {
+                return Err(check.error(
+                    &key("specular"),
+                    "expected a colour [r, g, b] (a single amount is the classic type's)",
+                ));
+            }
+            None => None,
+        };
+        classic_keys_refused(check, name, m)?;
+        (
+            colour("specular", specular, specular_default)?,
+            Finish::default(),
+        )
+    };
     Ok(Material {
         name: name.to_owned(),
         kind,
         albedo: colour("albedo", m.albedo, 0.7)?,
-        specular: colour("specular", m.specular, specular_default)?,
+        specular,
         shininess,
         roughness,
         ior,
         emission: colour("radiance", m.radiance, 0.0)?,
+        finish,
     })
+}
+
+/// A classic material's finish: POV-Ray's keys and defaults, each fraction in
+/// [0, 1] and `phong_size` > 0.
+fn finish(check: &Check, name: &str, m: &MaterialFile, roughness: f32) -> Result<Finish> {
+    let key = |field: &str| format!("materials.{name}.{field}");
+    let defaults = Finish::default();
+    let fraction = |field: &str, v: Option<f32>, default: f32| match v {
+        Some(v) => check.fraction(&key(field), v),
+        None => Ok(default),
+    };
+    for (field, given) in [
+        ("shininess", m.shininess.is_some()),
+        ("radiance", m.radiance.is_some()),
+    ] {
+        if given {
+            return Err(check.error(
+                &key(field),
+                "a classic material has no such key (roughness and phong_size set its highlights)",
+            ));
+        }
+    }
+    let specular = match m.specular {
+        Some(SpecularFile::Amount(v)) => check.fraction(&key("specular"), v)?,
+        Some(SpecularFile::Colour(_)) => {
+            return Err(check.error(
+                &key("specular"),
+                "expected the Blinn highlight's amount, a number from 0 to 1, not a colour",
+            ));
+        }
+        None => defaults.specular,
+    };
+    let phong_size = m.phong_size.unwrap_or(defaults.phong_size);
+    check.positive(&key("phong_size"), phong_size)?;
+    let reflection = fraction("reflection", m.reflection, defaults.reflection)?;
+    let fresnel = m.fresnel.unwrap_or(defaults.fresnel);
+    let metallic = match m.metallic {
+        Some(MetallicFile::On(on)) => f32::from(u8::from(on)),
+        Some(MetallicFile::Amount(v)) => check.fraction(&key("metallic"), v)?,
+        None => defaults.metallic,
+    };
+    Ok(Finish {
+        diffuse: fraction("diffuse", m.diffuse, defaults.diffuse)?,
+        ambient: fraction("ambient", m.ambient, defaults.ambient)?,
+        specular,
+        roughness,
+        phong: fraction("phong", m.phong, defaults.phong)?,
+        phong_size,
+        reflection,
+        // Fresnel's own grazing limit is all the light; without it, a
+        // constant fraction unless a grazing one is given.
+        reflection_max: fraction(
+            "reflection_max",
+            m.reflection_max,
+            if fresnel { 1.0 } else { reflection },
+        )?,
+        fresnel,
+        metallic,
+        transmit: fraction("transmit", m.transmit, defaults.transmit)?,
+    })
+}
+
+/// The finish keys on a material of another type: an error naming the first.
+fn classic_keys_refused(check: &Check, name: &str, m: &MaterialFile) -> Result<()> {
+    let given = [
+        ("diffuse", m.diffuse.is_some()),
+        ("ambient", m.ambient.is_some()),
+        ("phong", m.phong.is_some()),
+        ("phong_size", m.phong_size.is_some()),
+        ("reflection", m.reflection.is_some()),
+        ("reflection_max", m.reflection_max.is_some()),
+        ("fresnel", m.fresnel.is_some()),
+        ("metallic", m.metallic.is_some()),
+        ("transmit", m.transmit.is_some()),
+    ];
+    match given.iter().find(|(_, g)| *g) {
+        Some((field, _)) => Err(check.error(
+            &format!("materials.{name}.{field}"),
+            "only a material of type \"classic\" takes this key",
+        )),
+        None => Ok(()),
+    }
 }
 
 /// What every `[[objects]]` entry is built with.

@@ -100,11 +100,37 @@ pub(super) struct MaterialFile {
     #[serde(rename = "type")]
     pub kind: MaterialKind,
     pub albedo: Option<[f32; 3]>,
-    pub specular: Option<[f32; 3]>,
+    /// A colour (plastic's Ks), or a classic material's highlight strength.
+    pub specular: Option<SpecularFile>,
     pub shininess: Option<f32>,
     pub roughness: Option<f32>,
     pub ior: Option<f32>,
     pub radiance: Option<[f32; 3]>,
+    /// The classic material's finish (POV-Ray's names); other types refuse them.
+    pub diffuse: Option<f32>,
+    pub ambient: Option<f32>,
+    pub phong: Option<f32>,
+    pub phong_size: Option<f32>,
+    pub reflection: Option<f32>,
+    pub reflection_max: Option<f32>,
+    pub fresnel: Option<bool>,
+    pub metallic: Option<MetallicFile>,
+    pub transmit: Option<f32>,
+}
+
+#[derive(Deserialize, Clone, Copy)]
+#[serde(untagged)]
+pub(super) enum SpecularFile {
+    Colour([f32; 3]),
+    Amount(f32),
+}
+
+/// `metallic = true` (all of it, as POV-Ray's bare `metallic`) or an amount.
+#[derive(Deserialize, Clone, Copy)]
+#[serde(untagged)]
+pub(super) enum MetallicFile {
+    On(bool),
+    Amount(f32),
 }
 
 /// Declares the analytic shape types once. From the one list come the

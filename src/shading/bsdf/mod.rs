@@ -30,6 +30,7 @@
 //!   [`COS_EPS`] of the tangent plane scatter nothing: f ∝ 1/cos there and the
 //!   set has measure zero, so dropping it costs no energy worth measuring.
 
+mod classic;
 mod dielectric;
 mod ggx;
 mod lambert;
@@ -39,6 +40,7 @@ mod plastic;
 #[cfg(test)]
 mod tests;
 
+pub use classic::Classic;
 pub use dielectric::Dielectric;
 pub use ggx::{MIN_ALPHA, shininess_to_alpha};
 pub use lambert::Lambert;
@@ -142,6 +144,7 @@ pub enum Bsdf {
     Mirror(Mirror),
     Metal(Metal),
     Dielectric(Dielectric),
+    Classic(Classic),
 }
 
 impl Bsdf {
@@ -175,38 +178,60 @@ impl Bsdf {
                 },
                 tint: Vec3::ONE,
             }),
+            MaterialKind::Classic => Bsdf::Classic(Classic {
+                albedo: m.albedo,
+                finish: m.finish,
+                ior: m.ior,
+            }),
         }
     }
 
     /// Only delta lobes: eval and pdf are zero everywhere, so light sampling
     /// is useless here and the integrator must follow `sample`.
     pub fn is_delta(&self) -> bool {
-        matches!(self, Bsdf::Mirror(_) | Bsdf::Dielectric(_))
+        match self {
+            Bsdf::Mirror(_) | Bsdf::Dielectric(_) => true,
+            Bsdf::Classic(c) => !c.has_local(),
+            _ => false,
+        }
     }
 
     /// Spawns refraction rays (the render plan's "refraction" kind).
     pub fn has_transmission(&self) -> bool {
-        matches!(self, Bsdf::Dielectric(_))
+        match self {
+            Bsdf::Dielectric(_) => true,
+            Bsdf::Classic(c) => c.finish.transmits(),
+            _ => false,
+        }
     }
 
     /// Has a delta (perfectly specular) lobe: needs recursive reflection or
     /// refraction rays in a Whitted tracer, and is the "S" of L S+ D caustic
     /// paths.
     pub fn has_specular(&self) -> bool {
-        self.is_delta()
+        match self {
+            Bsdf::Classic(c) => c.finish.reflects(c.ior) || c.finish.transmits(),
+            _ => self.is_delta(),
+        }
     }
 
     /// Has a glossy (microfacet) lobe: highlights that light sampling can
     /// reach, and reflections a path tracer samples.
     pub fn has_glossy(&self) -> bool {
-        matches!(self, Bsdf::Plastic(_) | Bsdf::Metal(_))
+        match self {
+            Bsdf::Plastic(_) | Bsdf::Metal(_) => true,
+            Bsdf::Classic(c) => c.has_local() && c.finish.specular + c.finish.phong > 0.0,
+            _ => false,
+        }
     }
 
     /// The colour for the albedo AOV: the diffuse colour, a mirror's
     /// reflectance, a metal's F0, glass's tint.
     pub fn albedo(&self) -> Vec3 {
         match *self {
-            Bsdf::Lambert(Lambert { albedo }) | Bsdf::Plastic(Plastic { albedo, .. }) => albedo,
+            Bsdf::Lambert(Lambert { albedo })
+            | Bsdf::Plastic(Plastic { albedo, .. })
+            | Bsdf::Classic(Classic { albedo, .. }) => albedo,
             Bsdf::Mirror(Mirror { reflectance }) => reflectance,
             Bsdf::Metal(Metal { f0, .. }) => f0,
             Bsdf::Dielectric(Dielectric { tint, .. }) => tint,
@@ -226,6 +251,7 @@ impl Bsdf {
             Bsdf::Mirror(m) => m.eval(),
             Bsdf::Metal(m) => m.eval(wo, wi),
             Bsdf::Dielectric(d) => d.eval(),
+            Bsdf::Classic(c) => c.eval(wo, wi),
         }
     }
 
@@ -241,6 +267,7 @@ impl Bsdf {
             Bsdf::Mirror(m) => m.pdf(),
             Bsdf::Metal(m) => m.pdf(wo, wi),
             Bsdf::Dielectric(d) => d.pdf(),
+            Bsdf::Classic(c) => c.pdf(wo, wi),
         }
     }
 
@@ -272,6 +299,7 @@ impl Bsdf {
             Bsdf::Mirror(m) => Some(m.sample(wo)),
             Bsdf::Metal(m) => two_sided(wo, |up| m.sample(up, u)),
             Bsdf::Dielectric(d) => d.sample(wo, u[0], mode),
+            Bsdf::Classic(c) => c.sample(wo, u, mode),
         }?;
         Some(BsdfSample {
             wi: frame.to_world(local.wi),

@@ -3,6 +3,7 @@
 //! pass (sampling agrees with eval and pdf, reciprocity, no NaN, the material
 //! mapping). Each lobe's own tests are in the file named after it.
 
+mod classic;
 mod dielectric;
 mod lambert;
 mod metal;
@@ -121,6 +122,17 @@ fn glossy_bsdfs() -> Vec<(&'static str, Bsdf)> {
                 albedo: Vec3::splat(0.5),
                 specular: Vec3::splat(0.3),
                 roughness: 0.6,
+            }),
+        ),
+        (
+            "classic",
+            classic::classic(Vec3::new(0.8, 0.5, 0.2), 1.5, |f| {
+                f.diffuse = 0.7;
+                f.specular = 0.4;
+                f.roughness = 0.1;
+                f.phong = 0.3;
+                f.phong_size = 20.0;
+                f.metallic = 0.5;
             }),
         ),
     ]
@@ -286,6 +298,13 @@ fn every_materials_sampled_albedo_is_at_most_one() {
             ior: 1.5,
             tint: Vec3::ONE,
         }),
+        classic::classic(Vec3::ONE, 1.5, |f| {
+            f.diffuse = 1.0;
+            f.specular = 1.0;
+            f.phong = 1.0;
+            f.reflection = 1.0;
+            f.transmit = 1.0;
+        }),
     ];
     for b in all {
         for theta in [0.0f32, 60.0, 88.0, 150.0] {
@@ -334,6 +353,16 @@ fn no_nan_anywhere() {
             ior: 1.0,
             tint: Vec3::ONE,
         }),
+        classic::classic(Vec3::ONE, 1.5, |f| {
+            f.diffuse = 0.5;
+            f.specular = 1.0;
+            f.roughness = 0.0005;
+            f.phong = 1.0;
+            f.phong_size = 1e6;
+            f.reflection = 0.2;
+            f.transmit = 0.3;
+        }),
+        classic::classic(Vec3::ZERO, 1.0, |_| {}),
     ];
     let n = frame.n;
     let tangent = frame.s;

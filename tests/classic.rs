@@ -1,0 +1,232 @@
+//! The classic material (POV-Ray's finish) in both integrators: the Whitted
+//! tree's branches carry its fractions, the path tracer conserves energy in
+//! a white furnace, the plan asks only for the rays a finish calls for, and
+//! bad values are refused with the line and key.
+
+mod common;
+
+use common::{SQUARE, scratch, write};
+use sturmray::accel::{Accel, Backend};
+use sturmray::render::{Plan, RayStats, RenderOptions, render};
+use sturmray::scene::Scene;
+
+const SPHERE: &str = "type = \"sphere\"\nradius = 1";
+/// The square [-1, 1]² in z = 0, facing the camera.
+const PLANE: &str = "type = \"mesh\"\nfile = \"square.obj\"";
+
+/// A unit sphere of the classic material `finish` (TOML keys) at the origin,
+/// seen from z = 4 through a 1° field of view in front of a background of
+/// radiance 1.
+fn sphere_scene(name: &str, finish: &str, extra: &str) -> Scene {
+    scene(name, finish, SPHERE, 1.0, extra)
+}
+
+/// An object (`shape`, its TOML keys) of the classic material `finish` at the
+/// origin, seen from z = 4 through a field of view of `fov` degrees.
+fn scene(name: &str, finish: &str, shape: &str, fov: f32, extra: &str) -> Scene {
+    let dir = scratch(name);
+    write(&dir, "square.obj", SQUARE);
+    let text = format!(
+        r#"background = [1, 1, 1]
+[camera]
+eye = [0, 0, 4]
+look_at = [0, 0, 0]
+fov = {fov}
+width = 8
+height = 8
+[render]
+spp = 1
+max_depth = 8
+min_weight = 0
+[materials.finish]
+type = "classic"
+{finish}
+[[objects]]
+{shape}
+material = "finish"
+{extra}"#
+    );
+    Scene::load(&write(&dir, "s.toml", &text)).unwrap()
+}
+
+fn run(scene: &Scene) -> (RayStats, Vec<[f32; 3]>) {
+    let accel = Accel::build(scene, Backend::Embree, None).unwrap();
+    let options = RenderOptions {
+        threads: Some(2),
+        ..RenderOptions::default()
+    };
+    let out = render(scene, &accel, &options).unwrap();
+    (out.stats, out.film.layers().beauty)
+}
+
+/// Every pixel equals `expected` in every channel, within `tol`.
+fn all_pixels(image: &[[f32; 3]], expected: [f32; 3], tol: f32) {
+    for p in image {
+        for c in 0..3 {
+            assert!((p[c] - expected[c]).abs() <= tol, "{p:?} vs {expected:?}");
+        }
+    }
+}
+
+#[test]
+fn half_a_mirror_in_a_white_world_is_half_white() {
+    // No lights and no ambient: the diffuse part gets nothing, and the
+    // reflected branch (weight 0.5) sees the background (1) from the convex
+    // sphere: 0.5 exactly.
+    let s = sphere_scene("half", "reflection = 0.5", "");
+    let plan = Plan::for_scene(&s);
+    assert!(
+        plan.reflection && !plan.refraction && !plan.shadow,
+        "{plan}"
+    );
+    let (stats, image) = run(&s);
+    all_pixels(&image, [0.5; 3], 1e-6);
+    assert_eq!(stats.reflection, stats.camera);
+}
+
+#[test]
+fn fresnel_reflection_head_on_is_the_normal_reflectance() {
+    // reflection { 0, 1 fresnel on } with ior 1.5 head-on: ((1.5 − 1)/(1.5 + 1))²
+    // = 0.04. The plane is met within 0.05° of normal incidence, where F
+    // differs from 0.04 by < 1e-7.
+    let s = scene(
+        "fresnel",
+        "reflection = 0\nreflection_max = 1\nfresnel = true\nior = 1.5\ndiffuse = 0",
+        PLANE,
+        0.1,
+        "",
+    );
+    let (_, image) = run(&s);
+    all_pixels(&image, [0.04; 3], 1e-6);
+}
+
+#[test]
+fn transmitted_light_crosses_twice_whatever_the_ior() {
+    // transmit = 0.5 and nothing else: the ray enters (0.5) and leaves the
+    // sphere (0.5 again) and sees the uniform background: 0.25, bent or not.
+    // No ray inside a sphere meets the critical angle, so no branch reflects.
+    for ior in ["1", "1.5"] {
+        let s = sphere_scene(
+            &format!("transmit-{ior}"),
+            &format!("transmit = 0.5\ndiffuse = 0\nior = {ior}"),
+            "",
+        );
+        let plan = Plan::for_scene(&s);
+        assert!(plan.refraction && !plan.shadow, "{plan}");
+        assert_eq!(plan.reflection, ior != "1", "{plan}");
+        let (stats, image) = run(&s);
+        all_pixels(&image, [0.25; 3], 1e-6);
+        assert_eq!(stats.refraction, 2 * stats.camera);
+        assert_eq!(stats.reflection, 0);
+    }
+}
+
+#[test]
+fn local_shading_is_povrays_per_light_sum() {
+    // A directional light of irradiance π straight down the view axis is one
+    // of POV-Ray's unit lights: head-on, radiance = diffuse·pigment + specular
+    // + phong (n·h = r·l = 1), the highlights tinted by metallic.
+    let light = "[[lights]]\ntype = \"directional\"\ndirection = [0, 0, -1]\n\
+                 irradiance = [3.14159265, 3.14159265, 3.14159265]";
+    let finish =
+        "albedo = [0.5, 0.25, 1]\ndiffuse = 0.6\nspecular = 0.3\nphong = 0.2\nambient = 0.1";
+    let s = scene("local", finish, PLANE, 0.1, light);
+    assert!(Plan::for_scene(&s).shadow);
+    let (_, image) = run(&s);
+    let expect = |c: f32, tint: f32| 0.6 * c + 0.5 * tint + 0.1 * c;
+    // The plane's normal is the light's direction; the view rays are within
+    // θ = 0.05° (8.7e-4 rad) of it, so n·h = cos(θ/2) and r·l = cos θ, and
+    // 0.3(1 − cos^20(θ/2)) + 0.2(1 − cos^40 θ) < 4e-6; π in f32 adds 1e-7.
+    let tol = 1e-5;
+    all_pixels(
+        &image,
+        [expect(0.5, 1.0), expect(0.25, 1.0), expect(1.0, 1.0)],
+        tol,
+    );
+    let s = scene(
+        "metallic",
+        &format!("{finish}\nmetallic = true"),
+        PLANE,
+        0.1,
+        light,
+    );
+    let (_, image) = run(&s);
+    all_pixels(
+        &image,
+        [expect(0.5, 0.5), expect(0.25, 0.25), expect(1.0, 1.0)],
+        tol,
+    );
+}
+
+#[test]
+fn the_path_tracer_never_gains_energy_in_a_white_furnace() {
+    // White pigment, every part at its top: the layered BSDF returns at most
+    // what it receives. Delta lobes only (reflection + transmit = 1) lose
+    // nothing but what the depth limit cuts.
+    for (name, finish, low) in [
+        (
+            "furnace-all",
+            "diffuse = 1\nspecular = 1\nphong = 1\nreflection = 0.2\ntransmit = 0.3\nior = 1.5",
+            0.5,
+        ),
+        (
+            "furnace-delta",
+            "diffuse = 0\nreflection = 0.4\ntransmit = 0.6\nior = 1.5",
+            0.97,
+        ),
+    ] {
+        let s = sphere_scene(name, &format!("albedo = [1, 1, 1]\n{finish}"), "");
+        let mut s = s;
+        s.render.integrator = sturmray::scene::Integrator::Path;
+        s.render.spp = 64;
+        let (_, image) = run(&s);
+        let n = image.len() as f64 * 64.0;
+        let mean = image.iter().map(|p| f64::from(p[0])).sum::<f64>() / image.len() as f64;
+        let var = image
+            .iter()
+            .map(|p| (f64::from(p[0]) - mean).powi(2))
+            .sum::<f64>()
+            / image.len() as f64;
+        let se = (var / image.len() as f64).sqrt();
+        assert!(
+            mean <= 1.0 + 4.0 * se + 1e-6,
+            "{name}: {mean} ± {se} ({n} paths)"
+        );
+        assert!(mean >= low, "{name}: {mean} ± {se}");
+    }
+}
+
+#[test]
+fn bad_finish_values_name_the_line_and_key() {
+    let dir = scratch("classic-bad");
+    for (body, key) in [
+        ("reflection = 1.5", "materials.finish.reflection"),
+        ("transmit = -0.1", "materials.finish.transmit"),
+        ("phong_size = 0", "materials.finish.phong_size"),
+        ("roughness = 0", "materials.finish.roughness"),
+        ("metallic = 2", "materials.finish.metallic"),
+        ("specular = [1, 1, 1]", "materials.finish.specular"),
+        ("shininess = 20", "materials.finish.shininess"),
+    ] {
+        let text = format!(
+            "[camera]\neye = [0, 0, 4]\nlook_at = [0, 0, 0]\nfov = 40\nwidth = 4\nheight = 4\n\
+             [materials.finish]\ntype = \"classic\"\n{body}\n"
+        );
+        let err = Scene::load(&write(&dir, "s.toml", &text))
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("line 9") && err.contains(key), "{body}: {err}");
+    }
+    // The finish keys belong to the classic type alone.
+    let text = "[camera]\neye = [0, 0, 4]\nlook_at = [0, 0, 0]\nfov = 40\nwidth = 4\nheight = 4\n\
+                [materials.paint]\ntype = \"diffuse\"\nreflection = 0.5\n";
+    let err = Scene::load(&write(&dir, "s.toml", text))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("line 9")
+            && err.contains("materials.paint.reflection")
+            && err.contains("classic"),
+        "{err}"
+    );
+}
