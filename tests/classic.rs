@@ -193,6 +193,7 @@ fn the_path_tracer_never_gains_energy_in_a_white_furnace() {
             "{name}: {mean} ± {se} ({n} paths)"
         );
         assert!(mean >= low, "{name}: {mean} ± {se}");
+        eprintln!("{name}: mean {mean:.4} ± {se:.4} over {n} paths");
     }
 }
 
@@ -229,4 +230,60 @@ fn bad_finish_values_name_the_line_and_key() {
             && err.contains("classic"),
         "{err}"
     );
+}
+
+#[test]
+fn the_plan_traces_only_what_a_finish_calls_for() {
+    // POV-Ray's default finish (diffuse 0.6) under a light: shadow rays, and
+    // no reflected or refracted ray at all.
+    let light =
+        "[[lights]]\ntype = \"directional\"\ndirection = [0, 0, -1]\nirradiance = [1, 1, 1]";
+    let s = sphere_scene("plain", "", light);
+    let plan = Plan::for_scene(&s);
+    assert!(
+        plan.shadow && !plan.reflection && !plan.refraction,
+        "{plan}"
+    );
+    let (stats, _) = run(&s);
+    assert!(stats.shadow > 0);
+    assert_eq!((stats.reflection, stats.refraction), (0, 0));
+    // A pure mirror finish needs no shadow rays, even with a light.
+    let s = sphere_scene("mirror-only", "diffuse = 0\nreflection = 1", light);
+    let plan = Plan::for_scene(&s);
+    assert!(
+        !plan.shadow && plan.reflection && !plan.refraction,
+        "{plan}"
+    );
+    // `sturmray info` prints the plan.
+    let dir = scratch("classic-info");
+    write(&dir, "square.obj", SQUARE);
+    let text = format!(
+        "[camera]\neye = [0, 0, 4]\nlook_at = [0, 0, 0]\nfov = 40\nwidth = 4\nheight = 4\n\
+         [materials.glass]\ntype = \"classic\"\ndiffuse = 0\ntransmit = 0.9\nior = 1.5\n\
+         [[objects]]\n{SPHERE}\nmaterial = \"glass\"\n"
+    );
+    write(&dir, "s.toml", &text);
+    let out = common::sturmray(&dir, &["info", "s.toml"]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        stdout.contains("shadow rays no, reflection rays yes, refraction rays yes"),
+        "{stdout}"
+    );
+}
+
+#[test]
+fn forcing_every_branch_changes_no_classic_pixel() {
+    let light =
+        "[[lights]]\ntype = \"directional\"\ndirection = [0, 0, -1]\nirradiance = [1, 1, 1]";
+    let s = sphere_scene("forced", "reflection = 0.5\nspecular = 0.5", light);
+    let (planned, image) = run(&s);
+    let accel = Accel::build(&s, Backend::Embree, None).unwrap();
+    let options = RenderOptions {
+        threads: Some(2),
+        all_effects: true,
+        ..RenderOptions::default()
+    };
+    let out = render(&s, &accel, &options).unwrap();
+    assert!(out.stats.refraction > 0 && planned.refraction == 0);
+    assert_eq!(image, out.film.layers().beauty);
 }
