@@ -38,8 +38,12 @@ struct Weights {
     alpha_phong: f32,
     /// Probabilities of sampling the delta reflection and the delta
     /// transmission (the rest goes to the non-delta lobes); then, within
-    /// those, of the diffuse and the Blinn lobe (the rest Phong). Constants
-    /// of the finish, so `pdf` needs neither side nor angle.
+    /// those, of the diffuse and the Blinn lobe (the rest Phong). The
+    /// reflection's follows its fraction at |cos θo| seen from outside, so
+    /// that a Fresnel glass is sampled about as it reflects; they depend on
+    /// |cos θo| alone, which `pdf` sees too. Any such choice is unbiased as
+    /// long as it is nonzero wherever the fraction is, which holds: the
+    /// reflected fraction inside is zero only where it is outside.
     pick_reflection: f32,
     pick_transmission: f32,
     pick_diffuse: f32,
@@ -57,7 +61,7 @@ impl Classic {
         1.0 - (self.max_reflection() + self.finish.transmit).min(1.0)
     }
 
-    fn weights(&self) -> Weights {
+    fn weights(&self, cos_o: f32) -> Weights {
         let f = &self.finish;
         let tint = f.tint(self.albedo).max_element();
         let diffuse = f.diffuse_colour(self.albedo);
@@ -69,7 +73,7 @@ impl Classic {
             f.specular * tint * scale,
             f.phong * tint * scale,
         );
-        let r = self.max_reflection() * tint;
+        let r = self.finish.reflectance(cos_o, self.ior) * tint;
         let total = r + f.transmit + d + s + p;
         let share = |x: f32| if total > 0.0 { x / total } else { 0.0 };
         let rest = d + s + p;
@@ -95,7 +99,7 @@ impl Classic {
 
     /// The non-delta lobes for two upper-hemisphere directions.
     pub(super) fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
-        let w = self.weights();
+        let w = self.weights(wo.z);
         // Unit F0: Schlick is then exactly 1, so the lobe's albedo is at most its weight.
         let lobe = |weight: Vec3, alpha: f32| {
             if weight.max_element() > 0.0 {
@@ -109,7 +113,7 @@ impl Classic {
 
     /// The density of a non-delta sample at `wi`, for upper-hemisphere directions.
     pub(super) fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
-        let w = self.weights();
+        let w = self.weights(wo.z);
         let pick_phong = 1.0 - w.pick_diffuse - w.pick_specular;
         let local = w.pick_diffuse * wi.z * FRAC_1_PI
             + w.pick_specular * Ggx::new(w.alpha_specular).pdf(wo, wi)
@@ -122,9 +126,9 @@ impl Classic {
     /// Non-delta samples come back in wo's hemisphere, as the caller's
     /// two-sided wrapper expects them in the upper one: `flip` moves them.
     pub(super) fn sample(&self, wo: Vec3, u: [f32; 3], mode: Transport) -> Option<BsdfSample> {
-        let w = self.weights();
-        let tint = self.finish.tint(self.albedo);
         let cos = wo.z.abs();
+        let w = self.weights(cos);
+        let tint = self.finish.tint(self.albedo);
         let reflectance = self.finish.reflectance(wo.z, self.ior);
         let transmit = self.finish.transmit;
         // Where R + transmit exceeds 1 (only if the finish asks for more
