@@ -287,3 +287,32 @@ fn forcing_every_branch_changes_no_classic_pixel() {
     assert!(out.stats.refraction > 0 && planned.refraction == 0);
     assert_eq!(image, out.film.layers().beauty);
 }
+
+#[test]
+fn total_internal_reflection_sends_the_transmitted_fraction_back() {
+    // The eye inside a unit sphere at (0, 0, 0.9), looking along +x: every
+    // ray's line passes 0.9 (±0.01 over the 1° view) from the centre, so it
+    // meets the surface from inside at sin θ = 0.9, θ = 64°. With ior 1.5
+    // the critical angle is asin(1/1.5) = 41.8°: transmit = 1 turns wholly
+    // into reflection, and the chord keeps its angle, so the ray stays
+    // trapped until the depth limit and brings back nothing. With ior 1.1
+    // (critical angle 65.4°) it leaves and sees the background: 1.
+    for (ior, expected) in [("1.5", 0.0), ("1.1", 1.0)] {
+        let dir = scratch(&format!("tir-{ior}"));
+        let text = format!(
+            "background = [1, 1, 1]\n[camera]\neye = [0, 0, 0.9]\nlook_at = [1, 0, 0.9]\n\
+             fov = 1\nwidth = 4\nheight = 4\n[render]\nspp = 1\nmax_depth = 8\nmin_weight = 0\n\
+             [materials.glass]\ntype = \"classic\"\ndiffuse = 0\ntransmit = 1\nior = {ior}\n\
+             [[objects]]\n{SPHERE}\nmaterial = \"glass\"\n"
+        );
+        let s = Scene::load(&write(&dir, "s.toml", &text)).unwrap();
+        let (stats, image) = run(&s);
+        all_pixels(&image, [expected; 3], 1e-6);
+        if expected == 0.0 {
+            assert_eq!(stats.refraction, 0);
+            assert_eq!(stats.reflection, 8 * stats.camera);
+        } else {
+            assert_eq!(stats.refraction, stats.camera);
+        }
+    }
+}
