@@ -1,7 +1,8 @@
 //! The Whitted ray tree: local shading with shadow rays at diffuse and plastic
 //! surfaces, and recursive specular reflection and Snell refraction at mirrors
-//! and dielectrics, down to a depth limit or until a branch's weight is too
-//! small to matter. Which of these rays exist at all is the plan's decision.
+//! and dielectrics, and both, by the fractions of POV-Ray's finish, at classic
+//! materials, down to a depth limit or until a branch's weight is too small
+//! to matter. Which of these rays exist at all is the plan's decision.
 //! Caustics come from the photon map, gathered at every diffuse hit of the
 //! tree: with the specular chains the tree follows from the eye, that covers
 //! L S+ D S* E.
