@@ -316,3 +316,24 @@ fn total_internal_reflection_sends_the_transmitted_fraction_back() {
         }
     }
 }
+
+#[test]
+fn a_value_of_the_wrong_kind_says_what_was_expected() {
+    let dir = scratch("classic-kind");
+    for (body, expected) in [
+        ("metallic = \"yes\"", "true, false or a number from 0 to 1"),
+        ("specular = \"shiny\"", "a colour [r, g, b] or a number"),
+    ] {
+        let text = format!(
+            "[camera]\neye = [0, 0, 4]\nlook_at = [0, 0, 0]\nfov = 40\nwidth = 4\nheight = 4\n\
+             [materials.finish]\ntype = \"classic\"\n{body}\n"
+        );
+        let err = Scene::load(&write(&dir, "s.toml", &text))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains(expected) && err.contains("line 9"),
+            "{body}: {err}"
+        );
+    }
+}

@@ -118,8 +118,10 @@ pub(super) struct MaterialFile {
     pub transmit: Option<f32>,
 }
 
+/// `specular`: a colour for plastic, a number for a classic material's
+/// Blinn highlight (which the loader tells apart by the material's type).
 #[derive(Deserialize, Clone, Copy)]
-#[serde(untagged)]
+#[serde(untagged, expecting = "a colour [r, g, b] or a number")]
 pub(super) enum SpecularFile {
     Colour([f32; 3]),
     Amount(f32),
@@ -127,7 +129,7 @@ pub(super) enum SpecularFile {
 
 /// `metallic = true` (all of it, as POV-Ray's bare `metallic`) or an amount.
 #[derive(Deserialize, Clone, Copy)]
-#[serde(untagged)]
+#[serde(untagged, expecting = "true, false or a number from 0 to 1")]
 pub(super) enum MetallicFile {
     On(bool),
     Amount(f32),
