@@ -1,0 +1,313 @@
+//! CSG and the crossings it combines, checked against geometry worked out by
+//! hand: every crossing of a sphere and a torus with its direction (tangent
+//! touches are none), lenses, shells, spheres sharing roots, half-spaces,
+//! capped cylinders and cones (through the cap, the side, the rim, along the
+//! axis, from inside), boxes, discs with holes, `inverse`, and the normal's
+//! side on a subtracted surface.
+
+use glam::{DAffine3, DMat3, DVec3};
+
+use sturmray::geometry::{Box3, Crossings, Csg, Leaf, Node, Op, Part, Quadric, Shape, Surface};
+use sturmray::poly::solve::Solver;
+
+const X: DVec3 = DVec3::X;
+const Z: DVec3 = DVec3::Z;
+
+fn placed(surface: Surface, at: DVec3, clip: Option<Box3>) -> Shape {
+    Shape::new(
+        surface,
+        DAffine3::from_translation(at),
+        clip,
+        0,
+        Solver::default(),
+    )
+    .unwrap()
+}
+
+fn sphere(radius: f64, at: DVec3) -> Shape {
+    placed(Surface::Sphere { radius }, at, None)
+}
+
+fn solid(shape: Shape) -> Leaf {
+    Leaf {
+        part: Part::Solid(shape),
+        inverse: false,
+        material: 0,
+    }
+}
+
+/// A tree of one operation over `leaves`, in their order, as a scene shape.
+fn tree(op: Op, leaves: Vec<Leaf>) -> Shape {
+    let children = (0..leaves.len() as u32).map(Node::Leaf).collect();
+    let root = Node::Op {
+        op,
+        inverse: false,
+        children,
+    };
+    let csg = Csg::new(root, leaves).unwrap();
+    Shape::new(
+        Surface::Csg(Box::new(csg)),
+        DAffine3::IDENTITY,
+        None,
+        0,
+        Solver::default(),
+    )
+    .unwrap()
+}
+
+/// The hit's t and unit normal.
+fn hit(s: &Shape, o: DVec3, d: DVec3) -> Option<(f64, DVec3)> {
+    s.intersect(o, d, 0.0, f64::INFINITY)
+        .map(|h| (h.t, h.normal.normalize()))
+}
+
+fn assert_hit(s: &Shape, o: DVec3, d: DVec3, t: f64, n: DVec3) {
+    let (got_t, got_n) = hit(s, o, d).unwrap_or_else(|| panic!("no hit from {o} along {d}"));
+    assert!((got_t - t).abs() < 1e-9, "t {got_t}, expected {t}");
+    assert!(
+        got_n.abs_diff_eq(n, 1e-9),
+        "normal {got_n}, expected {n} (t {t})"
+    );
+}
+
+/// A cylinder x² + y² < r² with z in [0, h], as a quadric cut by its box.
+fn cylinder(r: f64, h: f64) -> Shape {
+    let q = Quadric {
+        a: DMat3::from_diagonal(DVec3::new(1.0, 1.0, 0.0)),
+        b: DVec3::ZERO,
+        c: -r * r,
+    };
+    let clip = Box3 {
+        min: DVec3::new(-r, -r, 0.0),
+        max: DVec3::new(r, r, h),
+    };
+    placed(Surface::Quadric(q), DVec3::ZERO, Some(clip))
+}
+
+fn crossings(s: &Shape, o: DVec3, d: DVec3, solid: bool) -> Vec<(f64, bool)> {
+    let mut out = Crossings::default();
+    s.crossings(o, d, f64::NEG_INFINITY, f64::INFINITY, solid, &mut out);
+    out.as_slice().iter().map(|c| (c.t, c.entering)).collect()
+}
+
+#[test]
+fn a_sphere_is_crossed_in_and_out_and_a_tangent_is_no_crossing() {
+    let s = sphere(1.0, DVec3::ZERO);
+    let found = crossings(&s, DVec3::new(-5.0, 0.0, 0.0), X, true);
+    assert_eq!(found.len(), 2, "{found:?}");
+    assert!((found[0].0 - 4.0).abs() < 1e-12 && found[0].1);
+    assert!((found[1].0 - 6.0).abs() < 1e-12 && !found[1].1);
+    // From the centre: the line entered behind the origin.
+    let found = crossings(&s, DVec3::ZERO, X, true);
+    assert!((found[0].0 + 1.0).abs() < 1e-12 && found[0].1, "{found:?}");
+    // Touching at (0, 1, 0): a double root, no crossing.
+    assert!(crossings(&s, DVec3::new(-5.0, 1.0, 0.0), X, true).is_empty());
+}
+
+#[test]
+fn a_torus_is_crossed_four_times_and_touched_on_top_not_at_all() {
+    let torus = placed(
+        Surface::Torus {
+            major: 2.0,
+            minor: 0.5,
+        },
+        DVec3::ZERO,
+        None,
+    );
+    // Along the x axis: x = ±2.5 and ±1.5.
+    let found = crossings(&torus, DVec3::new(-5.0, 0.0, 0.0), X, true);
+    let expected = [(2.5, true), (3.5, false), (6.5, true), (7.5, false)];
+    assert_eq!(found.len(), 4, "{found:?}");
+    for ((t, e), (want, want_e)) in found.iter().zip(expected) {
+        assert!((t - want).abs() < 1e-9 && *e == want_e, "{found:?}");
+    }
+    // Along z = r over the top of both tubes: two tangent touches.
+    assert!(crossings(&torus, DVec3::new(-5.0, 0.0, 0.5), X, true).is_empty());
+}
+
+#[test]
+fn a_lens_is_bounded_by_both_spheres() {
+    // Unit spheres at x = ±0.5: on the axis the lens runs from −0.5 to 0.5.
+    let lens = tree(
+        Op::Intersection,
+        vec![
+            solid(sphere(1.0, DVec3::new(-0.5, 0.0, 0.0))),
+            solid(sphere(1.0, DVec3::new(0.5, 0.0, 0.0))),
+        ],
+    );
+    assert_hit(&lens, DVec3::new(-5.0, 0.0, 0.0), X, 4.5, -X);
+    assert_hit(&lens, DVec3::new(5.0, 0.0, 0.0), -X, 4.5, X);
+    // The rim: the circle x = 0, y² + z² = 3/4; a ray at y = 0.9 misses.
+    assert!(hit(&lens, DVec3::new(-5.0, 0.9, 0.0), X).is_none());
+    // From inside, out through the far face.
+    assert_hit(&lens, DVec3::ZERO, X, 0.5, X);
+}
+
+#[test]
+fn a_shell_shows_its_inner_surface_facing_the_hollow() {
+    let shell = tree(
+        Op::Difference,
+        vec![
+            solid(sphere(1.0, DVec3::ZERO)),
+            solid(sphere(0.5, DVec3::ZERO)),
+        ],
+    );
+    assert_hit(&shell, DVec3::new(-5.0, 0.0, 0.0), X, 4.0, -X);
+    // From the hollow's centre: the inner sphere, whose normal out of the
+    // shell points back into the hollow.
+    assert_hit(&shell, DVec3::ZERO, X, 0.5, -X);
+    // From within the shell's wall: out through the outer sphere.
+    assert_hit(&shell, DVec3::new(0.75, 0.0, 0.0), X, 0.25, X);
+    // The same shell as an intersection with an inverted inner sphere.
+    let mut inner = solid(sphere(0.5, DVec3::ZERO));
+    inner.inverse = true;
+    let inverted = tree(
+        Op::Intersection,
+        vec![solid(sphere(1.0, DVec3::ZERO)), inner],
+    );
+    for o in [
+        DVec3::new(-5.0, 0.0, 0.0),
+        DVec3::ZERO,
+        DVec3::new(0.75, 0.0, 0.0),
+    ] {
+        assert_eq!(hit(&shell, o, X), hit(&inverted, o, X), "from {o}");
+    }
+}
+
+#[test]
+fn shared_roots_are_decided_together() {
+    // A sphere minus the same sphere is empty.
+    let empty = tree(
+        Op::Difference,
+        vec![
+            solid(sphere(1.0, DVec3::ZERO)),
+            solid(sphere(1.0, DVec3::ZERO)),
+        ],
+    );
+    for o in [
+        DVec3::new(-5.0, 0.0, 0.0),
+        DVec3::new(-5.0, 0.3, 0.2),
+        DVec3::ZERO,
+    ] {
+        assert!(hit(&empty, o, X).is_none(), "from {o}");
+    }
+    // Two unit spheres touching at the origin: the left one ends where the
+    // right one begins.
+    let pair = |op| {
+        tree(
+            op,
+            vec![
+                solid(sphere(1.0, DVec3::new(-1.0, 0.0, 0.0))),
+                solid(sphere(1.0, DVec3::new(1.0, 0.0, 0.0))),
+            ],
+        )
+    };
+    let inside_left = DVec3::new(-1.0, 0.0, 0.0);
+    // A merge has no surface between them; a union keeps both spheres'
+    // surfaces, which meet there.
+    assert_hit(&pair(Op::Merge), inside_left, X, 3.0, X);
+    assert_eq!(hit(&pair(Op::Union), inside_left, X).unwrap().0, 1.0);
+    // An intersection of the two is the point alone: nothing to hit.
+    assert!(hit(&pair(Op::Intersection), DVec3::new(-5.0, 0.0, 0.0), X).is_none());
+}
+
+#[test]
+fn a_hemisphere_is_a_sphere_cut_by_a_half_space() {
+    let half = Leaf {
+        part: Part::Plane {
+            normal: Z,
+            offset: 0.0,
+        },
+        inverse: false,
+        material: 0,
+    };
+    let dome = tree(
+        Op::Intersection,
+        vec![solid(sphere(1.0, DVec3::ZERO)), half],
+    );
+    // The flat face z = 0, from above; the sphere's bottom from below.
+    assert_hit(&dome, DVec3::new(0.3, 0.2, 5.0), -Z, 5.0, Z);
+    assert_hit(&dome, DVec3::new(0.0, 0.0, -5.0), Z, 4.0, -Z);
+    // Above the dome, along x: nothing.
+    assert!(hit(&dome, DVec3::new(-5.0, 0.0, 0.5), X).is_none());
+}
+
+#[test]
+fn a_capped_cylinder_is_hit_on_its_caps_its_side_and_from_inside() {
+    let c = tree(Op::Union, vec![solid(cylinder(1.0, 2.0))]);
+    // Along the axis, down onto the top cap at z = 2; up onto the bottom one.
+    assert_hit(&c, DVec3::new(0.0, 0.0, 5.0), -Z, 3.0, Z);
+    assert_hit(&c, DVec3::new(0.0, 0.0, -5.0), Z, 5.0, -Z);
+    // Through a cap off the axis.
+    assert_hit(&c, DVec3::new(0.5, 0.5, 3.0), -Z, 1.0, Z);
+    // Through the side at height 1.
+    assert_hit(&c, DVec3::new(-5.0, 0.0, 1.0), X, 4.0, -X);
+    // From inside: out through the top cap, and out through the side.
+    assert_hit(&c, DVec3::new(0.0, 0.0, 1.0), Z, 1.0, Z);
+    assert_hit(&c, DVec3::new(0.0, 0.0, 1.0), X, 1.0, X);
+    // Onto the rim (−1, 0, 2), where cap and side meet: d = (4, 0, −1) from
+    // (−5, 0, 3) gets there at t = 1; the normal is the cap's or the side's.
+    let (t, n) = hit(&c, DVec3::new(-5.0, 0.0, 3.0), DVec3::new(4.0, 0.0, -1.0)).unwrap();
+    assert!((t - 1.0).abs() < 1e-12, "{t}");
+    assert!(n.abs_diff_eq(Z, 1e-9) || n.abs_diff_eq(-X, 1e-9), "{n}");
+    // Level with the top cap, just above the rim: a miss; just below: the side.
+    assert!(hit(&c, DVec3::new(-5.0, 0.0, 2.0 + 1e-9), X).is_none());
+    assert_hit(&c, DVec3::new(-5.0, 0.0, 2.0 - 1e-9), X, 4.0, -X);
+}
+
+#[test]
+fn a_box_is_a_constant_inside_cut_by_its_box() {
+    let inside_everywhere = Quadric {
+        a: DMat3::ZERO,
+        b: DVec3::ZERO,
+        c: -1.0,
+    };
+    let b = tree(
+        Op::Union,
+        vec![solid(placed(
+            Surface::Quadric(inside_everywhere),
+            DVec3::ZERO,
+            Some(Box3::cube(1.0)),
+        ))],
+    );
+    assert_hit(&b, DVec3::new(0.2, 0.3, 5.0), -Z, 4.0, Z);
+    assert_hit(&b, DVec3::ZERO, X, 1.0, X);
+    assert_hit(&b, DVec3::new(0.0, 0.0, 0.5), -X, 1.0, -X);
+}
+
+#[test]
+fn a_disc_with_a_hole_is_a_ring_and_clipped_by_an_intersection() {
+    let disc = || Leaf {
+        part: Part::Disc {
+            to_object: DAffine3::IDENTITY,
+            radius: 1.0,
+            hole: 0.5,
+        },
+        inverse: false,
+        material: 0,
+    };
+    let ring = tree(Op::Union, vec![disc()]);
+    let (t, n) = hit(&ring, DVec3::new(0.75, 0.0, 5.0), -Z).unwrap();
+    assert!((t - 5.0).abs() < 1e-12 && n.abs_diff_eq(Z, 1e-12));
+    assert!(hit(&ring, DVec3::new(0.25, 0.0, 5.0), -Z).is_none());
+    assert!(hit(&ring, DVec3::new(1.5, 0.0, 5.0), -Z).is_none());
+    // Clipped to the half-space x < 0.8 of a box around it.
+    let slab = Quadric {
+        a: DMat3::ZERO,
+        b: DVec3::ZERO,
+        c: -1.0,
+    };
+    let clip = Box3 {
+        min: DVec3::splat(-2.0),
+        max: DVec3::new(0.8, 2.0, 2.0),
+    };
+    let cut = tree(
+        Op::Intersection,
+        vec![
+            disc(),
+            solid(placed(Surface::Quadric(slab), DVec3::ZERO, Some(clip))),
+        ],
+    );
+    assert!(hit(&cut, DVec3::new(0.75, 0.0, 5.0), -Z).is_some());
+    assert!(hit(&cut, DVec3::new(0.9, 0.0, 5.0), -Z).is_none());
+}
