@@ -311,3 +311,182 @@ fn a_disc_with_a_hole_is_a_ring_and_clipped_by_an_intersection() {
     assert!(hit(&cut, DVec3::new(0.75, 0.0, 5.0), -Z).is_some());
     assert!(hit(&cut, DVec3::new(0.9, 0.0, 5.0), -Z).is_none());
 }
+
+mod gallery {
+    //! scenes/gallery/csg.toml: known rays through each object, on every
+    //! backend, and renders by both integrators without NaN.
+
+    use std::path::Path;
+
+    use sturmray::accel::{Accel, Backend};
+    use sturmray::math::{Ray, Vec3};
+    use sturmray::render::{RenderOptions, render};
+    use sturmray::scene::{Integrator, Scene};
+
+    const BACKENDS: [Backend; 3] = [Backend::Embree, Backend::Obvhs, Backend::Bvh];
+
+    fn scene() -> Scene {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/gallery/csg.toml");
+        Scene::load(&path).unwrap()
+    }
+
+    /// A known ray: from `o` along the unit `d`, the hit's t, normal and material.
+    struct Known {
+        what: &'static str,
+        o: Vec3,
+        d: Vec3,
+        t: f32,
+        n: Vec3,
+        material: &'static str,
+    }
+
+    fn known() -> Vec<Known> {
+        let diagonal = Vec3::ONE.normalize();
+        // The tangle cube's corner lobe on the diagonal x = y = z = s ends
+        // where 3s⁴ − 15s² + 11.8 = 0, at s² = (15 + √83.4) / 6; scaled by
+        // 0.4, at 0.4 √3 s from the centre (1.5, 1.1, 0).
+        let outer = 0.4 * (3.0 * (15.0 + 83.4f64.sqrt()) / 6.0).sqrt() as f32;
+        let goursat = Vec3::new(1.5, 1.1, 0.0);
+        vec![
+            Known {
+                what: "floor's top face",
+                o: Vec3::new(0.0, 5.0, 3.0),
+                d: -Vec3::Y,
+                t: 5.0,
+                n: Vec3::Y,
+                material: "floor",
+            },
+            Known {
+                what: "cylinder's cap, down the axis",
+                o: Vec3::new(-4.5, 5.0, 0.0),
+                d: -Vec3::Y,
+                t: 3.0,
+                n: Vec3::Y,
+                material: "teal",
+            },
+            Known {
+                what: "cylinder's side",
+                o: Vec3::new(-7.5, 1.0, 0.0),
+                d: Vec3::X,
+                t: 2.3,
+                n: -Vec3::X,
+                material: "teal",
+            },
+            Known {
+                what: "lens, entering on its axis at x = -2",
+                o: Vec3::new(-3.5, 1.0, 0.0),
+                d: Vec3::X,
+                t: 1.5,
+                n: -Vec3::X,
+                material: "orange",
+            },
+            Known {
+                what: "lens, from its far side: 0.8 thick",
+                o: Vec3::new(0.0, 1.0, 0.0),
+                d: -Vec3::X,
+                t: 1.2,
+                n: Vec3::X,
+                material: "orange",
+            },
+            Known {
+                what: "goursat's lobe, inside the subtracted sphere",
+                o: goursat,
+                d: diagonal,
+                t: 0.88,
+                n: -diagonal,
+                material: "teal",
+            },
+            Known {
+                what: "goursat's lobe from outside",
+                o: goursat + 5.0 * diagonal,
+                d: -diagonal,
+                t: 5.0 - outer,
+                n: diagonal,
+                material: "white",
+            },
+            Known {
+                what: "torus's cut face x = 0",
+                o: Vec3::new(6.0, 0.35, 0.9),
+                d: -Vec3::X,
+                t: 1.5,
+                n: Vec3::X,
+                material: "white",
+            },
+            Known {
+                what: "torus's cut face z = 0",
+                o: Vec3::new(5.4, 0.35, 1.5),
+                d: -Vec3::Z,
+                t: 1.5,
+                n: Vec3::Z,
+                material: "white",
+            },
+            Known {
+                what: "torus's whole side, at x = R + r",
+                o: Vec3::new(1.5, 0.35, 0.0),
+                d: Vec3::X,
+                t: 1.75,
+                n: -Vec3::X,
+                material: "orange",
+            },
+        ]
+    }
+
+    #[test]
+    fn known_rays_hit_where_the_closed_forms_say_on_every_backend() {
+        let scene = scene();
+        for backend in BACKENDS {
+            let accel = Accel::build(&scene, backend, Some(2)).unwrap();
+            for k in known() {
+                let ray = Ray::new(k.o, k.d);
+                let hit = accel.intersect(&ray);
+                let what = format!("{}: {}", backend.name(), k.what);
+                assert!(hit.is_hit(), "{what}: no hit");
+                // f32 rays and hits: t and the normal to a few f32 roundings.
+                assert!(
+                    (hit.t - k.t).abs() <= 1e-5 * k.t,
+                    "{what}: t {}, expected {}",
+                    hit.t,
+                    k.t
+                );
+                let at = scene.interaction(&ray, &hit);
+                let outward = if at.front { at.n } else { -at.n };
+                assert!(
+                    outward.abs_diff_eq(k.n, 1e-5),
+                    "{what}: normal {outward}, expected {}",
+                    k.n
+                );
+                let name = &scene.materials[at.material as usize].name;
+                assert_eq!(name, k.material, "{what}");
+            }
+        }
+    }
+
+    #[test]
+    fn both_integrators_render_it_without_nan() {
+        let mut scene = scene();
+        (scene.camera.width, scene.camera.height) = (64, 40);
+        let options = RenderOptions {
+            threads: Some(2),
+            spp: Some(2),
+            ..RenderOptions::default()
+        };
+        for integrator in [Integrator::Whitted, Integrator::Path] {
+            scene.render.integrator = integrator;
+            let accel = Accel::build(&scene, Backend::Embree, Some(2)).unwrap();
+            let out = render(&scene, &accel, &options).unwrap();
+            let beauty = out.film.layers().beauty;
+            assert!(
+                beauty.iter().flatten().all(|v| v.is_finite()),
+                "{integrator:?}: a pixel is not finite"
+            );
+            let lit = beauty
+                .iter()
+                .filter(|p| p.iter().sum::<f32>() > 0.0)
+                .count();
+            assert!(
+                lit > beauty.len() / 2,
+                "{integrator:?}: only {lit} lit pixels"
+            );
+        }
+    }
+}
