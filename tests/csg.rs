@@ -5,10 +5,15 @@
 //! axis, from inside), boxes, discs with holes, `inverse`, and the normal's
 //! side on a subtracted surface.
 
+mod common;
+
 use glam::{DAffine3, DMat3, DVec3};
+
+use common::{scratch, write};
 
 use sturmray::geometry::{Box3, Crossings, Csg, Leaf, Node, Op, Part, Quadric, Shape, Surface};
 use sturmray::poly::solve::Solver;
+use sturmray::scene::Scene;
 
 const X: DVec3 = DVec3::X;
 const Z: DVec3 = DVec3::Z;
@@ -487,6 +492,91 @@ mod gallery {
                 lit > beauty.len() / 2,
                 "{integrator:?}: only {lit} lit pixels"
             );
+        }
+    }
+}
+
+/// Loads a scene of `objects` (TOML) and returns its error message.
+fn load_error(name: &str, objects: &str) -> String {
+    let dir = scratch(&format!("csg-{name}"));
+    let text = format!(
+        "[camera]\neye = [0, 0, 5]\nlook_at = [0, 0, 0]\nfov = 40\nwidth = 8\nheight = 8\n\n{objects}"
+    );
+    let path = write(&dir, "scene.toml", &text);
+    match Scene::load(&path) {
+        Ok(_) => panic!("{name}: loaded"),
+        Err(e) => e.to_string(),
+    }
+}
+
+#[test]
+fn bad_csg_and_primitives_are_named_by_line_and_key() {
+    let nested = |levels| {
+        let mut child = "{ type = \"sphere\", radius = 1 }".to_string();
+        for _ in 0..levels {
+            child = format!("{{ type = \"csg\", op = \"union\", children = [{child}] }}");
+        }
+        format!("[[objects]]\ntype = \"csg\"\nop = \"union\"\nchildren = [{child}]\n")
+    };
+    let cases: Vec<(&str, String, &[&str])> = vec![
+        (
+            "no-children",
+            "[[objects]]\ntype = \"csg\"\nop = \"union\"\nchildren = []\n".into(),
+            &["line 11", "objects[0].children", "at least one child"],
+        ),
+        (
+            "unknown-op",
+            "[[objects]]\ntype = \"csg\"\nop = \"xor\"\nchildren = [{ type = \"sphere\", radius = 1 }]\n".into(),
+            &["line 10", "objects[0].op", "unknown op `xor`", "union"],
+        ),
+        (
+            "base-is-cap",
+            "[[objects]]\ntype = \"cylinder\"\nbase = [0, 1, 0]\ncap = [0, 1, 0]\nradius = 1\n".into(),
+            &["line 11", "objects[0].cap", "no length"],
+        ),
+        (
+            "negative-radius",
+            "[[objects]]\ntype = \"csg\"\nop = \"merge\"\nchildren = [\n  { type = \"sphere\", radius = -1 },\n]\n".into(),
+            &["line 12", "objects[0].children[0].radius", "expected a number > 0"],
+        ),
+        (
+            "box-inside-out",
+            "[[objects]]\ntype = \"box\"\nmin = [0, 0, 0]\nmax = [1, -1, 1]\n".into(),
+            &["line 11", "objects[0].max", "max > min"],
+        ),
+        (
+            "too-deep",
+            nested(34),
+            &["line 11", "objects[0].children[0]", "deeper than 32"],
+        ),
+        // The TOML parser stops far deeper nesting itself, with no stack overflow.
+        ("far-too-deep", nested(1000), &["line 11", "recurse"]),
+        (
+            "mesh-child",
+            "[[objects]]\ntype = \"csg\"\nop = \"union\"\nchildren = [{ type = \"mesh\", file = \"a.obj\" }]\n".into(),
+            &["objects[0].children[0]", "a mesh cannot be part of a csg"],
+        ),
+        (
+            "unbounded",
+            "[[objects]]\ntype = \"csg\"\nop = \"union\"\nchildren = [{ type = \"plane\", normal = [0, 1, 0] }]\n".into(),
+            &["line 8", "objects[0]", "unbounded"],
+        ),
+        (
+            "inverse-disc",
+            "[[objects]]\ntype = \"csg\"\nop = \"intersection\"\nchildren = [\n  { type = \"sphere\", radius = 1 },\n  { type = \"disc\", radius = 1, inverse = true },\n]\n".into(),
+            &["line 13", "objects[0].children[1].inverse", "cannot be inverted"],
+        ),
+        (
+            "plane-alone",
+            "[[objects]]\ntype = \"plane\"\nnormal = [0, 1, 0]\n".into(),
+            &["line 8", "objects[0]", "give it a `clip` box"],
+        ),
+    ];
+    for (name, objects, expected) in cases {
+        let err = load_error(name, &objects);
+        assert!(err.contains("scene.toml"), "{name}: {err}");
+        for e in expected {
+            assert!(err.contains(e), "{name}: expected {e:?} in: {err}");
         }
     }
 }

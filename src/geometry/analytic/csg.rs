@@ -28,9 +28,8 @@ use super::crossings::face_width;
 use super::{Box3, Crossing, Crossings, Shape, ShapeHit};
 use crate::poly::solve::Solver;
 
-/// How a node combines its children (`op = "union"`, … in a scene file).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
-#[serde(rename_all = "lowercase")]
+/// How a node combines its children.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 pub enum Op {
     Union,
     Intersection,

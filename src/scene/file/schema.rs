@@ -8,7 +8,6 @@ use std::path::PathBuf;
 
 use serde::Deserialize;
 
-use crate::geometry::Op;
 use crate::shading::MaterialKind;
 
 #[derive(Deserialize)]
@@ -200,7 +199,8 @@ pub(super) struct ShapeFile {
     pub expr: Option<String>,
     /// In a CSG tree: the object's inside is its outside.
     pub inverse: Option<bool>,
-    pub op: Option<Op>,
+    /// "union", "intersection", "difference" or "merge".
+    pub op: Option<String>,
     /// A CSG operation's objects, as inline tables.
     pub children: Option<Vec<ObjectFile>>,
     pub normal: Option<[f64; 3]>,

@@ -9,11 +9,13 @@ use super::Objects;
 use super::schema::{Object, ShapeFile};
 use super::shapes::{Body, Built};
 use crate::error::Result;
-use crate::geometry::{Leaf, Node, Part, Quadric, Shape, Surface};
+use crate::geometry::{Leaf, Node, Op, Part, Quadric, Shape, Surface};
+use crate::suggest;
 
-/// How deep CSG may nest: far beyond any scene a person writes, and far
-/// below what the recursion's stack can take.
-pub(super) const MAX_DEPTH: usize = 64;
+/// How deep CSG may nest: far beyond any scene a person writes, far below
+/// what the recursion's stack can take, and below the TOML parser's own
+/// limit (it refuses inline tables nested about 40 deep, naming the line).
+const MAX_DEPTH: usize = 32;
 
 /// What a child inherits from the nodes above it.
 pub(super) struct Parent {
@@ -130,12 +132,25 @@ impl Objects<'_> {
         if inner.depth > MAX_DEPTH {
             return Err(check.error(key, format!("CSG nests deeper than {MAX_DEPTH} levels")));
         }
-        let op = file.op.ok_or_else(|| {
-            check.error(
-                key,
-                "missing `op` (\"union\", \"intersection\", \"difference\" or \"merge\")",
-            )
-        })?;
+        const OPS: [(&str, Op); 4] = [
+            ("union", Op::Union),
+            ("intersection", Op::Intersection),
+            ("difference", Op::Difference),
+            ("merge", Op::Merge),
+        ];
+        let expected = "\"union\", \"intersection\", \"difference\" or \"merge\"";
+        let name = file
+            .op
+            .as_deref()
+            .ok_or_else(|| check.error(key, format!("missing `op` ({expected})")))?;
+        let Some(&(_, op)) = OPS.iter().find(|(n, _)| *n == name) else {
+            let hint = suggest::closest(name, OPS.iter().map(|(n, _)| *n))
+                .map_or(String::new(), |c| format!("; did you mean `{c}`?"));
+            return Err(check.error(
+                &format!("{key}.op"),
+                format!("unknown op `{name}`: expected {expected}{hint}"),
+            ));
+        };
         let children = file.children.as_deref().unwrap_or_default();
         if children.is_empty() {
             return Err(check.error(
