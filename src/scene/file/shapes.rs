@@ -403,7 +403,8 @@ fn round(kind: ShapeKind, f: &ShapeFile) -> Result<Built, FieldError> {
     };
     let (base, cap) = (end("base", f.base)?, end("cap", f.cap)?);
     let length = (cap - base).length();
-    if !(length > 0.0) {
+    // The ends are finite, so the length is a number: zero, or positive.
+    if length == 0.0 {
         return Err((
             "cap",
             "the cap is at the base: the axis has no length".into(),
@@ -414,7 +415,7 @@ fn round(kind: ShapeKind, f: &ShapeFile) -> Result<Built, FieldError> {
         let r1 = f
             .cap_radius
             .ok_or(("", "missing `cap_radius`".to_string()))?;
-        if !(r1 >= 0.0 && r1 <= MAX_COORDINATE) {
+        if !(0.0..=MAX_COORDINATE).contains(&r1) {
             return Err((
                 "cap_radius",
                 format!("expected a number >= 0 and at most {MAX_COORDINATE:e}, found {r1}"),
