@@ -580,3 +580,73 @@ fn bad_csg_and_primitives_are_named_by_line_and_key() {
         }
     }
 }
+
+/// The one shape of a scene of `objects`.
+fn loaded(name: &str, objects: &str) -> Shape {
+    let dir = scratch(&format!("csg-{name}"));
+    let text = format!(
+        "[camera]\neye = [0, 0, 5]\nlook_at = [0, 0, 0]\nfov = 40\nwidth = 8\nheight = 8\n\n{objects}"
+    );
+    let scene = Scene::load(&write(&dir, "scene.toml", &text)).unwrap();
+    scene.shapes[0].clone()
+}
+
+#[test]
+fn a_capped_cone_is_hit_on_its_caps_its_side_and_from_inside() {
+    // Radius r(y) = 1 − y/4 from y = 0 to y = 2: F = x² + z² − r(y)², whose
+    // gradient (2x, r(y)/2, 2z) at (−0.75, 1, 0) is (−1.5, 0.375, 0).
+    let cone = loaded(
+        "cone",
+        "[[objects]]\ntype = \"cone\"\nbase = [0, 0, 0]\nradius = 1\ncap = [0, 2, 0]\ncap_radius = 0.5\n",
+    );
+    let y = DVec3::Y;
+    assert_hit(&cone, DVec3::new(0.0, 5.0, 0.0), -y, 3.0, y);
+    assert_hit(&cone, DVec3::new(0.0, -5.0, 0.0), y, 5.0, -y);
+    assert_hit(&cone, DVec3::new(0.2, 3.0, 0.1), -y, 1.0, y);
+    let side = DVec3::new(-1.5, 0.375, 0.0).normalize();
+    assert_hit(&cone, DVec3::new(-5.0, 1.0, 0.0), X, 4.25, side);
+    assert_hit(
+        &cone,
+        DVec3::new(0.0, 1.0, 0.0),
+        X,
+        0.75,
+        side * DVec3::new(-1.0, 1.0, 1.0),
+    );
+    // From inside, up the axis and out through the cap.
+    assert_hit(&cone, DVec3::new(0.0, 1.0, 0.0), y, 1.0, y);
+    // Level with the top cap: just above the rim a miss, just below the side
+    // at x = −r(2) = −0.5.
+    assert!(hit(&cone, DVec3::new(-5.0, 2.0 + 1e-9, 0.0), X).is_none());
+    let (t, _) = hit(&cone, DVec3::new(-5.0, 2.0 - 1e-9, 0.0), X).unwrap();
+    assert!((t - 4.5).abs() < 1e-8, "{t}");
+    // A cone to a point: down the axis onto the apex at y = 1, where the
+    // gradient vanishes; the hit is there, with the cap's normal.
+    let pointed = loaded(
+        "apex",
+        "[[objects]]\ntype = \"cone\"\nbase = [0, 0, 0]\nradius = 1\ncap = [0, 1, 0]\ncap_radius = 0\n",
+    );
+    let (t, n) = hit(&pointed, DVec3::new(0.0, 5.0, 0.0), -y).unwrap();
+    assert!((t - 4.0).abs() < 1e-9 && n.is_finite(), "{t} {n}");
+}
+
+#[test]
+fn a_pov_cylinder_is_placed_between_base_and_cap() {
+    // Axis from (1, 0, 0) to (1, 0, 3) (along z), radius 0.5.
+    let c = loaded(
+        "pov-cylinder",
+        "[[objects]]\ntype = \"cylinder\"\nbase = [1, 0, 0]\ncap = [1, 0, 3]\nradius = 0.5\n",
+    );
+    assert_hit(&c, DVec3::new(1.0, 0.0, 5.0), -Z, 2.0, Z);
+    assert_hit(&c, DVec3::new(1.0, 0.0, -5.0), Z, 5.0, -Z);
+    assert_hit(&c, DVec3::new(-5.0, 0.0, 1.5), X, 5.5, -X);
+    // Open: through where the cap would be, onto the inside of the far wall.
+    let open = loaded(
+        "open-cylinder",
+        "[[objects]]\ntype = \"cylinder\"\nbase = [1, 0, 0]\ncap = [1, 0, 3]\nradius = 0.5\ncaps = false\n",
+    );
+    let (t, _) = hit(&open, DVec3::new(1.0, 0.0, 5.0), -Z).map_or((f64::NAN, X), |h| h);
+    assert!(
+        t.is_nan(),
+        "down the axis of an open tube: no wall to hit, got {t}"
+    );
+}

@@ -116,35 +116,42 @@ impl Shape {
         };
         let to_t = |s: f64| (ray.t0 + s) / ray.length;
         let (entry, exit) = self.object_box.faces(ray.start - ray.t0 * ray.d, ray.d);
-        // At the box's ends: a face where F < 0 there, the surface itself
-        // where it meets the face (then F's sign just inside says the state).
-        let end = |s: f64, face: u8, entering: bool, on_surface: bool| Crossing {
+        // At the box's ends the face is crossed, with the face's normal: where
+        // the surface meets the face too, the point is on an edge of the solid,
+        // where either normal is right and the gradient may vanish (a cone's apex).
+        let end = |s: f64, face: u8, entering: bool| Crossing {
             t: to_t(s),
             width: face_width(to_t(s)),
             entering,
-            face: (!on_surface).then_some(face),
+            face: Some(face),
         };
+        let mut roots = [(0.0, false); CAPACITY];
+        let mut n = 0;
+        self.each_crossing(&ray, |s, entering| {
+            roots[n] = (s, entering);
+            n += 1;
+            n < CAPACITY - 2
+        });
+        let roots = &roots[..n];
         let mut inside = false;
         if solid {
-            let step = self.refine_width(0.0).min(0.5 * ray.hi);
-            let (enters, on_surface) = match self.side(ray.start, ray.d) {
-                Some(inside) => (inside, false),
-                None => (
-                    self.side(ray.start + step * ray.d, ray.d) == Some(true),
-                    true,
-                ),
-            };
+            // Where F is 0 at the face (a cylinder's side meeting its box, a
+            // cone's apex on its cap), its sign before the first crossing says
+            // the state: F keeps one sign between crossings.
+            let first = roots.first().map_or(ray.hi, |r| r.0);
+            inside = self
+                .side(ray.start, ray.d)
+                .unwrap_or_else(|| self.side(ray.start + 0.5 * first * ray.d, ray.d) == Some(true));
             // Where tmin, not the box, starts the interval, the line is already there.
-            if enters && ray.t0 > tmin * ray.length {
-                out.push(end(0.0, entry, true, on_surface));
+            if inside && ray.t0 > tmin * ray.length {
+                out.push(end(0.0, entry, true));
             }
-            inside = enters;
         }
-        self.each_crossing(&ray, |s, entering| {
+        for &(s, entering) in roots {
             // A solid's crossings alternate: one that repeats the state is the
             // root the box's end already accounted for.
             if solid && entering == inside {
-                return true;
+                continue;
             }
             inside = entering;
             out.push(Crossing {
@@ -152,11 +159,10 @@ impl Shape {
                 width: self.refine_width(s) / ray.length,
                 entering,
                 face: None,
-            })
-        });
+            });
+        }
         if inside && ray.t0 + ray.hi < tmax * ray.length {
-            let on_surface = self.side(ray.start + ray.hi * ray.d, ray.d) != Some(true);
-            out.push(end(ray.hi, exit, false, on_surface));
+            out.push(end(ray.hi, exit, false));
         }
     }
 
