@@ -650,3 +650,20 @@ fn a_pov_cylinder_is_placed_between_base_and_cap() {
         "down the axis of an open tube: no wall to hit, got {t}"
     );
 }
+
+#[test]
+fn the_plan_sees_the_materials_of_a_trees_children() {
+    // The tree's own material is diffuse; one child is glass: refraction rays
+    // are planned only because of the child.
+    let dir = scratch("csg-plan");
+    let text = "[camera]\neye = [0, 0, 5]\nlook_at = [0, 0, 0]\nfov = 40\nwidth = 8\nheight = 8\n\n\
+        [materials.matte]\ntype = \"diffuse\"\n\n[materials.clear]\ntype = \"dielectric\"\n\n\
+        [[objects]]\ntype = \"csg\"\nop = \"union\"\nmaterial = \"matte\"\nchildren = [\n  \
+        { type = \"sphere\", radius = 1 },\n  { type = \"box\", min = [1, 0, 0], max = [2, 1, 1], material = \"clear\" },\n]\n";
+    let scene = Scene::load(&write(&dir, "scene.toml", text)).unwrap();
+    let plan = sturmray::render::Plan::for_scene(&scene);
+    assert!(plan.refraction, "{plan:?}");
+    let matte_only = text.replace(", material = \"clear\"", "");
+    let scene = Scene::load(&write(&dir, "matte.toml", &matte_only)).unwrap();
+    assert!(!sturmray::render::Plan::for_scene(&scene).refraction);
+}
