@@ -667,3 +667,53 @@ fn the_plan_sees_the_materials_of_a_trees_children() {
     let scene = Scene::load(&write(&dir, "matte.toml", &matte_only)).unwrap();
     assert!(!sturmray::render::Plan::for_scene(&scene).refraction);
 }
+
+#[test]
+fn tiny_and_far_away_lenses_keep_their_thickness() {
+    // The lens of `a_lens_is_bounded_by_both_spheres` scaled by s and moved to
+    // c: on its axis it runs from c − s/2 to c + s/2.
+    for (s, c) in [(1e-6, 0.0), (1.0, 1e6), (1e-3, -1e4)] {
+        let lens = tree(
+            Op::Intersection,
+            vec![
+                solid(sphere(s, DVec3::new(c - 0.5 * s, 0.0, 0.0))),
+                solid(sphere(s, DVec3::new(c + 0.5 * s, 0.0, 0.0))),
+            ],
+        );
+        let o = DVec3::new(c - 5.0 * s, 0.0, 0.0);
+        let (t, n) = hit(&lens, o, X).unwrap();
+        // Rounding of the coordinates, c·ε, on a distance of 4.5 s.
+        let tolerance = 1e-9 * s + 4.0 * f64::EPSILON * c.abs();
+        assert!((t - 4.5 * s).abs() <= tolerance, "s {s}, c {c}: t {t}");
+        assert!(n.abs_diff_eq(-X, 1e-6), "{n}");
+        // From the middle, out through the far face: half the thickness.
+        let (t, _) = hit(&lens, DVec3::new(c, 0.0, 0.0), X).unwrap();
+        assert!((t - 0.5 * s).abs() <= tolerance, "s {s}, c {c}: t {t}");
+    }
+}
+
+#[test]
+fn crossings_in_an_interval_are_those_of_the_whole_line_within_it() {
+    let torus = placed(
+        Surface::Torus {
+            major: 2.0,
+            minor: 0.5,
+        },
+        DVec3::ZERO,
+        None,
+    );
+    let (o, d) = (DVec3::new(-5.0, 0.0, 0.0), X);
+    let all = crossings(&torus, o, d, false);
+    let mut out = Crossings::default();
+    torus.crossings(o, d, 3.0, 7.0, false, &mut out);
+    let inside: Vec<(f64, bool)> = out.as_slice().iter().map(|c| (c.t, c.entering)).collect();
+    let expected: Vec<(f64, bool)> = all.into_iter().filter(|c| c.0 > 3.0 && c.0 < 7.0).collect();
+    // x = −1.5 (leaving the near tube) and x = 1.5 (entering the far one).
+    assert_eq!(inside.len(), 2, "{inside:?}");
+    for (a, b) in inside.iter().zip(&expected) {
+        assert!(
+            (a.0 - b.0).abs() < 1e-12 && a.1 == b.1,
+            "{inside:?} {expected:?}"
+        );
+    }
+}
