@@ -249,7 +249,7 @@ fn no_phantom_hits_where_the_gradient_vanishes() {
             continue;
         };
         hits += 1;
-        let h = heart.hit_error(o, d, t);
+        let h = heart.hit_error(o, d, t, 0);
         assert!(h < 1e-3, "ray {i}: error bound {h}");
         let before = f.eval((o + (t - h) * d).to_array());
         let after = f.eval((o + (t + h) * d).to_array());

@@ -5,6 +5,7 @@
 
 use std::fmt;
 
+use crate::geometry::Shape;
 use crate::scene::{Integrator, Scene};
 use crate::shading::{Bsdf, Finish, Material, MaterialKind};
 
@@ -40,7 +41,7 @@ impl Plan {
             .meshes
             .iter()
             .flat_map(|m| m.materials.iter().copied());
-        for m in meshes.chain(scene.shapes.iter().map(|s| s.material)) {
+        for m in meshes.chain(scene.shapes.iter().flat_map(Shape::materials)) {
             used[m as usize] = true;
         }
         let uses_where = |test: &dyn Fn(&Material) -> bool| {

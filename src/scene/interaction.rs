@@ -24,11 +24,18 @@ impl Scene {
             let p = ray.at(hit.t);
             // The root's own uncertainty (see `Shape::hit_error`), then t and o + t·d
             // rounded to f32.
-            let root = shape.hit_error(ray.origin.as_dvec3(), ray.dir.as_dvec3(), f64::from(hit.t));
+            // A shape's hit carries its CSG part in u (see accel::analytic).
+            let part = hit.u as u32;
+            let root = shape.hit_error(
+                ray.origin.as_dvec3(),
+                ray.dir.as_dvec3(),
+                f64::from(hit.t),
+                part,
+            );
             let t_error = root as f32 + hit.t.abs() * f32::EPSILON;
             let error =
                 t_error * ray.dir.abs() + gamma(3) * (ray.origin.abs() + (hit.t * ray.dir).abs());
-            (p, error, shape.material)
+            (p, error, shape.material_of(part))
         } else {
             let mesh = &self.meshes[hit.geom_id as usize];
             let [p0, p1, p2] =

@@ -6,6 +6,7 @@
 mod check;
 mod schema;
 mod shapes;
+mod tree;
 
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -18,6 +19,8 @@ use schema::{
     CameraFile, IntegratorFile, LightFile, MaterialFile, MeshFile, MetallicFile, Object,
     RenderFile, ScaleFile, SceneFile, ShapeFile, ShapeKind, SpecularFile, TransformFile,
 };
+use shapes::{Body, Built};
+use tree::{Parent, linear};
 
 use super::obj::MAX_COORDINATE;
 use super::{
@@ -25,7 +28,7 @@ use super::{
     load_obj,
 };
 use crate::error::{Error, Result};
-use crate::geometry::{Box3, Mesh, Shape, Surface};
+use crate::geometry::{Box3, Csg, Mesh, Shape, Surface};
 use crate::lights::Light;
 use crate::math::Vec3;
 use crate::poly::solve::{Method, Solver};
@@ -337,55 +340,94 @@ struct Objects<'a> {
 }
 
 impl Objects<'_> {
-    /// An analytic object of type `kind`.
+    /// An analytic object of type `kind`: one entry of the scene's shapes,
+    /// a CSG tree for the types that are more than one surface.
     fn shape(
         &self,
         scene: &mut Scene,
         index: usize,
         kind: ShapeKind,
-        shape: &ShapeFile,
+        file: &ShapeFile,
     ) -> Result<()> {
         let check = self.check;
-        let material = match self.material(index, &shape.material)? {
+        let key = format!("objects[{index}]");
+        let material = match self.material(&key, &file.material)? {
             Some(m) => m,
             None => scene.default_material(),
         };
-        let key = format!("objects[{index}]");
-        let (surface, default_clip) =
-            shapes::surface(kind, shape, &self.constants).map_err(|(field, message)| {
-                let key = if field.is_empty() {
-                    key.clone()
-                } else {
-                    format!("{key}.{field}")
+        if file.inverse.is_some() {
+            return Err(check.error(
+                &format!("{key}.inverse"),
+                "`inverse` applies only to an object inside a csg",
+            ));
+        }
+        let built = self.built(&key, kind, file)?;
+        let to_world = self.transform(&key, &file.transform)?;
+        let clip = self.clip(&key, file)?;
+        let (surface, to_world, clip) = match built {
+            Built::Surface {
+                surface,
+                clip: default,
+                frame,
+                body: Body::Open | Body::Solid,
+            } => (surface, to_world * frame, clip.or(default)),
+            Built::Plane { normal, distance } => match clip {
+                Some(clip) => (linear(normal, distance), to_world, Some(clip)),
+                None => {
+                    return Err(check.error(
+                        &key,
+                        "a plane is infinite: give it a `clip` box, or cut it in a csg",
+                    ));
+                }
+            },
+            built => {
+                let mut leaves = Vec::new();
+                let parent = Parent {
+                    to_world: DAffine3::IDENTITY,
+                    material,
+                    depth: 0,
                 };
-                check.error(&key, message)
-            })?;
-        let clip = match &shape.clip {
-            Some(c) => Some(Box3 {
-                min: check.finite64(&format!("{key}.clip.min"), c.min)?,
-                max: check.finite64(&format!("{key}.clip.max"), c.max)?,
-            }),
-            None => None,
+                let root = self.node(&key, file, built, &parent, &mut leaves)?;
+                let tree = Csg::new(root, leaves).map_err(|e| check.error(&key, e))?;
+                (Surface::Csg(Box::new(tree)), DAffine3::IDENTITY, None)
+            }
         };
-        let to_world = self.transform(index, &shape.transform)?;
-        let shape = Shape::new(
-            surface,
-            to_world,
-            clip.or(default_clip),
-            material,
-            self.solver,
-        )
-        .map_err(|e| check.error(&key, e))?;
+        let shape = Shape::new(surface, to_world, clip, material, self.solver)
+            .map_err(|e| check.error(&key, e))?;
         check.bounds(&key, shape.bounds())?;
         scene.shapes.push(shape);
         Ok(())
     }
 
+    /// The object's parts by its type, errors named at `key`.
+    fn built(&self, key: &str, kind: ShapeKind, file: &ShapeFile) -> Result<Built> {
+        shapes::build(kind, file, &self.constants).map_err(|(field, message)| {
+            let key = if field.is_empty() {
+                key.to_owned()
+            } else {
+                format!("{key}.{field}")
+            };
+            self.check.error(&key, message)
+        })
+    }
+
+    /// The object's own `clip` box, if it gives one.
+    fn clip(&self, key: &str, file: &ShapeFile) -> Result<Option<Box3>> {
+        let Some(c) = &file.clip else {
+            return Ok(None);
+        };
+        Ok(Some(Box3 {
+            min: self.check.finite64(&format!("{key}.clip.min"), c.min)?,
+            max: self.check.finite64(&format!("{key}.clip.max"), c.max)?,
+        }))
+    }
+
     /// A `type = "mesh"` object: the meshes of an OBJ file, placed.
     fn mesh(&self, scene: &mut Scene, index: usize, mesh: &MeshFile) -> Result<()> {
         let check = self.check;
-        let material = self.material(index, &mesh.material)?;
-        let transform = self.transform(index, &mesh.transform)?;
+        let key = format!("objects[{index}]");
+        let material = self.material(&key, &mesh.material)?;
+        let transform = self.transform(&key, &mesh.transform)?;
         let first = scene.meshes.len();
         let obj_path = self.dir.join(&mesh.file);
         // A file that cannot be read is named with the line that asks for it.
@@ -402,8 +444,9 @@ impl Objects<'_> {
         Ok(())
     }
 
-    fn transform(&self, index: usize, t: &TransformFile) -> Result<DAffine3> {
-        let key = |field: &str| format!("objects[{index}].transform.{field}");
+    /// The transform of the object at `key`.
+    fn transform(&self, key: &str, t: &TransformFile) -> Result<DAffine3> {
+        let key = |field: &str| format!("{key}.transform.{field}");
         let vector = |field: &str, v: Option<[f64; 3]>| {
             self.check.finite64(&key(field), v.unwrap_or([0.0; 3]))
         };
@@ -432,7 +475,7 @@ impl Objects<'_> {
     }
 
     /// The index of the material an object names, if it names one.
-    fn material(&self, index: usize, name: &Option<String>) -> Result<Option<u32>> {
+    fn material(&self, key: &str, name: &Option<String>) -> Result<Option<u32>> {
         let Some(name) = name else {
             return Ok(None);
         };
@@ -442,7 +485,7 @@ impl Objects<'_> {
                 let hint = suggest::closest(name, self.materials.keys().map(String::as_str))
                     .map_or(String::new(), |c| format!("; did you mean `{c}`?"));
                 Err(self.check.error(
-                    &format!("objects[{index}].material"),
+                    &format!("{key}.material"),
                     format!("no material named `{name}` in [materials]{hint}"),
                 ))
             }

@@ -183,6 +183,14 @@ objects! {
     Torus,
     /// A polynomial written as an expression, which needs a clip box.
     Algebraic,
+    /// The half-space n·p < distance (POV-Ray's `plane`).
+    Plane,
+    /// A solid box between two corners.
+    Box,
+    /// A flat ring: a surface with no inside.
+    Disc,
+    /// A CSG operation over its `children`.
+    Csg,
 }
 
 /// An object of the file, by what the loader builds from it.
@@ -217,6 +225,23 @@ pub(super) struct ShapeFile {
     pub b: Option<[f64; 3]>,
     pub c: Option<f64>,
     pub expr: Option<String>,
+    /// In a CSG tree: the object's inside is its outside.
+    pub inverse: Option<bool>,
+    /// "union", "intersection", "difference" or "merge".
+    pub op: Option<String>,
+    /// A CSG operation's objects, as inline tables.
+    pub children: Option<Vec<ObjectFile>>,
+    pub normal: Option<[f64; 3]>,
+    pub distance: Option<f64>,
+    pub min: Option<[f64; 3]>,
+    pub max: Option<[f64; 3]>,
+    pub center: Option<[f64; 3]>,
+    pub hole: Option<f64>,
+    pub base: Option<[f64; 3]>,
+    pub cap: Option<[f64; 3]>,
+    pub cap_radius: Option<f64>,
+    /// Whether a cylinder or cone is closed by flat caps.
+    pub caps: Option<bool>,
 }
 
 #[derive(Deserialize)]

@@ -1,7 +1,7 @@
 //! The analytic objects of a scene file: which parameters each type takes,
 //! and the surface and default clip box they make.
 
-use glam::{DMat3, DVec3};
+use glam::{DAffine3, DMat3, DQuat, DVec3};
 
 use super::super::obj::MAX_COORDINATE;
 use super::schema::{ShapeFile, ShapeKind};
@@ -28,7 +28,7 @@ impl ShapeFile {
     /// The parameters set in the file, by name, to refuse the ones a type does not use.
     fn given(&self) -> Vec<&'static str> {
         let mut names = Vec::new();
-        let fields: [(&'static str, bool); 8] = [
+        let fields: [(&'static str, bool); 20] = [
             ("radius", self.radius.is_some()),
             ("radii", self.radii.is_some()),
             ("major", self.major.is_some()),
@@ -37,6 +37,18 @@ impl ShapeFile {
             ("b", self.b.is_some()),
             ("c", self.c.is_some()),
             ("expr", self.expr.is_some()),
+            ("op", self.op.is_some()),
+            ("children", self.children.is_some()),
+            ("normal", self.normal.is_some()),
+            ("distance", self.distance.is_some()),
+            ("min", self.min.is_some()),
+            ("max", self.max.is_some()),
+            ("center", self.center.is_some()),
+            ("hole", self.hole.is_some()),
+            ("base", self.base.is_some()),
+            ("cap", self.cap.is_some()),
+            ("cap_radius", self.cap_radius.is_some()),
+            ("caps", self.caps.is_some()),
         ];
         for (name, set) in fields {
             if set {
@@ -101,8 +113,9 @@ fn clip(min: [f64; 3], max: [f64; 3]) -> Option<Box3> {
 /// The surface of an analytic object and its default clip box (None when the
 /// surface bounds itself or, for general quadrics and algebraic surfaces, when
 /// the file must give one). Each type's arm first names the parameters it
-/// takes, so a type is added in one place.
-pub(super) fn surface(
+/// takes, so a type is added in one place; `build` makes the types that are
+/// more than one surface.
+fn surface(
     kind: ShapeKind,
     f: &ShapeFile,
     constants: &[(&str, f64)],
@@ -129,7 +142,7 @@ pub(super) fn surface(
         }
         // Axis z, z in [-1, 1].
         Cylinder => {
-            f.takes(&["radius"])?;
+            f.takes(&["radius", "caps"])?;
             let r = f.radius()?;
             (
                 diagonal([1.0, 1.0, 0.0], [0.0; 3], -r * r),
@@ -138,7 +151,7 @@ pub(super) fn surface(
         }
         // Apex at the origin, radius r at z = 1; one nappe, z in [0, 1].
         Cone => {
-            f.takes(&["radius"])?;
+            f.takes(&["radius", "caps"])?;
             let r = f.radius()?;
             (
                 diagonal([1.0, 1.0, -r * r], [0.0; 3], 0.0),
@@ -223,7 +236,211 @@ pub(super) fn surface(
             );
             let text = f.expr.as_deref().ok_or(missing)?;
             let poly = expr::parse(text, constants).map_err(|e| ("expr", e.to_string()))?;
-            (Surface::Algebraic(Box::new(poly)), None)
+            (Surface::Algebraic(poly.into()), None)
         }
+        Plane | Box | Disc | Csg => unreachable!("`build` makes these"),
+    })
+}
+
+/// What an analytic object is made of, before it is placed.
+pub(super) enum Built {
+    /// A surface, its clip box (see `surface`), where its own frame sits
+    /// in the object's space, and what it bounds.
+    Surface {
+        surface: Surface,
+        clip: Option<Box3>,
+        frame: DAffine3,
+        body: Body,
+    },
+    /// The half-space n·p < distance.
+    Plane { normal: DVec3, distance: f64 },
+    /// A ring in the plane z = 0 of `frame`.
+    Disc {
+        frame: DAffine3,
+        radius: f64,
+        hole: f64,
+    },
+    /// A CSG operation: the loader builds its children.
+    Csg,
+}
+
+/// What a surface bounds.
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub(super) enum Body {
+    /// Nothing: an open cylinder or cone, a surface only.
+    Open,
+    /// F < 0 within its box (see `Shape::crossings`); alone, it shows only
+    /// its surface, cut by the box.
+    Solid,
+    /// A closed solid whose box's faces are surface even alone: a box, a
+    /// cylinder or cone with caps.
+    Closed,
+}
+
+/// The object of type `kind`.
+pub(super) fn build(
+    kind: ShapeKind,
+    f: &ShapeFile,
+    constants: &[(&str, f64)],
+) -> Result<Built, FieldError> {
+    Ok(match kind {
+        ShapeKind::Plane => {
+            f.takes(&["normal", "distance"])?;
+            let normal = DVec3::from(f.normal.ok_or(("", "missing `normal`".to_string()))?);
+            nonzero("normal", normal)?;
+            let distance = f.distance.unwrap_or(0.0);
+            if !distance.is_finite() {
+                return Err(("distance", "expected a finite number".into()));
+            }
+            Built::Plane { normal, distance }
+        }
+        ShapeKind::Box => {
+            f.takes(&["min", "max"])?;
+            let corner = |name: &'static str, v: Option<[f64; 3]>| {
+                let v = v.ok_or(("", format!("missing `{name}` (a corner)")))?;
+                finite(name, DVec3::from(v))
+            };
+            let (min, max) = (corner("min", f.min)?, corner("max", f.max)?);
+            if min.cmpge(max).any() {
+                return Err((
+                    "max",
+                    format!("expected max > min on every axis, found min {min} and max {max}"),
+                ));
+            }
+            // F = −1: inside the whole box, whose faces are the surface.
+            let inside = diagonal([0.0; 3], [0.0; 3], -1.0);
+            Built::Surface {
+                surface: inside,
+                clip: Some(Box3 { min, max }),
+                frame: DAffine3::IDENTITY,
+                body: Body::Closed,
+            }
+        }
+        ShapeKind::Disc => {
+            f.takes(&["center", "normal", "radius", "hole"])?;
+            let radius = f.radius()?;
+            let hole = f.hole.unwrap_or(0.0);
+            if !(0.0..radius).contains(&hole) {
+                return Err((
+                    "hole",
+                    format!("expected a number >= 0 and below the radius {radius}, found {hole}"),
+                ));
+            }
+            let center = finite("center", DVec3::from(f.center.unwrap_or([0.0; 3])))?;
+            let normal = DVec3::from(f.normal.unwrap_or([0.0, 0.0, 1.0]));
+            nonzero("normal", normal)?;
+            Built::Disc {
+                frame: axis_frame(center, normal),
+                radius,
+                hole,
+            }
+        }
+        ShapeKind::Csg => {
+            f.takes(&["op", "children"])?;
+            Built::Csg
+        }
+        ShapeKind::Cylinder | ShapeKind::Cone if f.base.is_some() || f.cap.is_some() => {
+            round(kind, f)?
+        }
+        _ => {
+            let (surface, clip) = surface(kind, f, constants)?;
+            let body = match (kind, f.caps) {
+                (_, Some(true)) => Body::Closed,
+                (ShapeKind::Cylinder | ShapeKind::Cone, _) => Body::Open,
+                _ => Body::Solid,
+            };
+            Built::Surface {
+                surface,
+                clip,
+                frame: DAffine3::IDENTITY,
+                body,
+            }
+        }
+    })
+}
+
+fn finite(name: &'static str, v: DVec3) -> Result<DVec3, FieldError> {
+    if v.abs().max_element() <= MAX_COORDINATE {
+        Ok(v)
+    } else {
+        Err((
+            name,
+            format!("expected finite numbers of size at most {MAX_COORDINATE:e}, found {v}"),
+        ))
+    }
+}
+
+fn nonzero(name: &'static str, v: DVec3) -> Result<(), FieldError> {
+    finite(name, v)?;
+    if v.length_squared() > 0.0 {
+        Ok(())
+    } else {
+        Err((name, "a direction cannot be zero".into()))
+    }
+}
+
+/// The frame whose origin is `origin` and whose z axis is along `axis`.
+fn axis_frame(origin: DVec3, axis: DVec3) -> DAffine3 {
+    DAffine3::from_rotation_translation(
+        DQuat::from_rotation_arc(DVec3::Z, axis.normalize()),
+        origin,
+    )
+}
+
+/// POV-Ray's `cylinder { base, cap, radius }` and `cone { base, r0, cap, r1 }`:
+/// along z from 0 to the axis's length in their own frame, closed by caps
+/// unless `caps = false`.
+fn round(kind: ShapeKind, f: &ShapeFile) -> Result<Built, FieldError> {
+    let cone = matches!(kind, ShapeKind::Cone);
+    if cone {
+        f.takes(&["base", "cap", "radius", "cap_radius", "caps"])?;
+    } else {
+        f.takes(&["base", "cap", "radius", "caps"])?;
+    }
+    let end = |name: &'static str, v: Option<[f64; 3]>| {
+        let v = v.ok_or(("", format!("missing `{name}` (a point on the axis)")))?;
+        finite(name, DVec3::from(v))
+    };
+    let (base, cap) = (end("base", f.base)?, end("cap", f.cap)?);
+    let length = (cap - base).length();
+    // The ends are finite, so the length is a number: zero, or positive.
+    if length == 0.0 {
+        return Err((
+            "cap",
+            "the cap is at the base: the axis has no length".into(),
+        ));
+    }
+    let r0 = f.radius()?;
+    let r1 = if cone {
+        let r1 = f
+            .cap_radius
+            .ok_or(("", "missing `cap_radius`".to_string()))?;
+        if !(0.0..=MAX_COORDINATE).contains(&r1) {
+            return Err((
+                "cap_radius",
+                format!("expected a number >= 0 and at most {MAX_COORDINATE:e}, found {r1}"),
+            ));
+        }
+        r1
+    } else {
+        r0
+    };
+    // x² + y² − (r0 + k z)², k the radius's slope: negative inside for z in [0, length].
+    let k = (r1 - r0) / length;
+    let surface = Surface::Quadric(crate::geometry::Quadric {
+        a: DMat3::from_diagonal(DVec3::new(1.0, 1.0, -k * k)),
+        b: DVec3::new(0.0, 0.0, -2.0 * r0 * k),
+        c: -r0 * r0,
+    });
+    let r = r0.max(r1);
+    Ok(Built::Surface {
+        surface,
+        clip: clip([-r, -r, 0.0], [r, r, length]),
+        frame: axis_frame(base, cap - base),
+        body: if f.caps == Some(false) {
+            Body::Open
+        } else {
+            Body::Closed
+        },
     })
 }

@@ -10,140 +10,17 @@
 use glam::{DAffine3, DMat3, DVec3};
 
 use crate::math::{Bounds, Vec3};
-use crate::poly::MAX_DEGREE;
 use crate::poly::closed::quadratic;
 use crate::poly::solve::Solver;
-use crate::poly::trivariate::Trivariate;
 use crate::poly::univariate::{Poly, normalize_pow2};
 
-/// A general quadric xᵀA x + b·x + c = 0 with symmetric A.
-#[derive(Clone, Debug, PartialEq, serde::Serialize)]
-pub struct Quadric {
-    pub a: DMat3,
-    pub b: DVec3,
-    pub c: f64,
-}
+mod crossings;
+pub mod csg;
+mod surface;
 
-impl Quadric {
-    fn eval(&self, p: DVec3) -> f64 {
-        p.dot(self.a * p) + self.b.dot(p) + self.c
-    }
-
-    fn gradient(&self, p: DVec3) -> DVec3 {
-        2.0 * (self.a * p) + self.b
-    }
-}
-
-/// The surface in its own object space.
-#[derive(Clone, Debug, PartialEq, serde::Serialize)]
-pub enum Surface {
-    Sphere {
-        radius: f64,
-    },
-    Quadric(Quadric),
-    /// Around the z axis: major radius R of the tube's centre circle, minor radius r of the tube.
-    Torus {
-        major: f64,
-        minor: f64,
-    },
-    Algebraic(Box<Trivariate>),
-}
-
-impl Surface {
-    /// A one-line summary for `sturmray info`.
-    pub fn describe(&self) -> String {
-        match self {
-            Surface::Sphere { radius } => format!("sphere r={radius}"),
-            Surface::Quadric(_) => "quadric (degree 2)".into(),
-            Surface::Torus { major, minor } => format!("torus R={major} r={minor} (degree 4)"),
-            Surface::Algebraic(f) => format!(
-                "algebraic, degree {}, {} terms",
-                f.degree(),
-                f.terms().len()
-            ),
-        }
-    }
-
-    /// The same surface in coordinates scaled by 2^k (p' = 2^k p), exact: as
-    /// a polynomial, F(2^-k p') times a power of two.
-    fn at_scale_pow2(&self, k: i32) -> Surface {
-        let s = 2f64.powi(k);
-        match self {
-            Surface::Sphere { radius } => Surface::Sphere { radius: radius * s },
-            Surface::Torus { major, minor } => Surface::Torus {
-                major: major * s,
-                minor: minor * s,
-            },
-            // xᵀAx + b·x + c at x = p'/s, times s².
-            Surface::Quadric(q) => Surface::Quadric(Quadric {
-                a: q.a,
-                b: q.b * s,
-                c: q.c * s * s,
-            }),
-            // F and k·F are one surface: normalised once here, never per ray.
-            Surface::Algebraic(f) => {
-                // Normalised first, so no coefficient is subnormal when scaled.
-                let f = f.normalized().0.at_scale_pow2(-k);
-                Surface::Algebraic(Box::new(f.normalized().0))
-            }
-        }
-    }
-
-    fn gradient(&self, p: DVec3) -> DVec3 {
-        match self {
-            Surface::Sphere { .. } => p,
-            Surface::Quadric(q) => q.gradient(p),
-            Surface::Torus { major, minor } => torus_gradient(*major, *minor, p),
-            Surface::Algebraic(f) => DVec3::from(f.eval_gradient(p.to_array())),
-        }
-    }
-
-    /// Q(s) = F(start + s·d).
-    fn along(&self, start: DVec3, d: DVec3) -> Poly {
-        match self {
-            Surface::Sphere { radius } => Poly::new(&[
-                start.length_squared() - radius * radius,
-                2.0 * start.dot(d),
-                d.length_squared(),
-            ]),
-            Surface::Quadric(q) => {
-                let ad = q.a * d;
-                Poly::new(&[q.eval(start), 2.0 * start.dot(ad) + q.b.dot(d), d.dot(ad)])
-            }
-            Surface::Torus { major, minor } => torus_polynomial(*major, *minor, start, d),
-            Surface::Algebraic(f) => {
-                let mut coeffs = [0.0; MAX_DEGREE + 1];
-                let n = f.substitute_ray(start.to_array(), d.to_array(), &mut coeffs);
-                Poly::new(&coeffs[..n])
-            }
-        }
-    }
-
-    /// F evaluated with every term made positive: the scale of the rounding
-    /// error in F's value at p (its terms cancel on the surface).
-    fn magnitude(&self, p: DVec3) -> f64 {
-        let a = p.abs();
-        match self {
-            Surface::Sphere { radius } => a.length_squared() + radius * radius,
-            Surface::Quadric(q) => {
-                let abs_a =
-                    glam::DMat3::from_cols(q.a.x_axis.abs(), q.a.y_axis.abs(), q.a.z_axis.abs());
-                a.dot(abs_a * a) + q.b.abs().dot(a) + q.c.abs()
-            }
-            Surface::Torus { major, minor } => {
-                let s = a.length_squared() + major * major + minor * minor;
-                s * s + 4.0 * major * major * (a.x * a.x + a.y * a.y)
-            }
-            Surface::Algebraic(f) => f
-                .terms()
-                .iter()
-                .map(|&([i, j, k], c)| {
-                    c.abs() * a.x.powi(i.into()) * a.y.powi(j.into()) * a.z.powi(k.into())
-                })
-                .sum(),
-        }
-    }
-}
+pub use crossings::{Crossing, Crossings};
+use surface::root_uncertainty;
+pub use surface::{Quadric, Surface};
 
 /// An axis-aligned box in f64.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
@@ -199,10 +76,13 @@ impl Box3 {
 pub struct ShapeHit {
     pub t: f64,
     pub normal: DVec3,
+    /// Which part of a CSG tree was hit (its leaf, see `csg::Csg`); 0 for a
+    /// plain shape.
+    pub part: u32,
 }
 
-/// An analytic surface placed in the world.
-#[derive(Clone, Debug, serde::Serialize)]
+/// An analytic surface placed in the world, or a CSG tree of them.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct Shape {
     pub surface: Surface,
     /// Index into the scene's materials.
@@ -260,6 +140,7 @@ impl Shape {
                 max: DVec3::new(major + minor, major + minor, *minor),
             }),
             Surface::Quadric(_) | Surface::Algebraic(_) => None,
+            Surface::Csg(tree) => Some(tree.bounds()),
         };
         // Pad natural bounds a little, so no surface point lies exactly on the box
         // where the search interval starts.
@@ -293,7 +174,7 @@ impl Shape {
             Surface::Sphere { .. } | Surface::Torus { .. } => 0,
             // A clip box says where to look, not how large the surface's
             // features are: these keep their own units.
-            Surface::Quadric(_) | Surface::Algebraic(_) => 0,
+            Surface::Quadric(_) | Surface::Algebraic(_) | Surface::Csg(_) => 0,
         };
         let to_object = DAffine3::from_scale(DVec3::splat(2f64.powi(unit))) * to_world.inverse();
         Ok(Shape {
@@ -309,6 +190,23 @@ impl Shape {
             unit,
             solver,
         })
+    }
+
+    /// The material of the hit's `part` (see [`ShapeHit::part`]): a CSG
+    /// leaf's own.
+    pub fn material_of(&self, part: u32) -> u32 {
+        match &self.surface {
+            Surface::Csg(tree) => tree.material(part),
+            _ => self.material,
+        }
+    }
+
+    /// Every material the shape's surfaces use.
+    pub fn materials(&self) -> Vec<u32> {
+        match &self.surface {
+            Surface::Csg(tree) => tree.materials().collect(),
+            _ => vec![self.material],
+        }
     }
 
     /// A one-line summary for `sturmray info`, in the units the scene gave.
@@ -350,26 +248,39 @@ impl Shape {
 
     /// The nearest hit with t in (tmin, tmax) of the world ray o + t·d.
     pub fn intersect(&self, o: DVec3, d: DVec3, tmin: f64, tmax: f64) -> Option<ShapeHit> {
+        if let Surface::Csg(tree) = &self.surface {
+            return tree.intersect(o, d, tmin, tmax);
+        }
         let found = self.search(o, d, tmin, tmax, false)?;
+        Some(ShapeHit {
+            t: found.t,
+            normal: self.normal_at(found.object_point),
+            part: 0,
+        })
+    }
+
+    /// The world normal (unnormalised) at a point of the surface in object space.
+    fn normal_at(&self, object_point: DVec3) -> DVec3 {
         // Scaled by a power of two (exact, direction unchanged): a gradient
         // of 1e200 (degree 16 at 1e13 from the origin) would overflow |n|²,
         // and normalising would give a zero normal, shaded black.
-        let mut gradient = self.surface.gradient(found.object_point).to_array();
+        let mut gradient = self.surface.gradient(object_point).to_array();
         // Only when needed: the scaling costs more than the comparison, and
         // ordinary gradients square without harm.
         let largest = gradient.iter().fold(0.0f64, |m, g| m.max(g.abs()));
         if !(1e-100..=1e100).contains(&largest) {
             normalize_pow2(&mut gradient);
         }
-        Some(ShapeHit {
-            t: found.t,
-            normal: self.normal_to_world * DVec3::from(gradient),
-        })
+        self.normal_to_world * DVec3::from(gradient)
     }
 
     /// A bound on the error in t of a hit of the world ray o + t·d at `t`:
     /// the root's uncertainty (see `Surface::uncertainty`) plus the solver's tolerance.
-    pub fn hit_error(&self, o: DVec3, d: DVec3, t: f64) -> f64 {
+    /// `part` is the hit's (see [`ShapeHit::part`]).
+    pub fn hit_error(&self, o: DVec3, d: DVec3, t: f64, part: u32) -> f64 {
+        if let Surface::Csg(tree) = &self.surface {
+            return tree.hit_error(part, o, d, t);
+        }
         let (o, d) = (
             self.to_object.transform_point3(o),
             self.to_object.transform_vector3(d),
@@ -384,11 +295,17 @@ impl Shape {
 
     /// Whether the world ray o + t·d crosses the surface for some t in (tmin, tmax).
     pub fn occluded(&self, o: DVec3, d: DVec3, tmin: f64, tmax: f64) -> bool {
+        if let Surface::Csg(tree) = &self.surface {
+            return tree.intersect(o, d, tmin, tmax).is_some();
+        }
         self.search(o, d, tmin, tmax, true).is_some()
     }
 
     /// Swaps the root finder, for studies that compare them on one scene.
     pub fn set_solver(&mut self, solver: Solver) {
+        if let Surface::Csg(tree) = &mut self.surface {
+            tree.set_solver(solver);
+        }
         self.solver = solver;
     }
 
@@ -424,39 +341,65 @@ impl Shape {
     }
 
     fn search(&self, o: DVec3, d: DVec3, tmin: f64, tmax: f64, shadow: bool) -> Option<Found> {
-        let RayPoly {
-            q,
-            hi,
-            start,
-            d,
-            t0,
-            length,
-        } = self.ray_polynomial(o, d, tmin, tmax)?;
-        let quadratic = matches!(self.surface, Surface::Sphere { .. } | Surface::Quadric(_));
+        let ray = self.ray_polynomial(o, d, tmin, tmax)?;
         // Shadow rays: a Sturm count of zero settles most of them without refining.
-        if shadow && !quadratic && !self.solver.any(&q, 0.0, hi) {
+        if shadow && !self.quadratic() && !self.solver.any(&ray.q, 0.0, ray.hi) {
             return None;
         }
-        // Accept only roots where the ray crosses the surface (see `polish`); step
-        // past touching and phantom roots and search on.
+        let mut found = None;
+        self.each_crossing(&ray, |s, _| {
+            found = Some(Found {
+                t: (ray.t0 + s) / ray.length,
+                object_point: ray.start + s * ray.d,
+            });
+            false
+        });
+        found
+    }
+
+    fn quadratic(&self) -> bool {
+        matches!(self.surface, Surface::Sphere { .. } | Surface::Quadric(_))
+    }
+
+    /// Calls `visit(s, entering)` for each root of the ray's Q where the ray
+    /// crosses the surface, nearest first, while it returns true. Only roots
+    /// where the ray crosses are accepted (see `polish`): touching and
+    /// phantom roots are stepped past, at most `MAX_TOUCHES` of them.
+    fn each_crossing(&self, ray: &RayPoly, mut visit: impl FnMut(f64, bool) -> bool) {
+        let RayPoly {
+            q, hi, start, d, ..
+        } = *ray;
+        let quadratic = self.quadratic();
         let mut from = 0.0;
-        for _ in 0..MAX_TOUCHES {
-            let s = if quadratic {
+        let mut touches = 0;
+        while touches < MAX_TOUCHES {
+            let Some(s) = (if quadratic {
                 nearest_quadratic(q.coeffs(), from, hi)
             } else {
                 self.solver.nearest(&q, from, hi)
-            }?;
+            }) else {
+                return;
+            };
             match self.polish(&q, start, d, s, from) {
-                Ok(s) => {
-                    return Some(Found {
-                        t: (t0 + s) / length,
-                        object_point: start + s * d,
-                    });
+                Ok((s, entering)) => {
+                    if !visit(s, entering) {
+                        return;
+                    }
+                    // Past the bisection's last interval, which holds the sign
+                    // change: the samples of the next polish start on its far side.
+                    from = s + self.refine_width(s);
                 }
-                Err(next) => from = next,
+                Err(next) => {
+                    from = next;
+                    touches += 1;
+                }
             }
         }
-        None
+    }
+
+    /// The width to which `polish` refines a root at distance s.
+    fn refine_width(&self, s: f64) -> f64 {
+        self.solver.tolerance * s.abs().max(1.0)
     }
 
     /// Re-solves around a root s of Q (formed at `start`) with Q formed at the
@@ -467,10 +410,18 @@ impl Shape {
     /// Only a sign change of the local Q is accepted: the ray crosses the
     /// surface there. A tangent touch, or a pair of roots that rounding made out
     /// of a complex pair (near the heart surface's rim, where F's gradient
-    /// vanishes), has none. Returns the refined root, or where to search on.
-    fn polish(&self, q: &Poly, start: DVec3, d: DVec3, s: f64, from: f64) -> Result<f64, f64> {
+    /// vanishes), has none. Returns the refined root and whether the ray
+    /// enters there (F goes from + to −), or where to search on.
+    fn polish(
+        &self,
+        q: &Poly,
+        start: DVec3,
+        d: DVec3,
+        s: f64,
+        from: f64,
+    ) -> Result<(f64, bool), f64> {
         const SAMPLES: u32 = 32;
-        let floor = self.solver.tolerance * s.abs().max(1.0);
+        let floor = self.refine_width(s);
         let p = start + s * d;
         let local = self.surface.along(p, d);
         // Values within the local rounding noise have no sign to trust: a change
@@ -496,7 +447,7 @@ impl Shape {
             if let Some((a, fa)) = last
                 && (fa < 0.0) != (fb < 0.0)
             {
-                return Ok(s + bisect(&local, a, fa, b, floor));
+                return Ok((s + bisect(&local, a, fa, b, floor), fa > 0.0));
             }
             last = Some((b, fb));
         }
@@ -525,33 +476,8 @@ fn abs_eval(c: &[f64], x: f64) -> f64 {
     c.iter().rev().fold(0.0, |acc, ck| acc * x.abs() + ck.abs())
 }
 
-/// How far a root moves when the polynomial's value is perturbed by `noise`, from
-/// its Taylor coefficients c at the root: min over k ≥ 1 of (noise / |c_k|)^(1/k).
-fn root_uncertainty(c: &[f64], noise: f64) -> f64 {
-    c.iter()
-        .enumerate()
-        .skip(1)
-        .filter(|(_, ck)| **ck != 0.0)
-        .map(|(k, ck)| (noise / ck.abs()).powf(1.0 / k as f64))
-        .fold(f64::INFINITY, f64::min)
-}
-
 /// How many touching roots one search steps past before giving up on the ray.
 const MAX_TOUCHES: usize = 8;
-
-impl Surface {
-    /// How far a root at p of F(p + h·d) may be from the true one: rounding
-    /// perturbs the value by about `noise`, which moves a root by about
-    /// min over k ≥ 1 of (noise / |c_k|)^(1/k) for the Taylor coefficients c_k at p:
-    /// noise / |Q'| for a simple root, but its square or cube root where the ray
-    /// grazes the surface or F's gradient vanishes.
-    fn uncertainty(&self, p: DVec3, d: DVec3) -> f64 {
-        let q = self.along(p, d);
-        let c = q.coeffs();
-        let noise = f64::EPSILON * (4 * c.len()) as f64 * self.magnitude(p);
-        root_uncertainty(c, noise)
-    }
-}
 
 /// The smallest root of c0 + c1 s + c2 s² in (from, hi), by the stable formula.
 fn nearest_quadratic(c: &[f64], from: f64, hi: f64) -> Option<f64> {
@@ -561,40 +487,20 @@ fn nearest_quadratic(c: &[f64], from: f64, hi: f64) -> Option<f64> {
     roots[..n].iter().copied().find(|&s| s > from && s < hi)
 }
 
-/// Q(s) for the torus (x²+y²+z²+R²−r²)² − 4R²(x²+y²) along start + s·d.
-fn torus_polynomial(major: f64, minor: f64, o: DVec3, d: DVec3) -> Poly {
-    let r2 = major * major;
-    let k = r2 - minor * minor;
-    // |p|² + R² − r² = a s² + b s + c
-    let (a, b, c) = (d.length_squared(), 2.0 * o.dot(d), o.length_squared() + k);
-    // x² + y² = e s² + f s + g
-    let (e, f, g) = (
-        d.x * d.x + d.y * d.y,
-        2.0 * (o.x * d.x + o.y * d.y),
-        o.x * o.x + o.y * o.y,
-    );
-    let four_r2 = 4.0 * r2;
-    Poly::new(&[
-        c * c - four_r2 * g,
-        2.0 * b * c - four_r2 * f,
-        b * b + 2.0 * a * c - four_r2 * e,
-        2.0 * a * b,
-        a * a,
-    ])
-}
-
-fn torus_gradient(major: f64, minor: f64, p: DVec3) -> DVec3 {
-    let s = p.length_squared() + major * major - minor * minor;
-    let r = 4.0 * s * p;
-    DVec3::new(
-        r.x - 8.0 * major * major * p.x,
-        r.y - 8.0 * major * major * p.y,
-        r.z,
-    )
-}
-
 /// The world bounds of an object box: its 8 corners mapped, rounded outwards to f32.
 fn world_bounds(b: &Box3, to_world: &DAffine3) -> Bounds {
+    let Box3 { min: lo, max: hi } = world_box(b, to_world);
+    // f64 → f32 rounds to nearest; one more step outwards keeps the box conservative.
+    let down = |x: f64| (x as f32).next_down();
+    let up = |x: f64| (x as f32).next_up();
+    Bounds {
+        min: Vec3::new(down(lo.x), down(lo.y), down(lo.z)),
+        max: Vec3::new(up(hi.x), up(hi.y), up(hi.z)),
+    }
+}
+
+/// The box around an object box's 8 corners mapped by `to_world`.
+fn world_box(b: &Box3, to_world: &DAffine3) -> Box3 {
     let mut lo = DVec3::splat(f64::INFINITY);
     let mut hi = DVec3::splat(f64::NEG_INFINITY);
     for i in 0..8 {
@@ -607,11 +513,5 @@ fn world_bounds(b: &Box3, to_world: &DAffine3) -> Bounds {
         lo = lo.min(p);
         hi = hi.max(p);
     }
-    // f64 → f32 rounds to nearest; one more step outwards keeps the box conservative.
-    let down = |x: f64| (x as f32).next_down();
-    let up = |x: f64| (x as f32).next_up();
-    Bounds {
-        min: Vec3::new(down(lo.x), down(lo.y), down(lo.z)),
-        max: Vec3::new(up(hi.x), up(hi.y), up(hi.z)),
-    }
+    Box3 { min: lo, max: hi }
 }

@@ -1,0 +1,197 @@
+//! Every crossing of one shape along a line, with its direction: what CSG
+//! combines. Inside is where F < 0 (see `surface`) and, for a solid, within
+//! the shape's box, so a clip box closes a surface it cuts (a cylinder cut
+//! by its box is a capped solid): where the line enters or leaves the box
+//! while F < 0 there, the box's face is a crossing too.
+//!
+//! Only crossings count, as for the nearest hit: a tangent touch, or a
+//! double root touching from outside, changes no inside state and is no
+//! crossing. No allocation: a line crosses a surface of degree n at most n
+//! times, plus the two faces of the box.
+
+use glam::DVec3;
+
+use super::{Box3, Shape};
+use crate::poly::MAX_DEGREE;
+
+/// One crossing of a line o + t·d, in the line's own parameter t.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Crossing {
+    pub t: f64,
+    /// How far apart, in t, two crossings may be found and still be one
+    /// point (the root's refinement width): CSG takes crossings of two
+    /// children this close as simultaneous.
+    pub width: f64,
+    /// From outside (F > 0) to inside (F < 0).
+    pub entering: bool,
+    /// The face of the shape's box crossed (axis · 2, plus 1 for the max
+    /// side), or None for the surface itself.
+    pub face: Option<u8>,
+}
+
+/// At most degree + 2 crossings, increasing in t.
+const CAPACITY: usize = MAX_DEGREE + 2;
+
+/// The crossings of one shape along one line, in a fixed-capacity array.
+#[derive(Clone, Copy, Debug)]
+pub struct Crossings {
+    items: [Crossing; CAPACITY],
+    len: usize,
+}
+
+impl Default for Crossings {
+    fn default() -> Crossings {
+        let none = Crossing {
+            t: 0.0,
+            width: 0.0,
+            entering: false,
+            face: None,
+        };
+        Crossings {
+            items: [none; CAPACITY],
+            len: 0,
+        }
+    }
+}
+
+impl Crossings {
+    pub fn as_slice(&self) -> &[Crossing] {
+        &self.items[..self.len]
+    }
+
+    fn push(&mut self, c: Crossing) -> bool {
+        if self.len == CAPACITY {
+            return false;
+        }
+        self.items[self.len] = c;
+        self.len += 1;
+        true
+    }
+}
+
+impl Box3 {
+    /// The faces (axis · 2 + side) where the line o + s·d enters and leaves
+    /// the box's slabs last and first: the faces of `clip_ray`'s interval.
+    fn faces(&self, o: DVec3, d: DVec3) -> (u8, u8) {
+        let (mut entry, mut exit) = ((f64::NEG_INFINITY, 0), (f64::INFINITY, 0));
+        for axis in 0..3 {
+            if d[axis] == 0.0 {
+                continue;
+            }
+            let (near, far) = if d[axis] > 0.0 {
+                (self.min[axis], self.max[axis])
+            } else {
+                (self.max[axis], self.min[axis])
+            };
+            let side = |bound: f64| axis as u8 * 2 + u8::from(bound == self.max[axis]);
+            let (tn, tf) = ((near - o[axis]) / d[axis], (far - o[axis]) / d[axis]);
+            if tn > entry.0 {
+                entry = (tn, side(near));
+            }
+            if tf < exit.0 {
+                exit = (tf, side(far));
+            }
+        }
+        (entry.1, exit.1)
+    }
+}
+
+impl Shape {
+    /// Every crossing of the world line o + t·d with t in (tmin, tmax),
+    /// increasing, into `out`. With `solid`, the faces of the shape's box
+    /// where F < 0 count too (see the module's doc); pass tmin = −∞ to have
+    /// every crossing from where the line enters the box, where it is outside.
+    pub fn crossings(
+        &self,
+        o: DVec3,
+        d: DVec3,
+        tmin: f64,
+        tmax: f64,
+        solid: bool,
+        out: &mut Crossings,
+    ) {
+        out.len = 0;
+        let Some(ray) = self.ray_polynomial(o, d, tmin, tmax) else {
+            return;
+        };
+        let to_t = |s: f64| (ray.t0 + s) / ray.length;
+        let (entry, exit) = self.object_box.faces(ray.start - ray.t0 * ray.d, ray.d);
+        // At the box's ends the face is crossed, with the face's normal: where
+        // the surface meets the face too, the point is on an edge of the solid,
+        // where either normal is right and the gradient may vanish (a cone's apex).
+        let end = |s: f64, face: u8, entering: bool| Crossing {
+            t: to_t(s),
+            width: face_width(to_t(s)),
+            entering,
+            face: Some(face),
+        };
+        let mut roots = [(0.0, false); CAPACITY];
+        let mut n = 0;
+        self.each_crossing(&ray, |s, entering| {
+            roots[n] = (s, entering);
+            n += 1;
+            n < CAPACITY - 2
+        });
+        let roots = &roots[..n];
+        let mut inside = false;
+        if solid {
+            // Where F is 0 at the face (a cylinder's side meeting its box, a
+            // cone's apex on its cap), its sign before the first crossing says
+            // the state: F keeps one sign between crossings.
+            let first = roots.first().map_or(ray.hi, |r| r.0);
+            inside = self
+                .side(ray.start, ray.d)
+                .unwrap_or_else(|| self.side(ray.start + 0.5 * first * ray.d, ray.d) == Some(true));
+            // Where tmin, not the box, starts the interval, the line is already there.
+            if inside && ray.t0 > tmin * ray.length {
+                out.push(end(0.0, entry, true));
+            }
+        }
+        for &(s, entering) in roots {
+            // A solid's crossings alternate: one that repeats the state is the
+            // root the box's end already accounted for.
+            if solid && entering == inside {
+                continue;
+            }
+            inside = entering;
+            out.push(Crossing {
+                t: to_t(s),
+                width: self.refine_width(s) / ray.length,
+                entering,
+                face: None,
+            });
+        }
+        if inside && ray.t0 + ray.hi < tmax * ray.length {
+            out.push(end(ray.hi, exit, false));
+        }
+    }
+
+    /// Whether the object-space point p is inside (F < 0) or outside, or
+    /// None where F is within its rounding noise of 0.
+    fn side(&self, p: DVec3, d: DVec3) -> Option<bool> {
+        let q = self.surface.along(p, d);
+        let noise = f64::EPSILON * (4 * q.coeffs().len()) as f64 * self.surface.magnitude(p);
+        let f = q.eval(0.0);
+        (f.abs() > noise).then_some(f < 0.0)
+    }
+
+    /// The world normal (unnormalised) of the hit `c` of the world line o + t·d.
+    pub fn crossing_normal(&self, o: DVec3, d: DVec3, c: &Crossing) -> DVec3 {
+        match c.face {
+            Some(face) => {
+                let mut n = DVec3::ZERO;
+                n[usize::from(face / 2)] = if face % 2 == 1 { 1.0 } else { -1.0 };
+                self.normal_to_world * n
+            }
+            None => self.normal_at(
+                self.to_object.transform_point3(o) + c.t * self.to_object.transform_vector3(d),
+            ),
+        }
+    }
+}
+
+/// How far apart two crossings computed in closed form (a box face, a
+/// plane) may be and still be one point: a few roundings of t.
+pub fn face_width(t: f64) -> f64 {
+    8.0 * f64::EPSILON * t.abs().max(1.0)
+}

@@ -1,0 +1,495 @@
+//! Constructive solid geometry over analytic shapes, combined exactly along
+//! each ray in Roth's manner (1982): every leaf gives all its crossings along
+//! the ray's whole line (`Shape::crossings`), each node merges its children's
+//! sorted crossings while it keeps how many children the line is inside, and
+//! reports a crossing where its own inside state changes. The first reported
+//! crossing after tmin is the hit.
+//!
+//! The state at the start is counted, not evaluated: crossings are taken
+//! from where the line enters each leaf's box (behind the ray's origin if
+//! need be), where the line is known to be outside. A secondary ray starts
+//! on the surface it leaves, where the sign of F is rounding noise; counting
+//! crossings from outside never asks it.
+//!
+//! Crossings of two children within their refinement width are one event
+//! (a sphere minus the same sphere is empty; two spheres touching from
+//! outside have no surface between them in a merge). Surfaces without an
+//! inside (a disc, an open cylinder) are sheets: they show where the node's
+//! state would change if the sheet were a solid there — clipped to an
+//! intersection, outside a union's other children; subtracted, a sheet cuts
+//! nothing. `union` keeps every surface of its children, inner ones too, as
+//! POV-Ray's does; `merge` keeps only the boundary.
+
+use std::cell::RefCell;
+
+use glam::{DAffine3, DVec3};
+
+use super::crossings::face_width;
+use super::{Box3, Crossing, Crossings, Shape, ShapeHit};
+use crate::poly::solve::Solver;
+
+/// How a node combines its children.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+pub enum Op {
+    Union,
+    Intersection,
+    Difference,
+    Merge,
+}
+
+/// What a leaf of the tree is.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub enum Part {
+    /// A shape's volume: F < 0 within its box (see `Shape::crossings`).
+    Solid(Shape),
+    /// An open surface (a cylinder or cone without caps): no inside.
+    Sheet(Shape),
+    /// The half-space n·p < offset, in world space.
+    Plane { normal: DVec3, offset: f64 },
+    /// The ring hole ≤ √(x² + y²) ≤ radius of the plane z = 0 of its own
+    /// space, a sheet.
+    Disc {
+        to_object: DAffine3,
+        radius: f64,
+        hole: f64,
+    },
+}
+
+/// A leaf: a part, whether its inside is flipped, and its material.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct Leaf {
+    pub part: Part,
+    pub inverse: bool,
+    pub material: u32,
+}
+
+/// A node of the tree: a leaf (index into `Csg::leaves`) or an operation.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub enum Node {
+    Leaf(u32),
+    Op {
+        op: Op,
+        inverse: bool,
+        children: Vec<Node>,
+    },
+}
+
+/// A whole CSG tree: one entry of the scene's shapes.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct Csg {
+    root: Node,
+    leaves: Vec<Leaf>,
+    bounds: Box3,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Kind {
+    Enter,
+    Leave,
+    /// A surface with no change of state; `inside`: whether the node that
+    /// reports it is inside there.
+    Sheet {
+        inside: bool,
+    },
+}
+
+/// A crossing as a node reports it to its parent.
+#[derive(Clone, Copy, Debug)]
+struct Event {
+    t: f64,
+    width: f64,
+    kind: Kind,
+    leaf: u32,
+    face: Option<u8>,
+    /// Whether the leaf's outward normal points into the reporting node.
+    flip: bool,
+    /// Which child of the node being combined reported it.
+    child: u32,
+}
+
+thread_local! {
+    /// The events of the ray being traced, reused: no allocation per ray
+    /// once it has grown to the largest tree's needs.
+    static EVENTS: RefCell<Vec<Event>> = const { RefCell::new(Vec::new()) };
+}
+
+impl Csg {
+    /// A tree over `leaves`. Its box: a union's is the union of its
+    /// children's, an intersection's the overlap of theirs, a difference's
+    /// its first child's; a half-space or an inverted child is unbounded, and
+    /// a tree that is unbounded as a whole is refused.
+    pub fn new(root: Node, leaves: Vec<Leaf>) -> Result<Csg, String> {
+        let bounds = node_bounds(&root, &leaves).ok_or(
+            "the CSG tree is unbounded (a half-space or an inverted object in a union, or first in a difference): intersect it with a bounded object",
+        )?;
+        if bounds.is_empty() {
+            return Err("the children's boxes do not overlap: nothing is left".into());
+        }
+        Ok(Csg {
+            root,
+            leaves,
+            bounds,
+        })
+    }
+
+    pub fn bounds(&self) -> Box3 {
+        self.bounds
+    }
+
+    /// Every leaf's material.
+    pub fn materials(&self) -> impl Iterator<Item = u32> + '_ {
+        self.leaves.iter().map(|l| l.material)
+    }
+
+    pub fn material(&self, part: u32) -> u32 {
+        self.leaves[part as usize].material
+    }
+
+    pub fn describe(&self) -> String {
+        describe(&self.root, &self.leaves)
+    }
+
+    pub fn set_solver(&mut self, solver: Solver) {
+        for leaf in &mut self.leaves {
+            if let Part::Solid(s) | Part::Sheet(s) = &mut leaf.part {
+                s.set_solver(solver);
+            }
+        }
+    }
+
+    /// The nearest crossing of the tree's surface with t in (tmin, tmax), and
+    /// which leaf it is on (the hit's `part`). Shadow rays ask the same: an
+    /// intersection or difference must know each child's state along the
+    /// ray, so there is no any-hit shortcut that does less.
+    pub fn intersect(&self, o: DVec3, d: DVec3, tmin: f64, tmax: f64) -> Option<ShapeHit> {
+        EVENTS.with_borrow_mut(|events| {
+            events.clear();
+            self.events(&self.root, o, d, tmax, events);
+            let e = events.iter().find(|e| e.t > tmin && e.t < tmax)?;
+            let normal = self.leaf_normal(e, o, d);
+            Some(ShapeHit {
+                t: e.t,
+                normal: if e.flip { -normal } else { normal },
+                part: e.leaf,
+            })
+        })
+    }
+
+    /// A bound on the error in t of a hit on leaf `part` at t.
+    pub fn hit_error(&self, part: u32, o: DVec3, d: DVec3, t: f64) -> f64 {
+        match &self.leaves[part as usize].part {
+            Part::Solid(s) | Part::Sheet(s) => s.hit_error(o, d, t, 0),
+            Part::Plane { .. } | Part::Disc { .. } => face_width(t),
+        }
+    }
+
+    fn leaf_normal(&self, e: &Event, o: DVec3, d: DVec3) -> DVec3 {
+        match &self.leaves[e.leaf as usize].part {
+            Part::Solid(s) | Part::Sheet(s) => s.crossing_normal(
+                o,
+                d,
+                &Crossing {
+                    t: e.t,
+                    width: e.width,
+                    entering: e.kind == Kind::Enter,
+                    face: e.face,
+                },
+            ),
+            Part::Plane { normal, .. } => *normal,
+            Part::Disc { to_object, .. } => to_object.matrix3.transpose() * DVec3::Z,
+        }
+    }
+
+    /// Appends the crossings of `node`'s surface along the line o + t·d, t <
+    /// tmax, increasing, to `out`; returns whether the line starts inside.
+    fn events(&self, node: &Node, o: DVec3, d: DVec3, tmax: f64, out: &mut Vec<Event>) -> bool {
+        match node {
+            Node::Leaf(i) => self.leaf_events(*i, o, d, tmax, out),
+            Node::Op {
+                op,
+                inverse,
+                children,
+            } => {
+                let base = out.len();
+                let mut state = State {
+                    op: *op,
+                    children: children.len() as isize,
+                    first: false,
+                    count: 0,
+                };
+                for (k, child) in children.iter().enumerate() {
+                    let from = out.len();
+                    let inside = self.events(child, o, d, tmax, out);
+                    for e in &mut out[from..] {
+                        e.child = k as u32;
+                    }
+                    state.apply(k as u32, inside);
+                }
+                // Stable, so a child's own crossings at one t keep their order
+                // (its scratch is on the stack for the event counts of a ray).
+                out[base..].sort_by(|a, b| a.t.total_cmp(&b.t).then(a.child.cmp(&b.child)));
+                let start = state.inside() != *inverse;
+                combine(&mut state, *inverse, out, base);
+                start
+            }
+        }
+    }
+
+    fn leaf_events(&self, i: u32, o: DVec3, d: DVec3, tmax: f64, out: &mut Vec<Event>) -> bool {
+        let leaf = &self.leaves[i as usize];
+        let inverse = leaf.inverse;
+        let event = |c: &Crossing, kind| Event {
+            t: c.t,
+            width: c.width,
+            kind,
+            leaf: i,
+            face: c.face,
+            flip: inverse,
+            child: 0,
+        };
+        let crossing = |t| Crossing {
+            t,
+            width: face_width(t),
+            entering: false,
+            face: None,
+        };
+        match &leaf.part {
+            Part::Solid(s) | Part::Sheet(s) => {
+                let solid = matches!(leaf.part, Part::Solid(_));
+                let mut found = Crossings::default();
+                s.crossings(o, d, f64::NEG_INFINITY, tmax, solid, &mut found);
+                for c in found.as_slice() {
+                    let kind = match (solid, c.entering != inverse) {
+                        (false, _) => Kind::Sheet { inside: false },
+                        (true, true) => Kind::Enter,
+                        (true, false) => Kind::Leave,
+                    };
+                    out.push(event(c, kind));
+                }
+                solid && inverse
+            }
+            Part::Plane { normal, offset } => {
+                let (nd, no) = (normal.dot(d), normal.dot(o));
+                let t = (offset - no) / nd;
+                if nd != 0.0 && t < tmax {
+                    let kind = if (nd < 0.0) != inverse {
+                        Kind::Enter
+                    } else {
+                        Kind::Leave
+                    };
+                    out.push(event(&crossing(t), kind));
+                }
+                // Far back along the line, n·p is below the offset when the
+                // line runs towards +n.
+                (nd > 0.0 || (nd == 0.0 && no < *offset)) != inverse
+            }
+            Part::Disc {
+                to_object,
+                radius,
+                hole,
+            } => {
+                let (o, d) = (
+                    to_object.transform_point3(o),
+                    to_object.transform_vector3(d),
+                );
+                let t = -o.z / d.z;
+                let p = o + t * d;
+                let r2 = p.x * p.x + p.y * p.y;
+                if d.z != 0.0 && t < tmax && r2 <= radius * radius && r2 >= hole * hole {
+                    out.push(event(&crossing(t), Kind::Sheet { inside: false }));
+                }
+                false
+            }
+        }
+    }
+}
+
+/// The inside state of an operation's children at one point of the line:
+/// how many are inside (the first child apart, for a difference).
+struct State {
+    op: Op,
+    children: isize,
+    first: bool,
+    /// Signed: a leaf whose crossings do not alternate (one that gave up on
+    /// a ray) cannot make it wrap.
+    count: isize,
+}
+
+impl State {
+    fn apply(&mut self, child: u32, inside: bool) {
+        if self.op == Op::Difference && child == 0 {
+            self.first = inside;
+        } else {
+            self.count += if inside { 1 } else { 0 };
+        }
+    }
+
+    fn step(&mut self, e: &Event) {
+        match (e.kind, self.op == Op::Difference && e.child == 0) {
+            (Kind::Sheet { .. }, _) => {}
+            (kind, true) => self.first = kind == Kind::Enter,
+            (Kind::Enter, false) => self.count += 1,
+            (Kind::Leave, false) => self.count -= 1,
+        }
+    }
+
+    fn inside(&self) -> bool {
+        match self.op {
+            Op::Union | Op::Merge => self.count > 0,
+            Op::Intersection => self.count == self.children,
+            Op::Difference => self.first && self.count <= 0,
+        }
+    }
+
+    /// Whether the sheet `e` lies on this node's surface: the node's state
+    /// would differ with its child inside and outside there.
+    fn shows(&self, e: &Event) -> bool {
+        let Kind::Sheet { inside } = e.kind else {
+            return false;
+        };
+        let others = self.count - isize::from(inside);
+        match self.op {
+            Op::Union | Op::Merge => others <= 0,
+            Op::Intersection => others == self.children - 1,
+            Op::Difference => e.child == 0 && self.count <= 0,
+        }
+    }
+}
+
+/// Roth's walk over the sorted children's events in `out[base..]`, which it
+/// replaces with the node's own.
+fn combine(state: &mut State, inverse: bool, out: &mut Vec<Event>, base: usize) {
+    let (mut read, mut write) = (base, base);
+    while read < out.len() {
+        let head = out[read];
+        let mut end = read + 1;
+        while end < out.len() && out[end].t - head.t <= head.width.max(out[end].width) {
+            end += 1;
+        }
+        let before = state.inside();
+        for e in &out[read..end] {
+            state.step(e);
+        }
+        let after = state.inside();
+        let group = &out[read..end];
+        let found = if before != after {
+            group.iter().find(|e| !is_sheet(e)).map(|e| Event {
+                kind: if after != inverse {
+                    Kind::Enter
+                } else {
+                    Kind::Leave
+                },
+                // The leaf's outward normal is the node's where the leaf's
+                // state and the node's change the same way.
+                flip: (e.flip != ((e.kind == Kind::Enter) != after)) != inverse,
+                ..*e
+            })
+        } else {
+            let sheet = Kind::Sheet {
+                inside: after != inverse,
+            };
+            match state.op {
+                // Inner surfaces of a union stay, as in POV-Ray.
+                Op::Union => Some(Event {
+                    kind: sheet,
+                    ..head
+                }),
+                _ => group
+                    .iter()
+                    .find(|e| state.shows(e))
+                    .map(|e| Event { kind: sheet, ..*e }),
+            }
+        };
+        if let Some(e) = found {
+            out[write] = e;
+            write += 1;
+        }
+        read = end;
+    }
+    out.truncate(write);
+}
+
+fn is_sheet(e: &Event) -> bool {
+    matches!(e.kind, Kind::Sheet { .. })
+}
+
+/// A node's world box, None when unbounded.
+fn node_bounds(node: &Node, leaves: &[Leaf]) -> Option<Box3> {
+    match node {
+        Node::Leaf(i) => {
+            let leaf = &leaves[*i as usize];
+            if leaf.inverse {
+                return None;
+            }
+            match &leaf.part {
+                Part::Solid(s) | Part::Sheet(s) => {
+                    let b = s.bounds();
+                    Some(Box3 {
+                        min: b.min.as_dvec3(),
+                        max: b.max.as_dvec3(),
+                    })
+                }
+                Part::Plane { .. } => None,
+                Part::Disc {
+                    to_object, radius, ..
+                } => Some(super::world_box(
+                    &Box3 {
+                        min: DVec3::new(-radius, -radius, 0.0),
+                        max: DVec3::new(*radius, *radius, 0.0),
+                    },
+                    &to_object.inverse(),
+                )),
+            }
+        }
+        Node::Op {
+            op,
+            inverse,
+            children,
+        } => {
+            if *inverse {
+                return None;
+            }
+            let mut boxes = children.iter().map(|c| node_bounds(c, leaves));
+            match op {
+                Op::Union | Op::Merge => boxes.try_fold(None, |acc: Option<Box3>, b| {
+                    let b = b?;
+                    Some(Some(acc.map_or(b, |a| Box3 {
+                        min: a.min.min(b.min),
+                        max: a.max.max(b.max),
+                    })))
+                })?,
+                Op::Intersection => boxes.flatten().reduce(|a, b| a.intersection(&b)),
+                Op::Difference => boxes.next().flatten(),
+            }
+        }
+    }
+}
+
+fn describe(node: &Node, leaves: &[Leaf]) -> String {
+    match node {
+        Node::Leaf(i) => {
+            let leaf = &leaves[*i as usize];
+            let what = match &leaf.part {
+                Part::Solid(s) => s.describe(),
+                Part::Sheet(s) => format!("open {}", s.describe()),
+                Part::Plane { .. } => "plane".into(),
+                Part::Disc { .. } => "disc".into(),
+            };
+            if leaf.inverse {
+                format!("inverse {what}")
+            } else {
+                what
+            }
+        }
+        Node::Op {
+            op,
+            inverse,
+            children,
+        } => {
+            let inner: Vec<String> = children.iter().map(|c| describe(c, leaves)).collect();
+            let name = format!("{op:?}").to_lowercase();
+            let inv = if *inverse { "inverse " } else { "" };
+            format!("{inv}{name}({})", inner.join(", "))
+        }
+    }
+}

@@ -1,0 +1,209 @@
+//! The surfaces in their own object space: F, its gradient, Q(s) = F along
+//! a ray, and the scale of F's rounding error, for each kind of surface.
+//!
+//! Inside is where F < 0: a sphere's, ellipsoid's or torus's own volume;
+//! for quadrics and algebraic surfaces, the side where the F the user wrote
+//! is negative (CSG children may flip it with `inverse`).
+
+use glam::{DMat3, DVec3};
+
+use super::csg::Csg;
+use crate::poly::MAX_DEGREE;
+use crate::poly::trivariate::Trivariate;
+use crate::poly::univariate::Poly;
+
+/// A general quadric xᵀA x + b·x + c = 0 with symmetric A.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct Quadric {
+    pub a: DMat3,
+    pub b: DVec3,
+    pub c: f64,
+}
+
+impl Quadric {
+    pub(super) fn eval(&self, p: DVec3) -> f64 {
+        p.dot(self.a * p) + self.b.dot(p) + self.c
+    }
+
+    pub(super) fn gradient(&self, p: DVec3) -> DVec3 {
+        2.0 * (self.a * p) + self.b
+    }
+}
+
+/// The surface in its own object space.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub enum Surface {
+    Sphere {
+        radius: f64,
+    },
+    Quadric(Quadric),
+    /// Around the z axis: major radius R of the tube's centre circle, minor radius r of the tube.
+    Torus {
+        major: f64,
+        minor: f64,
+    },
+    Algebraic(Box<Trivariate>),
+    /// A CSG tree, placed in world space (see `csg`): it has no F of its own.
+    Csg(Box<Csg>),
+}
+
+impl Surface {
+    /// A one-line summary for `sturmray info`.
+    pub fn describe(&self) -> String {
+        match self {
+            Surface::Sphere { radius } => format!("sphere r={radius}"),
+            Surface::Quadric(_) => "quadric (degree 2)".into(),
+            Surface::Torus { major, minor } => format!("torus R={major} r={minor} (degree 4)"),
+            Surface::Algebraic(f) => format!(
+                "algebraic, degree {}, {} terms",
+                f.degree(),
+                f.terms().len()
+            ),
+            Surface::Csg(tree) => format!("csg {}", tree.describe()),
+        }
+    }
+
+    /// The same surface in coordinates scaled by 2^k (p' = 2^k p), exact: as
+    /// a polynomial, F(2^-k p') times a power of two.
+    pub(super) fn at_scale_pow2(&self, k: i32) -> Surface {
+        let s = 2f64.powi(k);
+        match self {
+            Surface::Sphere { radius } => Surface::Sphere { radius: radius * s },
+            Surface::Torus { major, minor } => Surface::Torus {
+                major: major * s,
+                minor: minor * s,
+            },
+            // xᵀAx + b·x + c at x = p'/s, times s².
+            Surface::Quadric(q) => Surface::Quadric(Quadric {
+                a: q.a,
+                b: q.b * s,
+                c: q.c * s * s,
+            }),
+            // F and k·F are one surface: normalised once here, never per ray.
+            Surface::Algebraic(f) => {
+                // Normalised first, so no coefficient is subnormal when scaled.
+                let f = f.normalized().0.at_scale_pow2(-k);
+                Surface::Algebraic(Box::new(f.normalized().0))
+            }
+            // Its leaves are scaled in their own shapes; the tree keeps unit 0.
+            Surface::Csg(_) => self.clone(),
+        }
+    }
+
+    pub(super) fn gradient(&self, p: DVec3) -> DVec3 {
+        match self {
+            Surface::Sphere { .. } => p,
+            Surface::Quadric(q) => q.gradient(p),
+            Surface::Torus { major, minor } => torus_gradient(*major, *minor, p),
+            Surface::Algebraic(f) => DVec3::from(f.eval_gradient(p.to_array())),
+            // Never asked: a tree's normals are its leaves' (see `Csg::intersect`).
+            Surface::Csg(_) => DVec3::ZERO,
+        }
+    }
+
+    /// Q(s) = F(start + s·d).
+    pub(super) fn along(&self, start: DVec3, d: DVec3) -> Poly {
+        match self {
+            Surface::Sphere { radius } => Poly::new(&[
+                start.length_squared() - radius * radius,
+                2.0 * start.dot(d),
+                d.length_squared(),
+            ]),
+            Surface::Quadric(q) => {
+                let ad = q.a * d;
+                Poly::new(&[q.eval(start), 2.0 * start.dot(ad) + q.b.dot(d), d.dot(ad)])
+            }
+            Surface::Torus { major, minor } => torus_polynomial(*major, *minor, start, d),
+            Surface::Algebraic(f) => {
+                let mut coeffs = [0.0; MAX_DEGREE + 1];
+                let n = f.substitute_ray(start.to_array(), d.to_array(), &mut coeffs);
+                Poly::new(&coeffs[..n])
+            }
+            // No F: the constant 1, nowhere zero (a tree is searched by `Csg`).
+            Surface::Csg(_) => Poly::new(&[1.0]),
+        }
+    }
+
+    /// F evaluated with every term made positive: the scale of the rounding
+    /// error in F's value at p (its terms cancel on the surface).
+    pub(super) fn magnitude(&self, p: DVec3) -> f64 {
+        let a = p.abs();
+        match self {
+            Surface::Sphere { radius } => a.length_squared() + radius * radius,
+            Surface::Quadric(q) => {
+                let abs_a =
+                    glam::DMat3::from_cols(q.a.x_axis.abs(), q.a.y_axis.abs(), q.a.z_axis.abs());
+                a.dot(abs_a * a) + q.b.abs().dot(a) + q.c.abs()
+            }
+            Surface::Torus { major, minor } => {
+                let s = a.length_squared() + major * major + minor * minor;
+                s * s + 4.0 * major * major * (a.x * a.x + a.y * a.y)
+            }
+            Surface::Algebraic(f) => f
+                .terms()
+                .iter()
+                .map(|&([i, j, k], c)| {
+                    c.abs() * a.x.powi(i.into()) * a.y.powi(j.into()) * a.z.powi(k.into())
+                })
+                .sum(),
+            Surface::Csg(_) => 1.0,
+        }
+    }
+}
+
+/// How far a root moves when the polynomial's value is perturbed by `noise`, from
+/// its Taylor coefficients c at the root: min over k ≥ 1 of (noise / |c_k|)^(1/k).
+pub(super) fn root_uncertainty(c: &[f64], noise: f64) -> f64 {
+    c.iter()
+        .enumerate()
+        .skip(1)
+        .filter(|(_, ck)| **ck != 0.0)
+        .map(|(k, ck)| (noise / ck.abs()).powf(1.0 / k as f64))
+        .fold(f64::INFINITY, f64::min)
+}
+
+impl Surface {
+    /// How far a root at p of F(p + h·d) may be from the true one: rounding
+    /// perturbs the value by about `noise`, which moves a root by about
+    /// min over k ≥ 1 of (noise / |c_k|)^(1/k) for the Taylor coefficients c_k at p:
+    /// noise / |Q'| for a simple root, but its square or cube root where the ray
+    /// grazes the surface or F's gradient vanishes.
+    pub(super) fn uncertainty(&self, p: DVec3, d: DVec3) -> f64 {
+        let q = self.along(p, d);
+        let c = q.coeffs();
+        let noise = f64::EPSILON * (4 * c.len()) as f64 * self.magnitude(p);
+        root_uncertainty(c, noise)
+    }
+}
+
+/// Q(s) for the torus (x²+y²+z²+R²−r²)² − 4R²(x²+y²) along start + s·d.
+fn torus_polynomial(major: f64, minor: f64, o: DVec3, d: DVec3) -> Poly {
+    let r2 = major * major;
+    let k = r2 - minor * minor;
+    // |p|² + R² − r² = a s² + b s + c
+    let (a, b, c) = (d.length_squared(), 2.0 * o.dot(d), o.length_squared() + k);
+    // x² + y² = e s² + f s + g
+    let (e, f, g) = (
+        d.x * d.x + d.y * d.y,
+        2.0 * (o.x * d.x + o.y * d.y),
+        o.x * o.x + o.y * o.y,
+    );
+    let four_r2 = 4.0 * r2;
+    Poly::new(&[
+        c * c - four_r2 * g,
+        2.0 * b * c - four_r2 * f,
+        b * b + 2.0 * a * c - four_r2 * e,
+        2.0 * a * b,
+        a * a,
+    ])
+}
+
+fn torus_gradient(major: f64, minor: f64, p: DVec3) -> DVec3 {
+    let s = p.length_squared() + major * major - minor * minor;
+    let r = 4.0 * s * p;
+    DVec3::new(
+        r.x - 8.0 * major * major * p.x,
+        r.y - 8.0 * major * major * p.y,
+        r.z,
+    )
+}
