@@ -131,7 +131,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         write_text(&path, &format!("{:#}\n", stats(&written)))?;
     }
     let result = &written.output;
-    let stop = !result.complete || signals.twice();
+    // Asked even when the render is incomplete: a yes means this thread,
+    // not the signal handler, ends the process.
+    let twice = signals.twice();
+    let stop = !result.complete || twice;
     drop(writing);
     if result.nonfinite > 0 {
         note(format_args!(

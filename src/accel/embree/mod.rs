@@ -7,6 +7,7 @@
 //! error callback and are drained after builds, commits and batches.
 
 mod device;
+mod exit;
 // Crate-visible for `accel::ftz`, the neutral name of its one function.
 pub(crate) mod fpu;
 mod owned;
@@ -17,6 +18,7 @@ use embree_sys as sys;
 mod user;
 
 pub use device::{Device, HEADER_VERSION, Version};
+pub use exit::exit_at_once;
 pub use scene::{BuildQuality, CommittedScene, SceneBuilder, SceneOptions};
 
 #[cfg(test)]
