@@ -78,7 +78,7 @@ impl<const S: usize> PolyN<S> {
 
     /// The same polynomial in `T` slots, if its degree fits: the solver
     /// moves low-degree input into its small instantiation this way.
-    pub(crate) fn resized<const T: usize>(&self) -> Option<PolyN<T>> {
+    pub fn resized<const T: usize>(&self) -> Option<PolyN<T>> {
         (self.degree < T).then(|| {
             let mut coeffs = [0.0; T];
             coeffs[..=self.degree].copy_from_slice(self.coeffs());
