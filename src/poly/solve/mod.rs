@@ -47,11 +47,15 @@ thread_local! {
     static UNSEPARATED: Cell<u64> = const { Cell::new(0) };
 }
 
-/// How many queries on this thread so far ended on a bracket no wider than
-/// the tolerance in which the f64 Sturm chain still counted two or more
-/// distinct roots: f64 could not separate them, and they were reported as
-/// one root at the bracket's midpoint. A query counts once however many
-/// such brackets it met; `any` never refines and never counts. The count
+/// How many queries on this thread so far could not trust the f64 Sturm
+/// chain to separate their roots: either the chain was degenerate at degree
+/// 17 to 35 (a remainder f64 could not carry, so its counts are a best
+/// guess and can skip roots, as on Wilkinson-like polynomials), or
+/// isolation ended on a bracket no wider than the tolerance in which the
+/// chain still counted two or more distinct roots (reported as one root at
+/// the bracket's midpoint). A query counts once however many such brackets
+/// it met; `any` never refines and never counts, nor does an accepted
+/// warm start. The count
 /// only grows: a caller reads it before and after its own work (the render
 /// does per tile) and takes the difference, which depends on that work
 /// alone, so the totals are the same for any thread count.

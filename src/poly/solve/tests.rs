@@ -869,3 +869,17 @@ fn unseparated_roots_are_counted() {
     assert!(n >= 1, "the exact path answers: {:?}", &out[..n]);
     assert_eq!(unseparated_count(), before + 2, "its f64 try counted");
 }
+
+/// Wilkinson-like: 26 equally spaced roots 4k/27 in f64. The rounded
+/// coefficients leave the f64 chain degenerate, so its counts are no proof
+/// (in the accuracy study they skip the first roots): the query counts as
+/// unseparated whatever it answers.
+#[test]
+fn degenerate_chains_count_as_unseparated() {
+    let roots: Vec<f64> = (1..=26).map(|k| 4.0 * f64::from(k) / 27.0).collect();
+    let p = from_roots(1.0, &roots);
+    assert!(SturmSequence::new(&p).is_degenerate());
+    let before = unseparated_count();
+    let _ = Solver::default().nearest(&p, 0.0, 4.0);
+    assert_eq!(unseparated_count(), before + 1);
+}
