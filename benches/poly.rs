@@ -13,7 +13,7 @@ use sturmray::poly::closed;
 use sturmray::poly::exact::exact_count;
 use sturmray::poly::solve::{Method, Solver};
 use sturmray::poly::sturm::SturmSequence;
-use sturmray::poly::univariate::Poly;
+use sturmray::poly::univariate::{Poly, SmallPoly};
 use sturmray::sampling::Rng;
 
 /// Q(t) of the ray o + t d (|d| = 1) against the torus about z with radii
@@ -97,11 +97,13 @@ fn queries(c: &mut Criterion) {
             black_box(solver.roots(black_box(&rays[i]), 0.0, 10.0, &mut out))
         })
     });
+    // In the small instantiation, as a ray's query builds it.
+    let small: Vec<SmallPoly> = rays.iter().map(|p| p.resized().unwrap()).collect();
     group.bench_function("SturmSequence::new", |bench| {
         let mut i = 0;
         bench.iter(|| {
-            i = (i + 1) % rays.len();
-            black_box(SturmSequence::new(black_box(&rays[i])))
+            i = (i + 1) % small.len();
+            black_box(SturmSequence::new(black_box(&small[i])))
         })
     });
     group.bench_function("closed::quartic", |bench| {
@@ -137,17 +139,39 @@ fn high_degree(c: &mut Criterion) {
         bench.iter(|| black_box(solver.roots(black_box(&p), 0.0, 11.0, &mut out)))
     });
     group.finish();
+    // Chebyshev's T_35 (35 simple roots in (-1, 1), integer coefficients
+    // exact in f64): the limit's cost.
+    let (mut prev, mut t35) = (vec![1.0], vec![0.0, 1.0]);
+    for _ in 1..35 {
+        let mut next: Vec<f64> = std::iter::once(0.0)
+            .chain(t35.iter().map(|c| 2.0 * c))
+            .collect();
+        for (n, p) in next.iter_mut().zip(&prev) {
+            *n -= p;
+        }
+        (prev, t35) = (t35, next);
+    }
+    let p = Poly::new(&t35);
+    let mut group = c.benchmark_group("Chebyshev T_35 (degree 35)");
+    group.bench_function("nearest", |bench| {
+        bench.iter(|| black_box(solver.nearest(black_box(&p), -2.0, 2.0)))
+    });
+    group.bench_function("roots", |bench| {
+        let mut out = [0.0; MAX_DEGREE];
+        bench.iter(|| black_box(solver.roots(black_box(&p), -2.0, 2.0, &mut out)))
+    });
+    group.finish();
 }
 
 /// The exact Sturm count `Solver::roots` checks its answer against: random
 /// coefficients of up to 1e3 in size with all 53 bits of mantissa in use
 /// (as computed ray polynomials have; the rationals' size, hence the cost,
-/// grows with them), degree 8 and 16 (the limit).
+/// grows with them), degree 8, 16 and 35 (the limit).
 fn exact_certificate(c: &mut Criterion) {
     let mut rng = Rng::for_sample(0xce27, 0, 0);
     let mut unit = move || f64::from(rng.next_f32()) + f64::from(rng.next_f32()) * 2f64.powi(-24);
     let mut group = c.benchmark_group("exact_count, per call");
-    for degree in [8, 16] {
+    for degree in [8, 16, 35] {
         let polys: Vec<Vec<f64>> = (0..64)
             .map(|_| (0..=degree).map(|_| 2e3 * unit() - 1e3).collect())
             .collect();

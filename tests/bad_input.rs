@@ -206,12 +206,12 @@ fn cases() -> Vec<Case> {
         case(
             "polynomial degree above the limit",
             scene_plus(
-                "[[objects]]\ntype = \"algebraic\"\nexpr = \"x^17 - y\"\nclip = { min = [-1, -1, -1], max = [1, 1, 1] }\n",
+                "[[objects]]\ntype = \"algebraic\"\nexpr = \"x^36 - y\"\nclip = { min = [-1, -1, -1], max = [1, 1, 1] }\n",
             ),
             RENDER,
             &[
                 "line 23, objects[1].expr: column 2",
-                "above the limit of 16",
+                "above the limit of 35",
             ],
         ),
         case(

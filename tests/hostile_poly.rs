@@ -430,3 +430,125 @@ proptest! {
         }
     }
 }
+
+// ---------------------------------------------------------------------------
+// Degree 35 (issue #20): POV-Ray's `poly` limit
+
+/// The Chebyshev polynomial T_35 by its recurrence T_(n+1) = 2x T_n −
+/// T_(n−1): integer coefficients below 2^42, so exact in f64, and its roots
+/// are known in closed form, cos((2k − 1)π/70).
+fn chebyshev_35() -> Vec<f64> {
+    let (mut prev, mut cur) = (vec![1.0], vec![0.0, 1.0]);
+    for _ in 1..35 {
+        let mut next = vec![0.0; cur.len() + 1];
+        for (i, c) in cur.iter().enumerate() {
+            next[i + 1] += 2.0 * c;
+        }
+        for (i, c) in prev.iter().enumerate() {
+            next[i] -= c;
+        }
+        (prev, cur) = (cur, next);
+    }
+    cur
+}
+
+/// (t − 1)^m (t − r)^n expanded: for (m, n, r) = (34, 1, 1 + 2^-11) and
+/// (33, 2, 1 + 2^-10) every coefficient is exact in f64 (checked in exact
+/// rationals when the cases were chosen; (33, 2, 1 + 2^-11) is not, and a
+/// 33-fold root moved by one rounding spreads by some 1e-16^(1/33)), so the
+/// roots are exactly 1 and r.
+fn cluster(m: usize, r: f64, n: usize) -> Vec<f64> {
+    let mut c = vec![1.0];
+    for root in std::iter::repeat_n(1.0, m).chain(std::iter::repeat_n(r, n)) {
+        let mut next = vec![0.0; c.len() + 1];
+        for (i, &ci) in c.iter().enumerate() {
+            next[i + 1] += ci;
+            next[i] -= root * ci;
+        }
+        c = next;
+    }
+    c
+}
+
+/// `roots` at degree 35: the 35 simple roots of T_35, a root of
+/// multiplicity 35, a 34-fold root 2^-11 from a simple one (the f64 chain
+/// cannot hold them apart; the exact path answers), and degree 36 refused
+/// with the limit named.
+#[test]
+fn roots_at_degree_35() {
+    let t35 = chebyshev_35();
+    assert_eq!(t35.len(), MAX_DEGREE + 1);
+    let (r, r2) = (1.0 + 2f64.powi(-11), 1.0 + 2f64.powi(-10));
+    let replies = roots_cli(&[
+        query(&t35, Some((-2.0, 2.0))),
+        query(&cluster(35, 1.0, 0), Some((0.0, 2.0))),
+        query(&cluster(34, r, 1), Some((0.0, 2.0))),
+        query(&cluster(33, r2, 2), Some((0.0, 2.0))),
+        query(&[1.0; MAX_DEGREE + 2], None),
+    ]);
+    let got = roots_of(&replies[0]);
+    assert_eq!(replies[0]["count"], 35, "{}", replies[0]);
+    for (k, &t) in got.iter().enumerate() {
+        // Increasing order: k = 35 down to 1. The cosine itself is rounded
+        // (T_35's root at 0 comes out as 6e-17), hence absolute slack of a
+        // few ulps on top of the 1e-12 tolerance.
+        let want = (f64::from(2 * (35 - k as i32) - 1) * std::f64::consts::PI / 70.0).cos();
+        assert!(
+            (t - want).abs() <= 1e-12 * want.abs() + 1e-15,
+            "root {k}: {t} vs {want}"
+        );
+    }
+    assert_eq!(roots_of(&replies[1]), [1.0], "{}", replies[1]);
+    assert_eq!(roots_of(&replies[2]), [1.0, r], "{}", replies[2]);
+    assert_eq!(roots_of(&replies[3]), [1.0, r2], "{}", replies[3]);
+    let error = replies[4]["error"].as_str().unwrap();
+    assert!(error.contains("degree <= 35"), "{error}");
+}
+
+/// x^20 + y^20 + z^20 = 1, a rounded cube of degree 20, crosses each axis
+/// at exactly ±1 (simple roots: the gradient there is 20 along the axis),
+/// and the diagonal at 3^(-1/20) per coordinate. Times a sphere of radius
+/// 0.5 (degree 22), and times a sixfold sphere of radius 2 as well (degree
+/// 34), it keeps those crossings and adds the inner sphere's at ±0.5.
+#[test]
+fn degree_20_to_34_surfaces_hit_where_known() {
+    let cube = "x^20 + y^20 + z^20 - 1";
+    let sphere = "(x^2 + y^2 + z^2 - 0.25)";
+    let cases = [
+        // The surface, t from 0.75 out along an axis, inwards (the far side
+        // of the cube at -1, or the sphere at 0.5), and the error allowed.
+        (cube.to_string(), 1.75, 1e-12),
+        (format!("({cube}) * {sphere}"), 0.25, 1e-12),
+        // Not the tolerance: measured 4.7e-8 at the cube's crossing. The f64
+        // path's error at degree 34 with a sixfold factor; whether Q(t)'s
+        // rounded coefficients or the solver cost it is not separated here.
+        (
+            format!("({cube}) * {sphere} * (x^2 + y^2 + z^2 - 4)^6"),
+            0.25,
+            1e-6,
+        ),
+    ];
+    for (text, inner, tol) in &cases {
+        let s = shape(text, 2.5).unwrap_or_else(|| panic!("{text} did not parse"));
+        for axis in [DVec3::X, DVec3::Y, DVec3::Z, -DVec3::X, -DVec3::Z] {
+            // From 1.75 (inside the sixfold sphere): the cube at 1 first.
+            for (start, want) in [(1.75, 0.75), (0.75, *inner)] {
+                let hit = s.intersect(axis * start, -axis, 0.0, 10.0).expect("a hit");
+                assert!(
+                    (hit.t - want).abs() <= *tol,
+                    "{text} along {axis}: {}",
+                    hit.t
+                );
+                let along = hit.normal.normalize().dot(axis).abs();
+                assert!(along >= 1.0 - tol, "{text}: {}", hit.normal);
+            }
+        }
+    }
+    // Along the diagonal, the cube's crossing 3^(-1/20) per coordinate.
+    let s = shape(cube, 2.5).unwrap();
+    let d = DVec3::ONE.normalize();
+    let hit = s.intersect(DVec3::ONE * 2.0, -d, 0.0, 10.0).expect("a hit");
+    let want = (2.0 - 3f64.powf(-1.0 / 20.0)) * 3f64.sqrt();
+    assert!((hit.t - want).abs() <= 1e-12, "{} vs {want}", hit.t);
+    assert!(hit.normal.normalize().dot(d) >= 1.0 - 1e-12);
+}

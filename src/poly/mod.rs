@@ -3,8 +3,10 @@
 //! inputs; trivariate ones parsed from expressions, with a ray substituted.
 
 /// The highest degree sturmray handles anywhere: it sizes the fixed Sturm
-/// storage (no allocation per ray) and bounds the expression parser.
-pub const MAX_DEGREE: usize = 16;
+/// storage (no allocation per ray) and bounds the expression parser. 35 is
+/// POV-Ray's limit for `poly`, so its scenes fit; polynomials of degree 16
+/// or less are solved in smaller storage (`univariate::SMALL_SLOTS`).
+pub const MAX_DEGREE: usize = 35;
 
 pub mod closed;
 pub mod exact;

@@ -30,11 +30,8 @@
 //! degree 14 and 16 were wrong in 3 of 16,700 and 3 of 7,200 cases this
 //! way, against 21 and 15 when the chain simply stopped.
 
-use crate::poly::MAX_DEGREE;
 use crate::poly::closed;
-use crate::poly::univariate::Poly;
-
-const SLOTS: usize = MAX_DEGREE + 1;
+use crate::poly::univariate::{PolyN, SLOTS};
 
 /// A remainder coefficient within this many times its estimated error is
 /// taken as zero. Measured on 18,000 random polynomials of degree 2 to 9
@@ -55,8 +52,8 @@ const CLEAN_DIVISION: f64 = 1e-8;
 
 /// The Sturm chain of a polynomial, in fixed storage: built once per ray.
 #[derive(Clone, Debug)]
-pub struct SturmSequence {
-    members: [Poly; SLOTS],
+pub struct SturmSequence<const S: usize = SLOTS> {
+    members: [PolyN<S>; S],
     len: usize,
     /// Each member divided by the last one, g = gcd(f0, f0'), when g is not
     /// constant: the Sturm chain of the square-free part f0 / g. Between
@@ -66,7 +63,7 @@ pub struct SturmSequence {
     /// right. Its first member has the same distinct roots as f0, all
     /// simple, so refinement by sign changes works at double roots and
     /// converges fast at triple ones.
-    reduced: [Poly; SLOTS],
+    reduced: [PolyN<S>; S],
     /// Whether `reduced` holds that chain (g non-constant and dividing every
     /// member cleanly); otherwise counts and refinement use `members`.
     use_reduced: bool,
@@ -76,18 +73,18 @@ pub struct SturmSequence {
     degenerate: bool,
 }
 
-impl SturmSequence {
-    pub fn new(p: &Poly) -> SturmSequence {
-        let mut seq = SturmSequence::EMPTY;
+impl<const S: usize> SturmSequence<S> {
+    pub fn new(p: &PolyN<S>) -> Self {
+        let mut seq = Self::EMPTY;
         seq.rebuild(p, p.degree());
         seq
     }
 
     /// Storage for [`SturmSequence::rebuild`].
-    pub(crate) const EMPTY: SturmSequence = SturmSequence {
-        members: [Poly::ZERO; SLOTS],
+    pub(crate) const EMPTY: Self = Self {
+        members: [PolyN::ZERO; S],
         len: 0,
-        reduced: [Poly::ZERO; SLOTS],
+        reduced: [PolyN::ZERO; S],
         use_reduced: false,
         degenerate: false,
     };
@@ -96,7 +93,7 @@ impl SturmSequence {
     /// is written once into its slot, never moved, since a chain is some
     /// 5 KB and copies of it cost more than the arithmetic at low degree.
     /// Slots past the new length keep stale members, which nothing reads.
-    pub(crate) fn rebuild(&mut self, p: &Poly, degree: usize) {
+    pub(crate) fn rebuild(&mut self, p: &PolyN<S>, degree: usize) {
         self.members[0].set_truncated(p, degree);
         self.members[0].normalize();
         self.len = 1;
@@ -107,7 +104,9 @@ impl SturmSequence {
             return;
         }
         let f0_err = EPS * self.members[0].max_abs_coeff();
-        let [f0, f1, ..] = &mut self.members;
+        let [f0, f1, ..] = &mut self.members[..] else {
+            unreachable!("a chain of a non-constant polynomial has two slots")
+        };
         f1.set_derivative(f0);
         let f1_err = normalize_with_error(f1, f0_err * n as f64);
         self.len = 2;
@@ -163,7 +162,7 @@ impl SturmSequence {
         (prev_err, cur_err)
     }
 
-    fn last(&self) -> &Poly {
+    fn last(&self) -> &PolyN<S> {
         &self.members[self.len - 1]
     }
 
@@ -191,7 +190,7 @@ impl SturmSequence {
     /// ending on t, yet f0(0) is a sure -1.58e-12. Checked for the usual
     /// gcds of degree 1 and 2 (their roots by the quadratic formula); a
     /// larger one is trusted.
-    fn vanishes_at_roots_of(&self, g: &Poly) -> bool {
+    fn vanishes_at_roots_of(&self, g: &PolyN<S>) -> bool {
         let c = g.coeffs();
         let mut roots = [0.0; 4];
         let n = match g.degree() {
@@ -216,7 +215,7 @@ impl SturmSequence {
     }
 
     /// The chain that counts: the reduced one when there is one.
-    fn counting(&self) -> &[Poly] {
+    fn counting(&self) -> &[PolyN<S>] {
         if self.use_reduced {
             &self.reduced[..self.len]
         } else {
@@ -227,20 +226,20 @@ impl SturmSequence {
     /// f0, f1, ..., each scaled by a positive factor; f0 is the input
     /// polynomial normalised (so evaluating it never underflows where the
     /// input's scale would).
-    pub fn members(&self) -> &[Poly] {
+    pub fn members(&self) -> &[PolyN<S>] {
         &self.members[..self.len]
     }
 
     /// The chain's last member: gcd(p, p') up to a positive factor. Constant
     /// exactly when p has no multiple roots (as far as f64 can tell).
-    pub fn gcd(&self) -> &Poly {
+    pub fn gcd(&self) -> &PolyN<S> {
         self.last()
     }
 
     /// p / gcd(p, p'), normalised: the same distinct roots, all simple. The
     /// normalised p itself when p is square-free or the division did not
     /// come out clean.
-    pub fn squarefree(&self) -> &Poly {
+    pub fn squarefree(&self) -> &PolyN<S> {
         &self.counting()[0]
     }
 
@@ -273,7 +272,7 @@ impl SturmSequence {
 
 /// The sign of `p(t)`, as -1, 0 or 1; at infinity (or where evaluation
 /// overflows into NaN) the sign of the leading term.
-pub(crate) fn sign_at(p: &Poly, t: f64) -> i8 {
+pub(crate) fn sign_at<const S: usize>(p: &PolyN<S>, t: f64) -> i8 {
     let value = if t.is_finite() { p.eval(t) } else { f64::NAN };
     if value > 0.0 {
         1
@@ -286,7 +285,7 @@ pub(crate) fn sign_at(p: &Poly, t: f64) -> i8 {
     }
 }
 
-fn asymptotic_sign(p: &Poly, t: f64) -> i8 {
+fn asymptotic_sign<const S: usize>(p: &PolyN<S>, t: f64) -> i8 {
     let lead = p.leading();
     let flip = t < 0.0 && p.degree() % 2 == 1;
     if lead == 0.0 {
@@ -300,7 +299,7 @@ fn asymptotic_sign(p: &Poly, t: f64) -> i8 {
 
 /// Normalises `p` in place (see [`Poly::normalized`]) and returns its error
 /// estimate scaled alike, plus the rounding of the scaled coefficients.
-fn normalize_with_error(p: &mut Poly, err: f64) -> f64 {
+fn normalize_with_error<const S: usize>(p: &mut PolyN<S>, err: f64) -> f64 {
     let factor = p.normalize();
     err * factor + EPS * p.max_abs_coeff()
 }
@@ -310,15 +309,15 @@ fn normalize_with_error(p: &mut Poly, err: f64) -> f64 {
 /// noise leading coefficient would blow the next quotient up), and if all
 /// of them are noise the remainder is the zero polynomial, which ends the
 /// chain. Returns the estimate.
-fn noisy_remainder(
-    a: &Poly,
+fn noisy_remainder<const S: usize>(
+    a: &PolyN<S>,
     a_err: f64,
-    d: &Poly,
+    d: &PolyN<S>,
     d_err: f64,
     noise_factor: f64,
-    out: &mut Poly,
+    out: &mut PolyN<S>,
 ) -> f64 {
-    let mut quotient = [0.0; SLOTS];
+    let mut quotient = [0.0; S];
     out.set_remainder(a, d, &mut quotient);
     let err = division_error(a, a_err, d, d_err, &quotient[..=a.degree() - d.degree()]);
     out.drop_noise(noise_factor * err);
@@ -334,7 +333,13 @@ fn noisy_remainder(
 /// errors f64 actually makes, and would end such chains early. The rare
 /// chains where that omission matters end on a gcd that does not divide,
 /// and [`SturmSequence::rebuild`] repairs them.
-fn division_error(a: &Poly, a_err: f64, d: &Poly, d_err: f64, quotient: &[f64]) -> f64 {
+fn division_error<const S: usize>(
+    a: &PolyN<S>,
+    a_err: f64,
+    d: &PolyN<S>,
+    d_err: f64,
+    quotient: &[f64],
+) -> f64 {
     let steps = quotient.len() as f64;
     let qmax = quotient.iter().fold(0.0, |m: f64, q| m.max(q.abs()));
     let scale = a.max_abs_coeff().max(qmax * d.max_abs_coeff());
@@ -344,6 +349,7 @@ fn division_error(a: &Poly, a_err: f64, d: &Poly, d_err: f64, quotient: &[f64]) 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::poly::univariate::Poly;
     use crate::poly::univariate::from_roots;
 
     fn signs(seq: &SturmSequence, t: f64) -> Vec<i8> {

@@ -3,31 +3,46 @@
 
 use crate::poly::MAX_DEGREE;
 
-/// Number of coefficient slots: a polynomial of degree `MAX_DEGREE` has one
-/// more coefficient than its degree.
-const SLOTS: usize = MAX_DEGREE + 1;
+/// Number of coefficient slots of [`Poly`]: a polynomial of degree
+/// `MAX_DEGREE` has one more coefficient than its degree.
+pub const SLOTS: usize = MAX_DEGREE + 1;
 
-/// A polynomial of degree at most [`MAX_DEGREE`], coefficients lowest degree
-/// first.
+/// Slots of the small instantiation, [`SmallPoly`]: degree <= 16, the limit
+/// before degree 35 was allowed. Every query of the solver on such a
+/// polynomial runs on chains of this size, so spheres, quadrics, tori and
+/// most algebraic surfaces pay nothing for the higher limit (a chain is
+/// quadratic in the slot count: 5 KB at 17 slots, 21 KB at 36, and a ray
+/// sets one up per query).
+pub const SMALL_SLOTS: usize = 17;
+
+/// A polynomial of degree at most [`MAX_DEGREE`]: what callers build.
+pub type Poly = PolyN<SLOTS>;
+
+/// A polynomial of degree at most `SMALL_SLOTS - 1`, for the solver's
+/// low-degree instantiation.
+pub type SmallPoly = PolyN<SMALL_SLOTS>;
+
+/// A polynomial of degree at most `S - 1`, coefficients lowest degree
+/// first, in `S` fixed slots.
 ///
 /// Invariant: the leading coefficient is nonzero unless the polynomial is a
 /// constant, and every slot above the degree holds `0.0`, so that the derived
 /// `PartialEq` compares polynomials, not leftovers.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Poly {
-    coeffs: [f64; SLOTS],
+pub struct PolyN<const S: usize> {
+    coeffs: [f64; S],
     degree: usize,
 }
 
-impl Default for Poly {
+impl<const S: usize> Default for PolyN<S> {
     fn default() -> Self {
-        Poly::ZERO
+        Self::ZERO
     }
 }
 
-impl Poly {
-    pub const ZERO: Poly = Poly {
-        coeffs: [0.0; SLOTS],
+impl<const S: usize> PolyN<S> {
+    pub const ZERO: Self = Self {
+        coeffs: [0.0; S],
         degree: 0,
     };
 
@@ -38,26 +53,40 @@ impl Poly {
     /// # Panics
     /// If `coeffs.len() > MAX_DEGREE + 1`: callers validate degrees at the
     /// input boundary (the parser, the `roots` tool).
-    pub fn new(coeffs: &[f64]) -> Poly {
+    pub fn new(coeffs: &[f64]) -> Self {
         assert!(
-            coeffs.len() <= SLOTS,
-            "polynomial of degree {} exceeds MAX_DEGREE = {MAX_DEGREE}",
-            coeffs.len().saturating_sub(1)
+            coeffs.len() <= S,
+            "polynomial of degree {} exceeds MAX_DEGREE = {}",
+            coeffs.len().saturating_sub(1),
+            S - 1
         );
-        let mut array = [0.0; SLOTS];
+        let mut array = [0.0; S];
         array[..coeffs.len()].copy_from_slice(coeffs);
-        Poly::from_array(array, coeffs.len().saturating_sub(1))
+        Self::from_array(array, coeffs.len().saturating_sub(1))
     }
 
     /// Builds from a full coefficient array whose slots above `degree` are
     /// ignored; trims exact zero leading coefficients. For the arithmetic of
     /// this module and the Sturm chain, which work on arrays in place.
-    pub(crate) fn from_array(mut coeffs: [f64; SLOTS], degree: usize) -> Poly {
-        let degree = degree.min(MAX_DEGREE);
+    pub(crate) fn from_array(mut coeffs: [f64; S], degree: usize) -> Self {
+        let degree = degree.min(S - 1);
         coeffs[degree + 1..].fill(0.0);
-        let mut p = Poly { coeffs, degree };
+        let mut p = Self { coeffs, degree };
         p.trim_zeros();
         p
+    }
+
+    /// The same polynomial in `T` slots, if its degree fits: the solver
+    /// moves low-degree input into its small instantiation this way.
+    pub fn resized<const T: usize>(&self) -> Option<PolyN<T>> {
+        (self.degree < T).then(|| {
+            let mut coeffs = [0.0; T];
+            coeffs[..=self.degree].copy_from_slice(self.coeffs());
+            PolyN {
+                coeffs,
+                degree: self.degree,
+            }
+        })
     }
 
     /// The coefficients, lowest degree first; `degree() + 1` of them.
@@ -118,15 +147,15 @@ impl Poly {
         }
     }
 
-    pub fn derivative(&self) -> Poly {
+    pub fn derivative(&self) -> Self {
         if self.degree == 0 {
-            return Poly::ZERO;
+            return Self::ZERO;
         }
-        let mut out = [0.0; SLOTS];
+        let mut out = [0.0; S];
         for (i, slot) in out[..self.degree].iter_mut().enumerate() {
             *slot = (i + 1) as f64 * self.coeffs[i + 1];
         }
-        Poly::from_array(out, self.degree - 1)
+        Self::from_array(out, self.degree - 1)
     }
 
     /// Quotient and remainder of long division; the remainder's degree is
@@ -135,14 +164,14 @@ impl Poly {
     ///
     /// # Panics
     /// If `divisor` is the zero polynomial, like integer division by zero.
-    pub fn div_rem(&self, divisor: &Poly) -> (Poly, Poly) {
+    pub fn div_rem(&self, divisor: &Self) -> (Self, Self) {
         assert!(!divisor.is_zero(), "polynomial division by zero");
         let m = divisor.degree;
         if self.degree < m {
-            return (Poly::ZERO, *self);
+            return (Self::ZERO, *self);
         }
         let mut rem = self.coeffs;
-        let mut quot = [0.0; SLOTS];
+        let mut quot = [0.0; S];
         let lead = divisor.leading();
         for k in (0..=self.degree - m).rev() {
             let q = rem[k + m] / lead;
@@ -154,8 +183,8 @@ impl Poly {
         }
         let rem_degree = m.saturating_sub(1);
         (
-            Poly::from_array(quot, self.degree - m),
-            Poly::from_array(rem, rem_degree),
+            Self::from_array(quot, self.degree - m),
+            Self::from_array(rem, rem_degree),
         )
     }
 
@@ -168,7 +197,7 @@ impl Poly {
     /// coefficient: along a sphere of radius 1e8 the t^2 coefficient is 1 and
     /// the constant 1e16, yet both matter equally. Lengths below 1 count as 1
     /// (then the comparison is the plain coefficients', which keeps more).
-    pub fn trimmed(&self, rel: f64, len: f64) -> Poly {
+    pub fn trimmed(&self, rel: f64, len: f64) -> Self {
         // 1/len^j, computed by repeated multiplication: at most 1, so it
         // underflows harmlessly instead of overflowing at high degree.
         let shrink = 1.0 / len.max(1.0);
@@ -185,7 +214,7 @@ impl Poly {
             }
             degree -= 1;
         }
-        Poly::from_array(self.coeffs, degree)
+        Self::from_array(self.coeffs, degree)
     }
 
     /// NaN coefficients are ignored, as `f64::max` would; written as a plain
@@ -198,12 +227,12 @@ impl Poly {
         })
     }
 
-    pub fn scaled(&self, factor: f64) -> Poly {
+    pub fn scaled(&self, factor: f64) -> Self {
         let mut out = self.coeffs;
         for c in &mut out[..=self.degree] {
             *c *= factor;
         }
-        Poly::from_array(out, self.degree)
+        Self::from_array(out, self.degree)
     }
 
     /// Scaled by a power of two so the largest |coefficient| lands in
@@ -212,7 +241,7 @@ impl Poly {
     /// are set to zero, so results do not depend on whether the thread
     /// flushes subnormals (render threads do). Infinite or NaN coefficients
     /// are left alone: there is no meaningful scale.
-    pub fn normalized(&self) -> Poly {
+    pub fn normalized(&self) -> Self {
         let mut out = *self;
         out.normalize();
         out
@@ -226,7 +255,7 @@ impl Poly {
             return 1.0;
         }
         if max < f64::MIN_POSITIVE {
-            *self = Poly::ZERO;
+            *self = Self::ZERO;
             return 1.0;
         }
         let factor = pow2_reciprocal(max);
@@ -263,10 +292,10 @@ impl Poly {
 /// into fixed storage: returning 144-byte polynomials by value and copying
 /// them into place costs more than the arithmetic at low degree. Each
 /// keeps the invariant (zeros above the degree) whatever the slot held.
-impl Poly {
+impl<const S: usize> PolyN<S> {
     /// Overwrites `self` with the first `degree + 1` coefficients of `p`
     /// (`p` truncated to that degree, exact zero leading ones trimmed).
-    pub(crate) fn set_truncated(&mut self, p: &Poly, degree: usize) {
+    pub(crate) fn set_truncated(&mut self, p: &Self, degree: usize) {
         let degree = degree.min(p.degree);
         self.coeffs[degree + 1..=self.degree.max(degree)].fill(0.0);
         self.coeffs[..=degree].copy_from_slice(&p.coeffs[..=degree]);
@@ -275,7 +304,7 @@ impl Poly {
     }
 
     /// Overwrites `self` with p'.
-    pub(crate) fn set_derivative(&mut self, p: &Poly) {
+    pub(crate) fn set_derivative(&mut self, p: &Self) {
         let old = self.degree;
         let degree = p.degree.saturating_sub(1);
         for i in 0..=degree {
@@ -289,7 +318,7 @@ impl Poly {
     /// Overwrites `self` with rem(a, d) for deg a >= deg d > 0, of degree
     /// deg d - 1 before trimming, and `quotient` with the quotient's
     /// coefficients (lowest first), from which the caller bounds the error.
-    pub(crate) fn set_remainder(&mut self, a: &Poly, d: &Poly, quotient: &mut [f64; SLOTS]) {
+    pub(crate) fn set_remainder(&mut self, a: &Self, d: &Self, quotient: &mut [f64; S]) {
         let (n, m) = (a.degree, d.degree);
         debug_assert!(n >= m && m > 0);
         let mut r = a.coeffs;

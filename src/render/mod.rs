@@ -197,7 +197,7 @@ pub fn render(scene: &Scene, accel: &Accel, options: &RenderOptions) -> Result<R
                             pixels.push(pixel);
                         }
                     }
-                    let stats = tally.stats;
+                    let stats = tally.totals();
                     let done =
                         rays_done.fetch_add(stats.total(), Ordering::Relaxed) + stats.total();
                     if let Some(bar) = &progress {

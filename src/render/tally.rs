@@ -4,6 +4,7 @@
 use serde::Serialize;
 
 use crate::math::{Hit, Vec3};
+use crate::poly::solve::unseparated_count;
 use crate::scene::Scene;
 
 /// How many depths the per-depth counts keep apart; deeper rays share the last.
@@ -20,6 +21,13 @@ pub struct RayStats {
     pub diffuse: u64,
     pub photon: u64,
     pub by_depth: [u64; DEPTHS],
+    /// Root queries (one ray against one analytic surface) whose f64 Sturm
+    /// isolation could not separate two or more roots and reported them as
+    /// one (see [`crate::poly::solve::unseparated_count`]). Not rays, so not
+    /// in [`RayStats::total`]; zero unless roots lie closer together than
+    /// the solver's tolerance, as on high-degree surfaces with clustered
+    /// roots.
+    pub unseparated: u64,
 }
 
 impl RayStats {
@@ -36,6 +44,7 @@ impl std::ops::AddAssign for RayStats {
         self.refraction += o.refraction;
         self.diffuse += o.diffuse;
         self.photon += o.photon;
+        self.unseparated += o.unseparated;
         for (a, b) in self.by_depth.iter_mut().zip(o.by_depth) {
             *a += b;
         }
@@ -98,14 +107,36 @@ impl Node {
     }
 }
 
-/// Counts, and the tree when one is being recorded.
-#[derive(Default)]
+/// Counts, and the tree when one is being recorded. Made and finished
+/// ([`Tally::totals`]) on one thread: the solver's unseparated queries are
+/// a per-thread count, read at both ends.
 pub struct Tally {
     pub stats: RayStats,
     pub tree: Option<Vec<Node>>,
+    /// The thread's unseparated count when the tally was made.
+    pub(super) unseparated_before: u64,
+}
+
+impl Default for Tally {
+    fn default() -> Self {
+        Tally {
+            stats: RayStats::default(),
+            tree: None,
+            unseparated_before: unseparated_count(),
+        }
+    }
 }
 
 impl Tally {
+    /// The counts, with the solver's unseparated queries since the tally
+    /// was made.
+    pub fn totals(&self) -> RayStats {
+        RayStats {
+            unseparated: unseparated_count() - self.unseparated_before,
+            ..self.stats
+        }
+    }
+
     pub fn count(&mut self, kind: RayKind, depth: u32) {
         let s = &mut self.stats;
         match kind {

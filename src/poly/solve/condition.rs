@@ -3,20 +3,19 @@
 //! the f64 interval helpers the methods share (midpoints by value and by
 //! bit pattern, nudges strictly inside an interval).
 
-use crate::poly::MAX_DEGREE;
 use crate::poly::sturm::SturmSequence;
-use crate::poly::univariate::Poly;
+use crate::poly::univariate::PolyN;
 
 use super::isolate::Bracket;
 
 /// What a query searches: the chain that counts, the polynomial that
 /// refines, and the part of (a, b] that can hold roots.
-pub(super) struct Search {
-    pub(super) seq: SturmSequence,
+pub(super) struct Search<const S: usize> {
+    pub(super) seq: SturmSequence<S>,
     /// The input's square-free part (the input, normalised, unless its own
     /// chain found a common factor), kept when the chain counts a trimmed
     /// version of the input (`trimmed`).
-    input: Poly,
+    input: PolyN<S>,
     trimmed: bool,
     lo: f64,
     hi: f64,
@@ -37,12 +36,12 @@ pub(super) struct Search {
 /// wherever the input changes sign.
 pub(super) const DEGENERATE_TRIM: f64 = 1e-8;
 
-impl Search {
+impl<const S: usize> Search<S> {
     /// Storage for [`Search::prepare`]: a chain is some 5 KB, so queries
     /// build it in place on their own stack instead of returning it.
-    pub(super) const EMPTY: Search = Search {
+    pub(super) const EMPTY: Self = Self {
         seq: SturmSequence::EMPTY,
-        input: Poly::ZERO,
+        input: PolyN::ZERO,
         trimmed: false,
         lo: 0.0,
         hi: 0.0,
@@ -50,7 +49,7 @@ impl Search {
 
     /// Sets up the search of (a, b] for roots of `p`; false if no root can
     /// lie there (or `p` is constant).
-    pub(super) fn prepare(&mut self, p: &Poly, a: f64, b: f64) -> bool {
+    pub(super) fn prepare(&mut self, p: &PolyN<S>, a: f64, b: f64) -> bool {
         let Some((lo, hi)) = clip_to_root_bound(p, a, b) else {
             return false;
         };
@@ -62,7 +61,7 @@ impl Search {
         self.trimmed = false;
         if self.seq.is_degenerate() {
             let trimmed = without_negligible_terms(p, t_max, DEGENERATE_TRIM);
-            if trimmed != Poly::new(&p.coeffs()[..=degree]) {
+            if trimmed != PolyN::<S>::new(&p.coeffs()[..=degree]) {
                 self.input = *self.seq.squarefree();
                 self.seq.rebuild(&trimmed, trimmed.degree());
                 self.trimmed = true;
@@ -74,7 +73,7 @@ impl Search {
     /// The polynomial whose sign changes refine roots: the input's
     /// square-free part if the chain counts a trimmed input without finding
     /// multiple roots, the chain's own square-free part otherwise.
-    pub(super) fn refine(&self) -> &Poly {
+    pub(super) fn refine(&self) -> &PolyN<S> {
         if self.trimmed && self.seq.gcd().degree() == 0 {
             &self.input
         } else {
@@ -84,7 +83,7 @@ impl Search {
 
     /// The input's square-free part, where [`Search::refine`] is the
     /// trimmed one's: the better polynomial wherever it changes sign.
-    pub(super) fn untrimmed(&self) -> Option<&Poly> {
+    pub(super) fn untrimmed(&self) -> Option<&PolyN<S>> {
         (self.trimmed && self.seq.gcd().degree() > 0).then_some(&self.input)
     }
 
@@ -102,7 +101,11 @@ impl Search {
 /// (a, b) narrowed to Cauchy's bound, |t| < 1 + max |c_i / c_n| for every
 /// root, so bisection starts from finite ends; `None` if nothing is left or
 /// the polynomial is constant (no isolated roots).
-pub(super) fn clip_to_root_bound(p: &Poly, a: f64, b: f64) -> Option<(f64, f64)> {
+pub(super) fn clip_to_root_bound<const S: usize>(
+    p: &PolyN<S>,
+    a: f64,
+    b: f64,
+) -> Option<(f64, f64)> {
     let (lead, rest) = p.coeffs().split_last()?;
     if rest.is_empty() {
         return None;
@@ -119,8 +122,8 @@ pub(super) fn clip_to_root_bound(p: &Poly, a: f64, b: f64) -> Option<(f64, f64)>
 /// outside. Unlike [`Poly::trimmed`] this judges terms where they are
 /// evaluated, so it never drops a small leading coefficient that matters on
 /// a wide interval.
-pub(super) fn negligible_above(p: &Poly, t_max: f64, rel: f64) -> usize {
-    let mut terms = [0.0; MAX_DEGREE + 1];
+pub(super) fn negligible_above<const S: usize>(p: &PolyN<S>, t_max: f64, rel: f64) -> usize {
+    let mut terms = [0.0; S];
     let mut power = 1.0;
     for (term, ci) in terms.iter_mut().zip(p.coeffs()) {
         *term = ci.abs() * power;
@@ -146,10 +149,14 @@ pub(super) fn negligible_above(p: &Poly, t_max: f64, rel: f64) -> usize {
 /// of the two ratios peaks where the two terms are equal, or at `t_max`).
 /// A term small only against the largest term at `t_max` is kept: near
 /// t = 0 it may decide where the roots are.
-pub(super) fn without_negligible_terms(p: &Poly, t_max: f64, rel: f64) -> Poly {
+pub(super) fn without_negligible_terms<const S: usize>(
+    p: &PolyN<S>,
+    t_max: f64,
+    rel: f64,
+) -> PolyN<S> {
     let degree = negligible_above(p, t_max, rel);
     let c = p.coeffs();
-    let mut out = [0.0; MAX_DEGREE + 1];
+    let mut out = [0.0; S];
     out[..=degree].copy_from_slice(&c[..=degree]);
     // In logarithms: the sizes may span hundreds of orders of magnitude,
     // and a power that underflowed to 0 would make any term look dominated.
@@ -169,7 +176,7 @@ pub(super) fn without_negligible_terms(p: &Poly, t_max: f64, rel: f64) -> Poly {
             *slot = 0.0;
         }
     }
-    Poly::from_array(out, degree)
+    PolyN::<S>::from_array(out, degree)
 }
 
 /// Whether (a, b) is a non-empty interval; false for NaN ends.

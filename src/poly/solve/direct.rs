@@ -4,7 +4,7 @@
 
 use crate::poly::MAX_DEGREE;
 use crate::poly::closed;
-use crate::poly::univariate::Poly;
+use crate::poly::univariate::PolyN;
 
 use super::condition::{clip_to_root_bound, negligible_above, opposite};
 use super::{Method, Solver};
@@ -12,7 +12,7 @@ use super::{Method, Solver};
 impl Solver {
     /// Whether this method solves `p` without a Sturm chain: `Closed` up to
     /// degree 4, `Yuksel` always.
-    pub(super) fn direct(&self, p: &Poly) -> bool {
+    pub(super) fn direct<const S: usize>(&self, p: &PolyN<S>) -> bool {
         match self.method {
             Method::Closed => p.degree() <= 4,
             Method::Yuksel => true,
@@ -26,7 +26,13 @@ impl Solver {
     /// are dropped first, as on the Sturm path: a formula divides by the
     /// leading coefficient. Yuksel's method stops after the first root above
     /// `after` (the closed forms find all at once).
-    pub(super) fn direct_roots(&self, p: &Poly, a: f64, b: f64, after: f64) -> Option<DirectRoots> {
+    pub(super) fn direct_roots<const S: usize>(
+        &self,
+        p: &PolyN<S>,
+        a: f64,
+        b: f64,
+        after: f64,
+    ) -> Option<DirectRoots> {
         if !self.direct(p) {
             return None;
         }
@@ -35,7 +41,7 @@ impl Solver {
             return Some(found);
         };
         let degree = negligible_above(p, lo.abs().max(hi.abs()), f64::EPSILON);
-        let p = Poly::new(&p.coeffs()[..=degree]);
+        let p = PolyN::<S>::new(&p.coeffs()[..=degree]);
         if self.method == Method::Yuksel {
             self.derivative_intervals(&p, lo, hi, after, &mut found);
             return Some(found);
@@ -58,9 +64,16 @@ impl Solver {
     /// formed down to degree 2, whose roots the quadratic formula gives;
     /// then each level's roots are the sign changes of p^(k) between the
     /// roots of p^(k+1), where it is monotonic.
-    fn derivative_intervals(&self, p: &Poly, lo: f64, hi: f64, after: f64, out: &mut DirectRoots) {
+    fn derivative_intervals<const S: usize>(
+        &self,
+        p: &PolyN<S>,
+        lo: f64,
+        hi: f64,
+        after: f64,
+        out: &mut DirectRoots,
+    ) {
         let deepest = p.degree().saturating_sub(2);
-        let mut chain = [Poly::ZERO; MAX_DEGREE + 1];
+        let mut chain = [PolyN::ZERO; S];
         chain[0] = *p;
         for k in 1..=deepest {
             chain[k] = chain[k - 1].derivative();
@@ -84,9 +97,9 @@ impl Solver {
     /// The roots of f in [lo, hi], where f is monotonic between consecutive
     /// `critical` points: one per piece whose ends have opposite signs, or
     /// an end where f is exactly 0. Stops after the first root above `after`.
-    fn monotonic_pieces(
+    fn monotonic_pieces<const S: usize>(
         &self,
-        f: &Poly,
+        f: &PolyN<S>,
         lo: f64,
         hi: f64,
         critical: &DirectRoots,
@@ -137,10 +150,20 @@ impl Solver {
 
 /// Roots found without the f64 Sturm chain (closed forms, derivative
 /// intervals, the exact path), increasing; one of equal neighbours kept.
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Copy, Debug)]
 pub(super) struct DirectRoots {
     roots: [f64; MAX_DEGREE],
     len: usize,
+}
+
+/// Written out because std derives `Default` for arrays of at most 32.
+impl Default for DirectRoots {
+    fn default() -> Self {
+        DirectRoots {
+            roots: [0.0; MAX_DEGREE],
+            len: 0,
+        }
+    }
 }
 
 impl DirectRoots {

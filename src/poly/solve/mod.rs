@@ -35,10 +35,57 @@ pub use method::{Method, Solver};
 
 use crate::poly::MAX_DEGREE;
 use crate::poly::exact::{Isolation, Relative};
-use crate::poly::univariate::{Poly, normalize_pow2};
+use crate::poly::univariate::{Poly, PolyN, SMALL_SLOTS, normalize_pow2};
 
 use condition::{Search, is_interval, opposite};
 use direct::DirectRoots;
+
+use std::cell::Cell;
+
+thread_local! {
+    /// See [`unseparated_count`].
+    static UNSEPARATED: Cell<u64> = const { Cell::new(0) };
+}
+
+/// How many queries on this thread so far could not trust the f64 Sturm
+/// chain to separate their roots: either the chain was degenerate at degree
+/// 17 to 35 (a remainder f64 could not carry, so its counts are a best
+/// guess and can skip roots, as on Wilkinson-like polynomials), or
+/// isolation ended on a bracket no wider than the tolerance in which the
+/// chain still counted two or more distinct roots (reported as one root at
+/// the bracket's midpoint). A query counts once however many such brackets
+/// it met; `any` never refines and never counts, nor does an accepted
+/// warm start. The count
+/// only grows: a caller reads it before and after its own work (the render
+/// does per tile) and takes the difference, which depends on that work
+/// alone, so the totals are the same for any thread count.
+pub fn unseparated_count() -> u64 {
+    UNSEPARATED.with(Cell::get)
+}
+
+/// Records one query that could not separate its roots.
+fn note_unseparated() {
+    UNSEPARATED.with(|c| c.set(c.get() + 1));
+}
+
+/// Runs `$call` with `$q` bound to the query's polynomial in the small
+/// instantiation ([`SMALL_SLOTS`]) when its degree fits, else to the input
+/// itself: a query sets up a Sturm chain whose size is quadratic in the slot
+/// count, and most rays meet degree 4 or less.
+macro_rules! by_degree {
+    ($p:expr, |$q:ident| $call:expr) => {
+        match $p.resized::<SMALL_SLOTS>() {
+            Some(small) => {
+                let $q = &small;
+                $call
+            }
+            None => {
+                let $q = $p;
+                $call
+            }
+        }
+    };
+}
 
 impl Solver {
     /// All distinct real roots in (a, b], increasing, written to `out`;
@@ -114,6 +161,16 @@ impl Solver {
     /// The f64 roots in (a, b], unproven: from the closed forms or
     /// Yuksel's method where they apply, else from the Sturm chain.
     fn unproven_roots(&self, p: &Poly, a: f64, b: f64, out: &mut [f64; MAX_DEGREE]) -> usize {
+        by_degree!(p, |q| self.unproven_roots_in(q, a, b, out))
+    }
+
+    fn unproven_roots_in<const S: usize>(
+        &self,
+        p: &PolyN<S>,
+        a: f64,
+        b: f64,
+        out: &mut [f64; MAX_DEGREE],
+    ) -> usize {
         if !is_interval(a, b) {
             return 0;
         }
@@ -132,6 +189,10 @@ impl Solver {
     /// so a farther root is never returned while a nearer one exists. A root
     /// exactly at b is not reported.
     pub fn nearest(&self, p: &Poly, a: f64, b: f64) -> Option<f64> {
+        by_degree!(p, |q| self.nearest_of(q, a, b))
+    }
+
+    fn nearest_of<const S: usize>(&self, p: &PolyN<S>, a: f64, b: f64) -> Option<f64> {
         if !is_interval(a, b) {
             return None;
         }
@@ -149,6 +210,10 @@ impl Solver {
     /// refines; a sign change between the ends answers before the chain is
     /// even built. `Closed` answers from the closed-form roots instead.
     pub fn any(&self, p: &Poly, a: f64, b: f64) -> bool {
+        by_degree!(p, |q| self.any_of(q, a, b))
+    }
+
+    fn any_of<const S: usize>(&self, p: &PolyN<S>, a: f64, b: f64) -> bool {
         if !is_interval(a, b) {
             return false;
         }
@@ -172,11 +237,21 @@ impl Solver {
     /// nearest root; otherwise this falls back to [`Solver::nearest`] on the
     /// same chain. `Closed` ignores the guess.
     pub fn nearest_from(&self, p: &Poly, a: f64, b: f64, guess: f64) -> Option<f64> {
+        by_degree!(p, |q| self.nearest_from_of(q, a, b, guess))
+    }
+
+    fn nearest_from_of<const S: usize>(
+        &self,
+        p: &PolyN<S>,
+        a: f64,
+        b: f64,
+        guess: f64,
+    ) -> Option<f64> {
         if !is_interval(a, b) {
             return None;
         }
         if matches!(self.method, Method::Closed | Method::Yuksel) && self.direct(p) {
-            return self.nearest(p, a, b);
+            return self.nearest_of(p, a, b);
         }
         let mut search = Search::EMPTY;
         if !search.prepare(p, a, b) {

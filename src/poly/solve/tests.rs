@@ -843,3 +843,43 @@ proptest! {
         }
     }
 }
+
+/// (t − 1e-13)(t − 3e-13): two simple roots 2e-13 apart near 0, where the
+/// tolerance is 1e-12 absolute. The chain counts two, and bisection
+/// reaches a bracket narrower than the tolerance before it splits them:
+/// one unseparated query, on this thread, answered within the tolerance of
+/// both. Well separated roots count none.
+#[test]
+fn unseparated_roots_are_counted() {
+    let solver = Solver::default();
+    let before = unseparated_count();
+    let far = from_roots(1.0, &[0.5, 2.0, 3.0]);
+    let t = solver.nearest(&far, 0.0, 10.0).expect("a root");
+    assert!((t - 0.5).abs() <= 1e-12, "{t}");
+    assert_eq!(unseparated_count(), before);
+    let pair = from_roots(1.0, &[1e-13, 3e-13]);
+    let t = solver.nearest(&pair, -1.0, 1.0).expect("a root");
+    assert!(
+        (t - 1e-13).abs() <= 1e-12 && (t - 3e-13).abs() <= 1e-12,
+        "{t}"
+    );
+    assert_eq!(unseparated_count(), before + 1);
+    let mut out = [0.0; MAX_DEGREE];
+    let n = solver.roots(&pair, -1.0, 1.0, &mut out);
+    assert!(n >= 1, "the exact path answers: {:?}", &out[..n]);
+    assert_eq!(unseparated_count(), before + 2, "its f64 try counted");
+}
+
+/// Wilkinson-like: 26 equally spaced roots 4k/27 in f64. The rounded
+/// coefficients leave the f64 chain degenerate, so its counts are no proof
+/// (in the accuracy study they skip the first roots): the query counts as
+/// unseparated whatever it answers.
+#[test]
+fn degenerate_chains_count_as_unseparated() {
+    let roots: Vec<f64> = (1..=26).map(|k| 4.0 * f64::from(k) / 27.0).collect();
+    let p = from_roots(1.0, &roots);
+    assert!(SturmSequence::new(&p).is_degenerate());
+    let before = unseparated_count();
+    let _ = Solver::default().nearest(&p, 0.0, 4.0);
+    assert_eq!(unseparated_count(), before + 1);
+}

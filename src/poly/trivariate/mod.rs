@@ -3,20 +3,17 @@
 //! Q(t) whose roots are hits, and evaluates the gradient for normals.
 //!
 //! Every polynomial here has total degree at most [`MAX_DEGREE`], so the
-//! per-ray work can live in fixed-size stack arrays, and the arithmetic used
-//! while expanding an expression can accumulate in one dense cube of
-//! (MAX_DEGREE + 1)³ coefficients.
+//! per-ray work can live in fixed-size stack arrays. Products while
+//! expanding an expression are sparse lists of terms, merged by a stable
+//! sort.
 
 use std::fmt;
 
 use crate::poly::MAX_DEGREE;
 use crate::poly::univariate::{nonzero, normalize_pow2, scale_pow2_normal};
 
-/// Entries per axis in the dense accumulator: exponents 0..=MAX_DEGREE.
+/// Exponents per axis: 0..=MAX_DEGREE.
 const SIDE: usize = MAX_DEGREE + 1;
-/// Size of the dense accumulator; most of the cube lies above MAX_DEGREE
-/// and stays zero, but a cube makes indexing a multiply-add.
-const CUBE: usize = SIDE * SIDE * SIDE;
 
 /// A polynomial in x, y, z with f64 coefficients.
 ///
@@ -33,12 +30,6 @@ pub struct Trivariate {
 
 fn total(e: [u8; 3]) -> usize {
     usize::from(e[0]) + usize::from(e[1]) + usize::from(e[2])
-}
-
-/// Position in the dense cube; descending index is descending lexicographic
-/// order, so scanning the cube backwards yields sorted terms.
-fn cube_index(e: [u8; 3]) -> usize {
-    (usize::from(e[0]) * SIDE + usize::from(e[1])) * SIDE + usize::from(e[2])
 }
 
 impl Trivariate {
@@ -91,26 +82,6 @@ impl Trivariate {
             terms: merged,
             degree,
         }
-    }
-
-    /// Collects the nonzero entries of a dense cube; the caller guarantees
-    /// that only entries of total degree <= MAX_DEGREE were written.
-    fn from_cube(cube: &[f64]) -> Trivariate {
-        let mut terms = Vec::new();
-        let mut degree = 0;
-        for i in (0..CUBE).rev() {
-            let c = cube[i];
-            if nonzero(c) {
-                let e = [
-                    (i / (SIDE * SIDE)) as u8,
-                    (i / SIDE % SIDE) as u8,
-                    (i % SIDE) as u8,
-                ];
-                degree = degree.max(total(e));
-                terms.push((e, c));
-            }
-        }
-        Trivariate { terms, degree }
     }
 
     /// The monomials: exponents of (x, y, z) and coefficient, sorted as the
@@ -317,7 +288,7 @@ impl Trivariate {
             }
             list
         });
-        let mut result = vec![0.0; CUBE];
+        let mut result = Vec::new();
         let terms = self.terms.as_slice();
         let mut i = 0;
         while i < terms.len() {
@@ -325,20 +296,20 @@ impl Trivariate {
             let mut t = Trivariate::zero();
             while i < terms.len() && terms[i].0[0] == a {
                 let b = terms[i].0[1];
-                let mut s = vec![0.0; CUBE];
+                let mut s = Vec::new();
                 while i < terms.len() && terms[i].0[0] == a && terms[i].0[1] == b {
                     let ([_, _, k], f) = terms[i];
                     for &(e, g) in &powers[2][usize::from(k)].terms {
-                        s[cube_index(e)] += f * g;
+                        s.push((e, f * g));
                     }
                     i += 1;
                 }
-                let s = Trivariate::from_cube(&s);
+                let s = Trivariate::from_terms(s);
                 t = t.add(&powers[1][usize::from(b)].mul_unchecked(&s));
             }
-            powers[0][usize::from(a)].mul_into(&t, &mut result);
+            powers[0][usize::from(a)].products(&t, &mut result);
         }
-        Trivariate::from_cube(&result)
+        Trivariate::from_terms(result)
     }
 
     /// self + other.
@@ -416,19 +387,22 @@ impl Trivariate {
     }
 
     fn mul_unchecked(&self, other: &Trivariate) -> Trivariate {
-        let mut cube = vec![0.0; CUBE];
-        self.mul_into(other, &mut cube);
-        Trivariate::from_cube(&cube)
+        let mut terms = Vec::with_capacity(self.terms.len() * other.terms.len());
+        self.products(other, &mut terms);
+        Trivariate::from_terms(terms)
     }
 
-    /// Adds self · other into a dense cube; degrees must sum to at most
-    /// MAX_DEGREE (every exponent then fits the cube).
-    fn mul_into(&self, other: &Trivariate, cube: &mut [f64]) {
+    /// Appends the products of self's terms with other's; degrees must sum
+    /// to at most MAX_DEGREE. [`Trivariate::from_terms`] sums equal
+    /// exponents in the order they were appended (its sort is stable), the
+    /// order a dense accumulator adds them in, so results round the same as
+    /// they did when this summed into a (MAX_DEGREE + 1)³ cube, which cost
+    /// 46,656 entries per product at degree 35.
+    fn products(&self, other: &Trivariate, out: &mut Vec<([u8; 3], f64)>) {
         debug_assert!(self.degree + other.degree <= MAX_DEGREE);
         for &(e, c) in &self.terms {
-            let base = cube_index(e);
             for &(f, g) in &other.terms {
-                cube[base + cube_index(f)] += c * g;
+                out.push(([e[0] + f[0], e[1] + f[1], e[2] + f[2]], c * g));
             }
         }
     }

@@ -92,7 +92,7 @@ impl PhotonMap {
                 let photons = (c * CHUNK..count.min((c + 1) * CHUNK))
                     .filter_map(|i| tracer.trace(i, &mut tally))
                     .collect();
-                Some((photons, tally.stats))
+                Some((photons, tally.totals()))
             })
             .collect::<Option<_>>()?;
         let mut rays = RayStats::default();

@@ -59,6 +59,9 @@ pub fn all_cases(root: &Path, width: u32, synthetic: usize) -> Result<Vec<CaseSe
     sets.push(clustered(synthetic));
     sets.push(repeated(synthetic));
     sets.push(noisy(synthetic));
+    // A quarter as many: the exact reference costs some 50 times more at
+    // degree 35 than at degree 10.
+    sets.push(high_degree(synthetic / 4));
     Ok(sets)
 }
 
@@ -163,6 +166,42 @@ pub fn noisy(n: usize) -> CaseSet {
     })
 }
 
+/// Degree 20 to 35 (POV-Ray's `poly` limit), three kinds by turns:
+/// Chebyshev-spaced simple roots 2 + 2cos((2k − 1)π / 2n), crowding
+/// towards both ends of (0, 4); equally spaced ones (Wilkinson's
+/// polynomial, scaled into (0, 4)), whose rounded coefficients move the
+/// upper roots far or make them complex; and a cluster of 2 to 4 roots
+/// 1e-3 to 1e-9 apart among equally spaced others in (-1, 5). Built from
+/// their roots in f64 like the other sets, so what is measured is the
+/// roots of the rounded polynomial, which the exact reference gives.
+pub fn high_degree(n: usize) -> CaseSet {
+    synthetic("high-degree", 0x0035, n, |rng, i| {
+        let degree = 20 + (rng.next_u64() % 16) as usize;
+        let spaced = |k: usize, from: f64, to: f64| from + (to - from) * k as f64 / degree as f64;
+        let roots: Vec<f64> = match i % 3 {
+            0 => (1..=degree)
+                .map(|k| {
+                    let angle = (2 * k - 1) as f64 * std::f64::consts::PI / (2 * degree) as f64;
+                    2.0 + 2.0 * angle.cos()
+                })
+                .collect(),
+            1 => (1..=degree)
+                .map(|k| spaced(k, 0.0, 4.0 * degree as f64 / (degree + 1) as f64))
+                .collect(),
+            _ => {
+                let size = 2 + (rng.next_u64() % 3) as usize;
+                let gap = 10f64.powf(-3.0 - 6.0 * f64::from(rng.next_f32()));
+                let centre = 0.2 + 3.0 * f64::from(rng.next_f32());
+                let cluster = (0..size).map(|k| centre + gap * k as f64);
+                cluster
+                    .chain((size..degree).map(|k| spaced(k, -1.0, 5.0)))
+                    .collect()
+            }
+        };
+        from_roots(lead(rng), &roots)
+    })
+}
+
 /// A synthetic set of `n` polynomials from `make(rng, index)`, each solved
 /// on (0, 4), drawn from a generator seeded by `seed` so every run of the
 /// study sees the same cases.
@@ -199,6 +238,7 @@ fn lead(rng: &mut Rng) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::poly::exact::exact_count;
     use crate::poly::sturm::SturmSequence;
 
     #[test]
@@ -223,6 +263,23 @@ mod tests {
         };
         assert!(noisy.cases.iter().all(|c| (3..=10).contains(&c.q.degree())));
         assert!(noisy.cases.iter().filter(|c| tiny(c)).count() > 25);
+    }
+
+    #[test]
+    fn the_high_degree_set_spans_degree_20_to_35() {
+        let set = high_degree(60);
+        assert_eq!(set.cases.len(), 60);
+        let degrees: Vec<usize> = set.cases.iter().map(|c| c.q.degree()).collect();
+        assert!(degrees.iter().all(|d| (20..=35).contains(d)), "{degrees:?}");
+        assert!(
+            degrees.contains(&20) || degrees.contains(&35),
+            "{degrees:?}"
+        );
+        for c in &set.cases {
+            // Every case was built with roots in (0, 4); rounding keeps some.
+            let n = exact_count(c.q.coeffs(), 0.0, c.hi).expect("finite");
+            assert!(n > 0, "{:?}", c.q);
+        }
     }
 
     #[test]
