@@ -338,8 +338,12 @@ fn case(
     rays: &[[f32; 8]],
     run: &Run,
 ) -> Result<(), TestCaseError> {
-    let dir = std::env::temp_dir().join(format!("sturmray-fuzz-cli-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
+    // A fresh folder per case, removed when the case ends.
+    let scratch = tempfile::Builder::new()
+        .prefix("sturmray-fuzz-cli-")
+        .tempdir()
+        .unwrap();
+    let dir = scratch.path();
     std::fs::create_dir_all(dir.join("sub")).unwrap();
     std::fs::write(dir.join("s.toml"), scene).unwrap();
     std::fs::write(dir.join("m.obj"), obj).unwrap();
@@ -354,7 +358,7 @@ fn case(
         })
         .collect();
     sturmray::io::npy::write_rays(&dir.join("rays.npy"), &rays).unwrap();
-    let before = snapshot(&dir);
+    let before = snapshot(dir);
     let mut commands: Vec<(Vec<String>, Vec<String>)> = Vec::new();
     let owned = |args: &[&str]| args.iter().map(|s| s.to_string()).collect::<Vec<_>>();
     match run {
@@ -390,7 +394,7 @@ fn case(
     let mut allowed: Vec<PathBuf> = Vec::new();
     for (args, outs) in &commands {
         let args: Vec<&str> = args.iter().map(String::as_str).collect();
-        let (code, message) = sturmray(&dir, &args)?;
+        let (code, message) = sturmray(dir, &args)?;
         if std::env::var_os("FUZZ_CLI_VERBOSE").is_some() {
             eprintln!(
                 "{args:?} -> {code:?} {}",
@@ -406,22 +410,22 @@ fn case(
         let at = byte % bytes.len();
         bytes[at] ^= flip;
         std::fs::write(dir.join("a.state"), &bytes).unwrap();
-        let damaged = snapshot(&dir);
+        let damaged = snapshot(dir);
         for args in [
             &["merge", "m.exr", "a.exr", "b.exr"][..],
             &[
                 "render", "s.toml", "--tile", "0/2", "-o", "a.exr", "--resume",
             ],
         ] {
-            let (code, message) = sturmray(&dir, args)?;
+            let (code, message) = sturmray(dir, args)?;
             check_exit(args, code, &message)?;
             // A damaged state is refused, never merged or resumed.
             prop_assert_eq!(code, Some(2), "{:?} accepted a damaged state", args);
         }
-        prop_assert!(snapshot(&dir) == damaged, "a refused run changed files");
+        prop_assert!(snapshot(dir) == damaged, "a refused run changed files");
         return check_outputs(&damaged);
     }
-    let after = snapshot(&dir);
+    let after = snapshot(dir);
     for (path, bytes) in &after {
         if before.get(path) != Some(bytes) {
             prop_assert!(

@@ -5,8 +5,6 @@
 
 mod fuzz_common;
 
-use std::path::PathBuf;
-
 use proptest::prelude::*;
 use sturmray::accel::{Accel, Backend};
 use sturmray::error::Error;
@@ -17,11 +15,12 @@ fn fail(e: Error) -> TestCaseError {
     TestCaseError::fail(e.to_string())
 }
 
-/// A scratch folder per test (cases of one test run one after another).
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("sturmray-fuzz-{}-{name}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+/// A scratch folder per case, removed when the case ends.
+fn scratch(name: &str) -> tempfile::TempDir {
+    tempfile::Builder::new()
+        .prefix(&format!("sturmray-fuzz-{name}-"))
+        .tempdir()
+        .unwrap()
 }
 
 /// Checks what every load must give: a scene whose indices and bounds are
@@ -217,7 +216,8 @@ proptest! {
     /// integrators.
     #[test]
     fn fuzz_scene_parser(edits in prop::collection::vec(edit(), 0..6)) {
-        let dir = scratch("scene");
+        let scratch = scratch("scene");
+        let dir = scratch.path();
         std::fs::write(dir.join("m.obj"), MESH).unwrap();
         let mut text = SCENE.to_owned();
         for e in &edits {
@@ -305,7 +305,8 @@ proptest! {
         obj in prop::collection::vec(obj_line(), 0..30),
         mtl in prop::collection::vec(mtl_line(), 0..12),
     ) {
-        let dir = scratch("obj");
+        let scratch = scratch("obj");
+        let dir = scratch.path();
         let (obj, mtl) = (obj.join("\n"), mtl.join("\n"));
         std::fs::write(dir.join("m.mtl"), &mtl).unwrap();
         let path = dir.join("o.obj");

@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
-use common::{SQUARE, interrupt, plane_scene, scratch, sturmray, write};
+use common::{SQUARE, Scratch, interrupt, plane_scene, scratch, sturmray, write};
 use sturmray::io::state::{StateHeader, read_state, write_state};
 
 fn stderr(out: &Output) -> String {
@@ -18,7 +18,7 @@ fn stderr(out: &Output) -> String {
 }
 
 /// `square.obj` and `s.toml` (the plane scene) in a fresh folder.
-fn plane(name: &str) -> PathBuf {
+fn plane(name: &str) -> Scratch {
     let dir = scratch(name);
     write(&dir, "square.obj", SQUARE);
     write(&dir, "s.toml", &plane_scene(""));

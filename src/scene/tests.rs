@@ -6,12 +6,13 @@ use std::path::{Path, PathBuf};
 use super::*;
 use crate::shading::MaterialKind;
 
-/// A fresh directory under the system temp dir for one test's files.
-pub(super) fn scratch(test: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("sturmray-scene-{}-{test}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+/// A fresh directory under the system temp dir for one test's files,
+/// removed when the returned guard is dropped.
+pub(super) fn scratch(test: &str) -> tempfile::TempDir {
+    tempfile::Builder::new()
+        .prefix(&format!("sturmray-scene-{test}-"))
+        .tempdir()
+        .unwrap()
 }
 
 pub(super) fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
@@ -53,9 +54,10 @@ illum 2
 
 #[test]
 fn objects_fans_and_materials() {
-    let dir = scratch("fans");
-    write(&dir, "m.mtl", MTL);
-    let scene = Scene::load(&write(&dir, "a.obj", QUAD_AND_PENTAGON)).unwrap();
+    let scratch = scratch("fans");
+    let dir = scratch.path();
+    write(dir, "m.mtl", MTL);
+    let scene = Scene::load(&write(dir, "a.obj", QUAD_AND_PENTAGON)).unwrap();
     assert_eq!(scene.meshes.len(), 2);
     let [first, second] = &scene.meshes[..] else {
         unreachable!()
@@ -91,8 +93,9 @@ fn objects_fans_and_materials() {
 
 #[test]
 fn bare_obj_gets_camera_light_and_grey() {
-    let dir = scratch("bare");
-    let path = write(&dir, "tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    let scratch = scratch("bare");
+    let dir = scratch.path();
+    let path = write(dir, "tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
     let scene = Scene::load(&path).unwrap();
     assert_eq!(scene.name, "tri");
     assert_eq!(scene.lights.len(), 1);
@@ -109,9 +112,10 @@ fn bare_obj_gets_camera_light_and_grey() {
 
 #[test]
 fn degenerate_triangles_keep_their_index() {
-    let dir = scratch("degenerate");
+    let scratch = scratch("degenerate");
+    let dir = scratch.path();
     let path = write(
-        &dir,
+        dir,
         "d.obj",
         "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 1 2\nf 1 2 3\n",
     );
@@ -124,7 +128,8 @@ fn degenerate_triangles_keep_their_index() {
 
 #[test]
 fn obj_errors_name_the_line() {
-    let dir = scratch("objerr");
+    let scratch = scratch("objerr");
+    let dir = scratch.path();
     let cases = [
         ("v 0 0\n", ":1: expected 3 coordinates"),
         (
@@ -142,7 +147,7 @@ fn obj_errors_name_the_line() {
         ("usemtl ghost\n", ":1: material `ghost` is not defined"),
     ];
     for (text, expected) in cases {
-        let path = write(&dir, "bad.obj", text);
+        let path = write(dir, "bad.obj", text);
         let err = Scene::load(&path).unwrap_err();
         assert!(err.is_bad_input());
         let msg = message(err);
@@ -187,9 +192,10 @@ irradiance = [1, 1, 1]
 
 #[test]
 fn toml_scene_settings_and_transforms() {
-    let dir = scratch("toml");
-    write(&dir, "tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
-    let scene = Scene::load(&write(&dir, "s.toml", TOML)).unwrap();
+    let scratch = scratch("toml");
+    let dir = scratch.path();
+    write(dir, "tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    let scene = Scene::load(&write(dir, "s.toml", TOML)).unwrap();
     assert_eq!(scene.name, "s");
     assert_eq!(
         (scene.camera.width, scene.camera.height, scene.camera.fov),
@@ -218,8 +224,9 @@ fn toml_scene_settings_and_transforms() {
 
 #[test]
 fn toml_errors_name_line_and_suggest() {
-    let dir = scratch("tomlerr");
-    write(&dir, "tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    let scratch = scratch("tomlerr");
+    let dir = scratch.path();
+    write(dir, "tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
     let cases = [
         (
             TOML.replace("fov = 30", "fvo = 30"),
@@ -281,14 +288,14 @@ fn toml_errors_name_line_and_suggest() {
         ),
     ];
     for (text, expected) in cases {
-        let err = Scene::load(&write(&dir, "bad.toml", &text)).unwrap_err();
+        let err = Scene::load(&write(dir, "bad.toml", &text)).unwrap_err();
         assert!(err.is_bad_input(), "{err}");
         let msg = message(err);
         for part in expected {
             assert!(msg.contains(part), "expected {part:?} in: {msg}");
         }
     }
-    let err = Scene::load(&write(&dir, "scene.txt", "")).unwrap_err();
+    let err = Scene::load(&write(dir, "scene.txt", "")).unwrap_err();
     assert!(message(err).contains("expected a scene file ending in .toml or .obj"));
 }
 
@@ -310,8 +317,9 @@ transform = { translate = [3, 0, 0] }
 
 #[test]
 fn analytic_objects_load_as_one_geometry_after_the_meshes() {
-    let dir = scratch("shapes");
-    let scene = Scene::load(&write(&dir, "s.toml", SHAPES)).unwrap();
+    let scratch = scratch("shapes");
+    let dir = scratch.path();
+    let scene = Scene::load(&write(dir, "s.toml", SHAPES)).unwrap();
     assert_eq!(scene.shapes.len(), 2);
     assert_eq!(
         scene.shapes_geom_id(),
@@ -325,7 +333,8 @@ fn analytic_objects_load_as_one_geometry_after_the_meshes() {
 
 #[test]
 fn analytic_object_errors_name_line_key_and_column() {
-    let dir = scratch("shapeerr");
+    let scratch = scratch("shapeerr");
+    let dir = scratch.path();
     let cases = [
         (
             SHAPES.replace("x^2 + y^2", "x^2 + * y^2"),
@@ -354,7 +363,7 @@ fn analytic_object_errors_name_line_key_and_column() {
         ),
     ];
     for (text, expected) in cases {
-        let err = Scene::load(&write(&dir, "bad.toml", &text)).unwrap_err();
+        let err = Scene::load(&write(dir, "bad.toml", &text)).unwrap_err();
         assert!(err.is_bad_input(), "{err}");
         let msg = message(err);
         for part in expected {
@@ -412,8 +421,9 @@ intensity = [1, 1, 1]
 
 #[test]
 fn emissive_geometry_becomes_sampled_lights() {
-    let dir = scratch("lit");
-    let scene = Scene::load(&write(&dir, "s.toml", LIT)).unwrap();
+    let scratch = scratch("lit");
+    let dir = scratch.path();
+    let scene = Scene::load(&write(dir, "s.toml", LIT)).unwrap();
     let metal = scene
         .materials
         .iter()
@@ -449,6 +459,6 @@ fn emissive_geometry_becomes_sampled_lights() {
     assert_eq!(scene.light_picker.light_of(scene.shapes_geom_id(), 1), None);
 
     let bad = LIT.replace("roughness = 0.5", "roughness = 1.5");
-    let msg = message(Scene::load(&write(&dir, "bad.toml", &bad)).unwrap_err());
+    let msg = message(Scene::load(&write(dir, "bad.toml", &bad)).unwrap_err());
     assert!(msg.contains("materials.brushed.roughness"), "{msg}");
 }

@@ -4,12 +4,30 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-/// A fresh scratch directory for one test.
-pub fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("sturmray-it-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+/// A fresh scratch directory for one test, removed with everything in it
+/// when the value is dropped (at the end of the test, pass or fail), so test
+/// runs do not fill the temporary folder.
+pub struct Scratch(tempfile::TempDir);
+
+impl std::ops::Deref for Scratch {
+    type Target = Path;
+    fn deref(&self) -> &Path {
+        self.0.path()
+    }
+}
+
+impl AsRef<Path> for Scratch {
+    fn as_ref(&self) -> &Path {
+        self.0.path()
+    }
+}
+
+pub fn scratch(name: &str) -> Scratch {
+    let dir = tempfile::Builder::new()
+        .prefix(&format!("sturmray-it-{name}-"))
+        .tempdir()
+        .expect("a scratch directory in the temporary folder");
+    Scratch(dir)
 }
 
 pub fn write(dir: &Path, name: &str, text: &str) -> PathBuf {

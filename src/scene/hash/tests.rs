@@ -13,21 +13,22 @@ const SCENE: &str = "[render]\nspp = 4\n[[objects]]\ntype = \"sphere\"\nradius =
 
 #[test]
 fn equal_scenes_hash_equal_and_changes_show() {
-    let dir = scratch("hash");
-    let a = load(&dir, SCENE).content_hash();
+    let scratch = scratch("hash");
+    let dir = scratch.path();
+    let a = load(dir, SCENE).content_hash();
     assert_eq!(a.len(), 64);
-    assert_eq!(a, load(&dir, SCENE).content_hash());
+    assert_eq!(a, load(dir, SCENE).content_hash());
     // More samples or another seed: the same scene.
     let more = SCENE.replace("spp = 4", "spp = 64\nseed = 3");
-    assert_eq!(a, load(&dir, &more).content_hash());
+    assert_eq!(a, load(dir, &more).content_hash());
     // A different radius, or depth: another scene.
     assert_ne!(
         a,
-        load(&dir, &SCENE.replace("radius = 1", "radius = 2")).content_hash()
+        load(dir, &SCENE.replace("radius = 1", "radius = 2")).content_hash()
     );
     assert_ne!(
         a,
-        load(&dir, &SCENE.replace("spp = 4", "spp = 4\nmax_depth = 2")).content_hash()
+        load(dir, &SCENE.replace("spp = 4", "spp = 4\nmax_depth = 2")).content_hash()
     );
 }
 
@@ -77,9 +78,10 @@ intensity = [10, 10, 10]
 /// different scene), and then on purpose, with the new constant and a note.
 #[test]
 fn the_hash_of_a_fixed_scene_is_golden() {
-    let dir = scratch("hash-golden");
+    let scratch = scratch("hash-golden");
+    let dir = scratch.path();
     assert_eq!(
-        load(&dir, FIXED).content_hash(),
+        load(dir, FIXED).content_hash(),
         "826d73780cd8e38c922d748772f26ff8ca62d4319c41e49ded3cc29eef9ae085"
     );
 }
@@ -87,9 +89,10 @@ fn the_hash_of_a_fixed_scene_is_golden() {
 /// The same contract for a scene with an OBJ mesh (see above).
 #[test]
 fn the_hash_of_a_scene_with_a_mesh_is_golden() {
-    let dir = scratch("hash-golden-obj");
+    let scratch = scratch("hash-golden-obj");
+    let dir = scratch.path();
     write(
-        &dir,
+        dir,
         "tri.obj",
         "o tri\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 2 4 3\n",
     );
@@ -98,7 +101,7 @@ fn the_hash_of_a_scene_with_a_mesh_is_golden() {
         "[[objects]]\ntype = \"mesh\"\nfile = \"tri.obj\"\nmaterial = \"gold\"\n\n[[lights]]",
     );
     assert_eq!(
-        load(&dir, &text).content_hash(),
+        load(dir, &text).content_hash(),
         "c49c84c5ab1e77f6cced62ba4df44490fb70a461d5d7fdc293ed73313e9e2bed"
     );
 }
