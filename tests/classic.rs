@@ -13,6 +13,9 @@ use sturmray::scene::Scene;
 const SPHERE: &str = "type = \"sphere\"\nradius = 1";
 /// The square [-1, 1]² in z = 0, facing the camera.
 const PLANE: &str = "type = \"mesh\"\nfile = \"square.obj\"";
+/// A light along the view axis, for the plan and forced-branch tests.
+const LIGHT: &str =
+    "[[lights]]\ntype = \"directional\"\ndirection = [0, 0, -1]\nirradiance = [1, 1, 1]";
 
 /// A unit sphere of the classic material `finish` (TOML keys) at the origin,
 /// seen from z = 4 through a 1° field of view in front of a background of
@@ -251,9 +254,7 @@ fn bad_finish_values_name_the_line_and_key() {
 fn the_plan_traces_only_what_a_finish_calls_for() {
     // POV-Ray's default finish (diffuse 0.6) under a light: shadow rays, and
     // no reflected or refracted ray at all.
-    let light =
-        "[[lights]]\ntype = \"directional\"\ndirection = [0, 0, -1]\nirradiance = [1, 1, 1]";
-    let s = sphere_scene("plain", "", light);
+    let s = sphere_scene("plain", "", LIGHT);
     let plan = Plan::for_scene(&s);
     assert!(
         plan.shadow && !plan.reflection && !plan.refraction,
@@ -263,7 +264,7 @@ fn the_plan_traces_only_what_a_finish_calls_for() {
     assert!(stats.shadow > 0);
     assert_eq!((stats.reflection, stats.refraction), (0, 0));
     // A pure mirror finish needs no shadow rays, even with a light.
-    let s = sphere_scene("mirror-only", "diffuse = 0\nreflection = 1", light);
+    let s = sphere_scene("mirror-only", "diffuse = 0\nreflection = 1", LIGHT);
     let plan = Plan::for_scene(&s);
     assert!(
         !plan.shadow && plan.reflection && !plan.refraction,
@@ -288,9 +289,7 @@ fn the_plan_traces_only_what_a_finish_calls_for() {
 
 #[test]
 fn forcing_every_branch_changes_no_classic_pixel() {
-    let light =
-        "[[lights]]\ntype = \"directional\"\ndirection = [0, 0, -1]\nirradiance = [1, 1, 1]";
-    let s = sphere_scene("forced", "reflection = 0.5\nspecular = 0.5", light);
+    let s = sphere_scene("forced", "reflection = 0.5\nspecular = 0.5", LIGHT);
     let (planned, image) = run(&s);
     let accel = Accel::build(&s, Backend::Embree, None).unwrap();
     let options = RenderOptions {
