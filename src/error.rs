@@ -29,6 +29,16 @@ pub enum Error {
         message: String,
     },
 
+    /// A scene in POV-Ray's language that cannot be read: the file (the
+    /// scene or one it includes), 1-based line and column, and what is wrong.
+    #[error("{}:{line}:{column}: {message}", path.display())]
+    Syntax {
+        path: PathBuf,
+        line: usize,
+        column: usize,
+        message: String,
+    },
+
     /// Other bad input: command-line values, ray files, output paths.
     #[error("{0}")]
     Input(String),
@@ -65,6 +75,7 @@ impl Error {
             Error::Scene { .. }
                 | Error::Mesh { .. }
                 | Error::Text { .. }
+                | Error::Syntax { .. }
                 | Error::Input(_)
                 | Error::Io { .. }
         )

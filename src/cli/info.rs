@@ -108,6 +108,15 @@ fn describe(scene: &Scene, accel: &Accel) -> String {
                 position,
                 intensity,
             } => writeln!(s, "  point at {} intensity {}", v(*position), v(*intensity)),
+            Light::Unfading {
+                position,
+                irradiance,
+            } => writeln!(
+                s,
+                "  unfading point (POV-Ray's) at {} irradiance {}",
+                v(*position),
+                v(*irradiance)
+            ),
             Light::Directional {
                 direction,
                 irradiance,

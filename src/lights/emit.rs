@@ -49,7 +49,9 @@ impl Light {
     pub fn power(&self, bounds: Bounds) -> Vec3 {
         match self {
             Light::Point { intensity, .. } => 4.0 * PI * *intensity,
-            Light::Directional { irradiance, .. } => {
+            // What crosses the scene's bounding disk, as for a directional
+            // light: an unfading light has no finite total.
+            Light::Directional { irradiance, .. } | Light::Unfading { irradiance, .. } => {
                 let (_, radius) = bounding_disk(bounds);
                 *irradiance * (PI * radius * radius)
             }
@@ -66,7 +68,7 @@ impl Light {
     pub fn emit(&self, u: [f32; 4], bounds: Bounds) -> Option<Emission> {
         let flux = self.power(bounds);
         match self {
-            Light::Point { position, .. } => Some(Emission {
+            Light::Point { position, .. } | Light::Unfading { position, .. } => Some(Emission {
                 origin: *position,
                 normal: Vec3::ZERO,
                 error: Vec3::ZERO,
@@ -111,7 +113,7 @@ impl Light {
     /// The emitting area of an area light (0 for point and directional lights).
     pub(super) fn area(&self) -> f32 {
         match self {
-            Light::Point { .. } | Light::Directional { .. } => 0.0,
+            Light::Point { .. } | Light::Unfading { .. } | Light::Directional { .. } => 0.0,
             Light::Sphere { radius, .. } => 4.0 * PI * radius * radius,
             Light::Triangle { edge1, edge2, .. } => 0.5 * edge1.cross(*edge2).length(),
         }
@@ -142,7 +144,9 @@ impl Light {
                     error,
                 }
             }
-            Light::Point { .. } | Light::Directional { .. } => return None,
+            Light::Point { .. } | Light::Unfading { .. } | Light::Directional { .. } => {
+                return None;
+            }
         })
     }
 }

@@ -20,6 +20,10 @@ use crate::sampling::warp;
 pub enum Light {
     /// Radiant intensity I (W/sr per channel): irradiance I·cosθ / d² at distance d.
     Point { position: Vec3, intensity: Vec3 },
+    /// POV-Ray's point `light_source`: the same irradiance at every
+    /// distance (its `fade_power 0`), not a physical light, for scenes read
+    /// from POV-Ray's language.
+    Unfading { position: Vec3, irradiance: Vec3 },
     /// Irradiance E on a surface facing the light; `direction` is where light travels.
     Directional { direction: Vec3, irradiance: Vec3 },
     /// An emissive sphere of uniform radiance L, emitting outwards.
@@ -69,6 +73,19 @@ impl Light {
                     wi: to / distance,
                     distance,
                     irradiance: *intensity / d2,
+                    pdf: 0.0,
+                })
+            }
+            Light::Unfading {
+                position,
+                irradiance,
+            } => {
+                let to = *position - p;
+                let distance = to.length();
+                Some(Incident {
+                    wi: to / distance,
+                    distance,
+                    irradiance: *irradiance,
                     pdf: 0.0,
                 })
             }
@@ -136,7 +153,7 @@ impl Light {
     /// back of a triangle.
     pub fn pdf(&self, p: Vec3, point: Vec3) -> f32 {
         match self {
-            Light::Point { .. } | Light::Directional { .. } => 0.0,
+            Light::Point { .. } | Light::Unfading { .. } | Light::Directional { .. } => 0.0,
             Light::Sphere { center, radius, .. } => {
                 let sin2_max = radius * radius / (*center - p).length_squared();
                 if sin2_max >= 1.0 {
@@ -163,7 +180,10 @@ impl Light {
 
     /// A point or directional light: one direction reaches it, no bounce can.
     pub fn is_delta(&self) -> bool {
-        matches!(self, Light::Point { .. } | Light::Directional { .. })
+        matches!(
+            self,
+            Light::Point { .. } | Light::Unfading { .. } | Light::Directional { .. }
+        )
     }
 }
 
@@ -192,6 +212,20 @@ mod tests {
         assert_eq!(inc.wi, Vec3::Y);
         assert_eq!(inc.distance, 2.0);
         assert_eq!(inc.irradiance, Vec3::splat(2.0));
+    }
+
+    #[test]
+    fn unfading_light_gives_the_same_irradiance_at_every_distance() {
+        let light = Light::Unfading {
+            position: Vec3::new(0.0, 2.0, 0.0),
+            irradiance: Vec3::splat(3.0),
+        };
+        for p in [Vec3::ZERO, Vec3::new(0.0, -98.0, 0.0)] {
+            let inc = light.incident(p, [0.5; 2]).unwrap();
+            assert_eq!(inc.wi, Vec3::Y);
+            assert_eq!(inc.distance, 2.0 - p.y);
+            assert_eq!(inc.irradiance, Vec3::splat(3.0));
+        }
     }
 
     #[test]

@@ -7,6 +7,8 @@ mod hash;
 mod interaction;
 mod locate;
 mod obj;
+mod pov;
+mod solids;
 
 use std::path::{Path, PathBuf};
 
@@ -180,6 +182,18 @@ pub struct Scene {
     /// Every file the scene was read from (scene file, OBJs, MTLs), so no
     /// output of a command can be written over one of them.
     pub sources: Vec<PathBuf>,
+    /// For a scene read from another renderer's language (POV-Ray's), what
+    /// was read and what was skipped, for `sturmray info`.
+    pub import: Option<Import>,
+}
+
+/// What a scene in POV-Ray's language was read as: how many of each kind
+/// of statement (objects by keyword, lights, includes), and which keywords
+/// outside the subset were skipped (each with a warning).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Import {
+    pub read: std::collections::BTreeMap<String, usize>,
+    pub skipped: std::collections::BTreeMap<String, usize>,
 }
 
 impl Scene {
@@ -210,6 +224,7 @@ impl Scene {
             light_picker: LightPicker::default(),
             warnings: Vec::new(),
             sources: vec![path.to_owned()],
+            import: None,
         }
     }
 

@@ -20,7 +20,8 @@ use schema::{
     RenderFile, ScaleFile, SceneFile, ShapeFile, ShapeKind, SpecularFile, TransformFile,
 };
 use shapes::{Body, Built};
-use tree::{Parent, linear};
+use super::solids::linear;
+use tree::Parent;
 
 use super::obj::MAX_COORDINATE;
 use super::{

@@ -1,9 +1,10 @@
 //! The analytic objects of a scene file: which parameters each type takes,
 //! and the surface and default clip box they make.
 
-use glam::{DAffine3, DMat3, DQuat, DVec3};
+use glam::{DAffine3, DMat3, DVec3};
 
 use super::super::obj::MAX_COORDINATE;
+use super::super::solids::{self, axis_frame};
 use super::schema::{ShapeFile, ShapeKind};
 use crate::geometry::{Box3, Quadric, Surface};
 use crate::poly::expr;
@@ -379,14 +380,6 @@ fn nonzero(name: &'static str, v: DVec3) -> Result<(), FieldError> {
     }
 }
 
-/// The frame whose origin is `origin` and whose z axis is along `axis`.
-fn axis_frame(origin: DVec3, axis: DVec3) -> DAffine3 {
-    DAffine3::from_rotation_translation(
-        DQuat::from_rotation_arc(DVec3::Z, axis.normalize()),
-        origin,
-    )
-}
-
 /// POV-Ray's `cylinder { base, cap, radius }` and `cone { base, r0, cap, r1 }`:
 /// along z from 0 to the axis's length in their own frame, closed by caps
 /// unless `caps = false`.
@@ -425,17 +418,10 @@ fn round(kind: ShapeKind, f: &ShapeFile) -> Result<Built, FieldError> {
     } else {
         r0
     };
-    // x² + y² − (r0 + k z)², k the radius's slope: negative inside for z in [0, length].
-    let k = (r1 - r0) / length;
-    let surface = Surface::Quadric(crate::geometry::Quadric {
-        a: DMat3::from_diagonal(DVec3::new(1.0, 1.0, -k * k)),
-        b: DVec3::new(0.0, 0.0, -2.0 * r0 * k),
-        c: -r0 * r0,
-    });
-    let r = r0.max(r1);
+    let (surface, clip) = solids::round(r0, r1, length);
     Ok(Built::Surface {
         surface,
-        clip: clip([-r, -r, 0.0], [r, r, length]),
+        clip: Some(clip),
         frame: axis_frame(base, cap - base),
         body: if f.caps == Some(false) {
             Body::Open

@@ -9,7 +9,8 @@ use super::Objects;
 use super::schema::{Object, ShapeFile};
 use super::shapes::{Body, Built};
 use crate::error::Result;
-use crate::geometry::{Leaf, Node, Op, Part, Quadric, Shape, Surface};
+use super::super::solids::linear;
+use crate::geometry::{Leaf, Node, Op, Part, Shape};
 use crate::suggest;
 
 /// How deep CSG may nest: far beyond any scene a person writes, far below
@@ -22,16 +23,6 @@ pub(super) struct Parent {
     pub to_world: DAffine3,
     pub material: u32,
     pub depth: usize,
-}
-
-/// The plane n·p = distance as the linear F = n·p − distance, negative on
-/// the half-space's inside.
-pub(super) fn linear(normal: DVec3, distance: f64) -> Surface {
-    Surface::Quadric(Quadric {
-        a: glam::DMat3::ZERO,
-        b: normal,
-        c: -distance,
-    })
 }
 
 impl Objects<'_> {

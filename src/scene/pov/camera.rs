@@ -1,0 +1,140 @@
+//! POV-Ray's perspective camera: `location`, `direction`, `up`, `right`,
+//! `sky`, `angle`, `look_at` and transforms, resolved as POV-Ray 3.7 does
+//! into the image plane the rays go through.
+
+use glam::{DAffine3, DVec3};
+
+use super::parse::{Loc, Parser};
+use crate::error::Result;
+
+/// A camera statement as read, before it is resolved.
+#[derive(Clone, Debug)]
+pub struct CameraSpec {
+    pub location: DVec3,
+    pub direction: DVec3,
+    pub up: DVec3,
+    pub right: DVec3,
+    pub sky: DVec3,
+    pub angle: Option<f64>,
+    pub look_at: Option<DVec3>,
+    pub transform: DAffine3,
+    pub loc: Loc,
+}
+
+impl Default for CameraSpec {
+    /// POV-Ray's defaults.
+    fn default() -> CameraSpec {
+        CameraSpec {
+            location: DVec3::ZERO,
+            direction: DVec3::Z,
+            up: DVec3::Y,
+            right: DVec3::new(1.33, 0.0, 0.0),
+            sky: DVec3::Y,
+            angle: None,
+            look_at: None,
+            transform: DAffine3::IDENTITY,
+            loc: Loc::default(),
+        }
+    }
+}
+
+/// A resolved camera: where it is, and the image plane's three vectors
+/// (the ray through image point (u, v) ∈ [0, 1]², v down, is
+/// `direction + (u − ½) right + (½ − v) up`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Resolved {
+    pub location: DVec3,
+    pub direction: DVec3,
+    pub right: DVec3,
+    pub up: DVec3,
+}
+
+impl CameraSpec {
+    /// The camera as POV-Ray 3.7 sets it up: `angle` fixes the direction's
+    /// length from the right vector's; `look_at` turns direction, right and
+    /// up about the sky vector, keeping their lengths and the camera's
+    /// handedness; the camera's transforms come last.
+    pub fn resolve(&self) -> Result<Resolved, String> {
+        let (mut direction, mut right, mut up) = (self.direction, self.right, self.up);
+        if let Some(angle) = self.angle {
+            if !(angle > 0.0 && angle < 180.0) {
+                return Err(format!("the camera's angle must be above 0 and below 180 degrees, found {angle}"));
+            }
+            let length = 0.5 * right.length() / (angle.to_radians() / 2.0).tan();
+            direction = direction.normalize_or_zero() * length;
+        }
+        if let Some(look_at) = self.look_at {
+            let handedness = up.cross(direction).dot(right);
+            let (dl, ul, rl) = (direction.length(), up.length(), right.length());
+            let d = (look_at - self.location).normalize_or_zero();
+            let r = self.sky.cross(d).normalize_or_zero();
+            if d == DVec3::ZERO || r == DVec3::ZERO {
+                return Err(
+                    "the camera looks at its own location, or along its sky vector: no view".into(),
+                );
+            }
+            let u = d.cross(r).normalize();
+            direction = d * dl;
+            right = r * if handedness >= 0.0 { rl } else { -rl };
+            up = u * ul;
+        }
+        let m = self.transform;
+        let resolved = Resolved {
+            location: m.transform_point3(self.location),
+            direction: m.transform_vector3(direction),
+            right: m.transform_vector3(right),
+            up: m.transform_vector3(up),
+        };
+        let spans = resolved.right.cross(resolved.up);
+        if !(spans.dot(resolved.direction).abs() > 0.0) {
+            return Err(
+                "the camera's right, up and direction vectors do not span space (one is zero, or \
+                 the direction lies in the image plane)"
+                    .into(),
+            );
+        }
+        Ok(resolved)
+    }
+}
+
+impl Parser {
+    /// `camera { … }` after its keyword.
+    pub fn camera_block(&mut self) -> Result<CameraSpec> {
+        let mut c = CameraSpec {
+            loc: self.last(),
+            ..CameraSpec::default()
+        };
+        self.expect('{')?;
+        while !self.eat('}')? {
+            let loc = self.here();
+            let word = self.word()?;
+            if let Some(t) = self.transform_item(&word)? {
+                c.transform = t * c.transform;
+                continue;
+            }
+            match word.as_str() {
+                "location" => c.location = self.vector()?,
+                "direction" => c.direction = self.vector()?,
+                "up" => c.up = self.vector()?,
+                "right" => c.right = self.vector()?,
+                "sky" => c.sky = self.vector()?,
+                "look_at" => c.look_at = Some(self.vector()?),
+                "angle" => c.angle = Some(self.float()?),
+                "perspective" => {}
+                "orthographic" | "fisheye" | "ultra_wide_angle" | "omnimax" | "panoramic"
+                | "cylinder" | "spherical" => {
+                    self.skip_warning(loc, &word, "the camera is read as a perspective one");
+                    if word == "cylinder" {
+                        self.float()?;
+                    }
+                }
+                "aperture" | "blur_samples" | "focal_point" | "confidence" | "variance" => {
+                    self.skip_warning(loc, &word, "no depth of field: everything is in focus");
+                    self.expression(false)?;
+                }
+                other => self.unknown_item(loc, other, "camera")?,
+            }
+        }
+        Ok(c)
+    }
+}

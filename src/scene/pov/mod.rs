@@ -1,0 +1,199 @@
+//! Scenes in POV-Ray 3.7's language (`sturmray render scene.pov`): a reader
+//! for its static subset, written for sturmray. `lex` makes tokens, `parse`
+//! runs the directives as it reads them, `value` evaluates expressions,
+//! `texture` and `object` read what the statements describe, and `build`
+//! turns that into a `Scene`: analytic shapes and CSG trees, classic
+//! materials, POV-Ray's lights and camera. See docs/povray.md for the subset
+//! and how each part maps.
+//!
+//! Coordinates are POV-Ray's own, left-handed as they are: the camera is
+//! given by its image plane, so every pixel's ray is the one POV-Ray traces
+//! and the image is not mirrored.
+
+mod build;
+mod camera;
+mod lex;
+mod object;
+mod parse;
+mod texture;
+mod value;
+
+#[cfg(test)]
+mod tests;
+
+use std::path::Path;
+
+use glam::DVec3;
+
+use super::{LoadOptions, Scene};
+use crate::error::Result;
+use camera::CameraSpec;
+use lex::Tok;
+use object::{Kind, Obj};
+use parse::Parser;
+use texture::Pigment;
+use value::{OBJECT_KEYWORDS, UNSUPPORTED};
+
+/// POV-Ray's image size when the command line gives none.
+pub const DEFAULT_SIZE: (u32, u32) = (800, 600);
+
+/// What a scene's statements gave, in the order read.
+struct Statements {
+    objects: Vec<Obj>,
+    camera: CameraSpec,
+    background: DVec3,
+    globals: Globals,
+}
+
+/// `global_settings` as far as the subset reads it.
+struct Globals {
+    max_trace_level: u32,
+    adc_bailout: f64,
+    ambient_light: DVec3,
+}
+
+impl Default for Globals {
+    fn default() -> Globals {
+        Globals {
+            max_trace_level: 5,
+            adc_bailout: 1.0 / 255.0,
+            ambient_light: DVec3::ONE,
+        }
+    }
+}
+
+/// Reads the scene at `path`.
+pub(super) fn load(path: &Path, options: &LoadOptions) -> Result<Scene> {
+    let size = options.size.unwrap_or(DEFAULT_SIZE);
+    let mut parser = Parser::new(path, &options.pov_include, size)?;
+    let statements = statements(&mut parser)?;
+    build::scene(path, parser, statements, size)
+}
+
+/// Every top-level statement of the scene.
+fn statements(p: &mut Parser) -> Result<Statements> {
+    let mut s = Statements {
+        objects: Vec::new(),
+        camera: CameraSpec::default(),
+        background: DVec3::ZERO,
+        globals: Globals::default(),
+    };
+    let mut cameras = 0;
+    while let Some(tok) = p.peek()? {
+        let loc = p.here();
+        let Tok::Word(word) = tok else {
+            return Err(p.error(format!(
+                "expected an object, camera, light_source or setting, found {}",
+                lex::describe(&tok)
+            )));
+        };
+        match word.as_str() {
+            "camera" => {
+                p.next()?;
+                cameras += 1;
+                if cameras > 1 {
+                    p.warn(loc, "a second camera: the last one is used, as in POV-Ray");
+                }
+                s.camera = p.camera_block()?;
+                p.count("camera");
+            }
+            "background" => {
+                p.next()?;
+                p.expect('{')?;
+                let cloc = p.here();
+                let c = p.colour_rest(None)?;
+                let c = p.as_colour(&c, cloc)?;
+                s.background = DVec3::new(c[0], c[1], c[2]);
+                p.expect('}')?;
+                p.count("background");
+            }
+            "sky_sphere" => {
+                p.next()?;
+                p.expect('{')?;
+                while !p.eat('}')? {
+                    let iloc = p.here();
+                    match p.word()?.as_str() {
+                        "pigment" => {
+                            s.background = match p.pigment_block()? {
+                                Pigment::Colour(c) => DVec3::new(c[0], c[1], c[2]),
+                                Pigment::Checker { colours, .. } => {
+                                    p.warn(iloc, "a checkered sky is drawn as its mean colour");
+                                    let [a, b] = colours;
+                                    DVec3::new(a[0] + b[0], a[1] + b[1], a[2] + b[2]) * 0.5
+                                }
+                            }
+                        }
+                        w => {
+                            if p.transform_item(w)?.is_none() {
+                                p.unknown_item(iloc, w, "sky_sphere")?;
+                            }
+                        }
+                    }
+                }
+                p.count("sky_sphere");
+            }
+            "global_settings" => {
+                p.next()?;
+                globals(p, &mut s.globals)?;
+            }
+            w if OBJECT_KEYWORDS.contains(&w) || UNSUPPORTED.contains(&w) => {
+                if let Some(obj) = p.object_statement()? {
+                    s.objects.push(obj);
+                }
+            }
+            _ => {
+                p.next()?;
+                if p.peek()? == Some(Tok::Punct('{')) {
+                    p.skip_warning(loc, &word, "skipped");
+                    p.skip_block()?;
+                } else {
+                    return Err(p.error_at(
+                        loc,
+                        format!("expected an object, camera, light_source or setting, found `{word}`"),
+                    ));
+                }
+            }
+        }
+    }
+    Ok(s)
+}
+
+/// `global_settings { … }` after its keyword.
+fn globals(p: &mut Parser, g: &mut Globals) -> Result<()> {
+    p.expect('{')?;
+    while !p.eat('}')? {
+        let loc = p.here();
+        let word = p.word()?;
+        match word.as_str() {
+            "assumed_gamma" => {
+                let gamma = p.float()?;
+                if gamma != 1.0 {
+                    p.warn(
+                        loc,
+                        format!(
+                            "assumed_gamma {gamma}: colours are read as linear, as with assumed_gamma 1 \
+                             (POV-Ray 3.7 would treat them as gamma-encoded)"
+                        ),
+                    );
+                }
+            }
+            "max_trace_level" => {
+                let v = p.float()?;
+                g.max_trace_level = v.clamp(1.0, 256.0) as u32;
+            }
+            "adc_bailout" => g.adc_bailout = p.float()?.clamp(0.0, 1.0),
+            "ambient_light" => {
+                let c = p.colour_rest(None)?;
+                let c = p.as_colour(&c, loc)?;
+                g.ambient_light = DVec3::new(c[0], c[1], c[2]);
+            }
+            other => p.unknown_item(loc, other, "global_settings")?,
+        }
+    }
+    Ok(())
+}
+
+/// Whether `obj` is a light (which `build` takes out of any CSG).
+fn is_light(obj: &Obj) -> bool {
+    matches!(obj.kind, Kind::Light(_))
+}

@@ -1,0 +1,739 @@
+//! Objects of POV-Ray's language as read: each shape's own parameters, its
+//! transform, texture, interior and modifiers (`inverse`, `no_shadow`,
+//! `bounded_by`, `clipped_by`), CSG operations over children, and light
+//! sources (which may sit inside CSG).
+//!
+//! Everything an object carries is kept in the object's own space: a
+//! texture, a clip or a bound given after some transforms is moved back by
+//! them, so that the object's final transform places it as POV-Ray does
+//! (later transforms move all of it, earlier ones only the shape).
+
+use glam::{DAffine3, DMat3, DVec3};
+
+use super::lex::Tok;
+use super::parse::{Loc, Parser};
+use super::texture::{Pigment, Texture};
+use super::value::{UNSUPPORTED, Value};
+use crate::error::Result;
+use crate::poly::trivariate::Trivariate;
+
+/// How a CSG node combines its children.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CsgOp {
+    Union,
+    Intersection,
+    Difference,
+    Merge,
+}
+
+/// A light source: POV-Ray's point light (the same brightness at every
+/// distance), or an array of them (`area_light`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct LightSource {
+    pub position: DVec3,
+    pub colour: DVec3,
+    /// Two edge vectors and how many lights along each.
+    pub area: Option<(DVec3, DVec3, u32, u32)>,
+    pub shadowless: bool,
+}
+
+#[derive(Clone, Debug)]
+pub enum Kind {
+    Sphere {
+        center: DVec3,
+        radius: f64,
+    },
+    Box {
+        a: DVec3,
+        b: DVec3,
+    },
+    /// A cylinder (r0 = r1) or a cone.
+    Round {
+        base: DVec3,
+        cap: DVec3,
+        r0: f64,
+        r1: f64,
+        open: bool,
+    },
+    Plane {
+        normal: DVec3,
+        distance: f64,
+    },
+    /// POV-Ray's torus: in the xz plane, about the y axis.
+    Torus {
+        major: f64,
+        minor: f64,
+    },
+    Disc {
+        center: DVec3,
+        normal: DVec3,
+        radius: f64,
+        hole: f64,
+    },
+    Quadric {
+        a: DMat3,
+        b: DVec3,
+        c: f64,
+    },
+    /// `cubic`, `quartic`, `poly`.
+    Poly(Trivariate),
+    /// Triangles, each with its own texture if it gave one.
+    Mesh(Vec<([DVec3; 3], Option<Texture>)>),
+    Csg {
+        op: CsgOp,
+        children: Vec<Obj>,
+    },
+    Light(LightSource),
+}
+
+/// An object as read.
+#[derive(Clone, Debug)]
+pub struct Obj {
+    pub kind: Kind,
+    /// Object space to its parent's (the world's at the top).
+    pub transform: DAffine3,
+    pub texture: Option<Texture>,
+    pub ior: Option<f64>,
+    pub inverse: bool,
+    pub no_shadow: bool,
+    pub bounded_by: Vec<Obj>,
+    pub clipped_by: Vec<Obj>,
+    pub loc: Loc,
+}
+
+impl Obj {
+    fn new(kind: Kind, loc: Loc) -> Obj {
+        Obj {
+            kind,
+            transform: DAffine3::IDENTITY,
+            texture: None,
+            ior: None,
+            inverse: false,
+            no_shadow: false,
+            bounded_by: Vec::new(),
+            clipped_by: Vec::new(),
+            loc,
+        }
+    }
+
+    /// Moves the object (and all it carries) by `t`.
+    fn apply(&mut self, t: DAffine3) {
+        self.transform = t * self.transform;
+    }
+
+    /// `m`, given in the object's parent space now, in its own space.
+    fn local(&self) -> DAffine3 {
+        self.transform.inverse()
+    }
+
+    /// Sets the texture, given in the parent's space now.
+    fn set_texture(&mut self, mut t: Texture) {
+        t.transform(self.local());
+        self.texture = Some(t);
+    }
+}
+
+impl Parser {
+    /// An object statement (`sphere { … }`, `object { … }`, …); None for a
+    /// shape outside the subset, skipped with a warning.
+    pub fn object_statement(&mut self) -> Result<Option<Obj>> {
+        let loc = self.here();
+        let keyword = self.word()?;
+        if UNSUPPORTED.contains(&keyword.as_str()) {
+            self.skip_warning(loc, &keyword, "the object is left out");
+            self.skip_block()?;
+            return Ok(None);
+        }
+        self.expect('{')?;
+        let mut obj = match keyword.as_str() {
+            "object" => {
+                let inner_loc = self.here();
+                match self.peek()? {
+                    Some(Tok::Word(w)) if super::value::OBJECT_KEYWORDS.contains(&w.as_str())
+                        || UNSUPPORTED.contains(&w.as_str()) =>
+                    {
+                        match self.object_statement()? {
+                            Some(o) => o,
+                            None => {
+                                self.skip_rest()?;
+                                return Ok(None);
+                            }
+                        }
+                    }
+                    Some(Tok::Word(w)) => {
+                        self.next()?;
+                        match self.symbol(&w) {
+                            Some(Value::Object(o)) => (**o).clone(),
+                            Some(Value::Unsupported(k)) => {
+                                let k = k.clone();
+                                self.skip_warning(inner_loc, &k, "the object is left out");
+                                self.skip_rest()?;
+                                return Ok(None);
+                            }
+                            _ => {
+                                return Err(self.error_at(
+                                    inner_loc,
+                                    format!("`{w}` is not a declared object"),
+                                ));
+                            }
+                        }
+                    }
+                    _ => return Err(self.error("expected an object or a declared object's name")),
+                }
+            }
+            "light_source" => {
+                let light = self.light_source(loc)?;
+                self.count("light_source");
+                return Ok(Some(Obj::new(Kind::Light(light), loc)));
+            }
+            _ => {
+                let kind = self.shape(&keyword, loc)?;
+                self.count(&keyword);
+                Obj::new(kind, loc)
+            }
+        };
+        self.modifiers(&mut obj)?;
+        Ok(Some(obj))
+    }
+
+    /// Skips the rest of an object block after its start.
+    fn skip_rest(&mut self) -> Result<()> {
+        let mut depth = 1usize;
+        while depth > 0 {
+            match self.next()? {
+                Tok::Punct('{') => depth += 1,
+                Tok::Punct('}') => depth -= 1,
+                _ => {}
+            }
+        }
+        Ok(())
+    }
+
+    /// The parameters of a shape `keyword`, after its `{`.
+    fn shape(&mut self, keyword: &str, loc: Loc) -> Result<Kind> {
+        Ok(match keyword {
+            "sphere" => {
+                let center = self.vector()?;
+                self.eat(',')?;
+                let radius = self.positive("the radius")?;
+                Kind::Sphere { center, radius }
+            }
+            "box" => {
+                let a = self.vector()?;
+                self.eat(',')?;
+                let b = self.vector()?;
+                Kind::Box { a, b }
+            }
+            "cylinder" | "cone" => {
+                let base = self.vector()?;
+                self.eat(',')?;
+                let r0 = if keyword == "cone" {
+                    let r = self.float()?;
+                    self.eat(',')?;
+                    r
+                } else {
+                    0.0
+                };
+                let cap = self.vector()?;
+                self.eat(',')?;
+                let r1 = self.float()?;
+                let r0 = if keyword == "cone" { r0 } else { r1 };
+                if !(r0 >= 0.0 && r1 >= 0.0 && r0.max(r1) > 0.0) {
+                    return Err(self.error_at(loc, "the radii must be >= 0, one of them > 0"));
+                }
+                if (cap - base).length() == 0.0 {
+                    return Err(self.error_at(loc, "the cap is at the base: the axis has no length"));
+                }
+                Kind::Round {
+                    base,
+                    cap,
+                    r0,
+                    r1,
+                    open: false,
+                }
+            }
+            "plane" => {
+                let normal = self.vector()?;
+                self.eat(',')?;
+                let distance = self.float()?;
+                if normal.length() == 0.0 {
+                    return Err(self.error_at(loc, "the plane's normal is zero"));
+                }
+                Kind::Plane { normal, distance }
+            }
+            "torus" => {
+                let major = self.positive("the major radius")?;
+                self.eat(',')?;
+                let minor = self.positive("the minor radius")?;
+                Kind::Torus { major, minor }
+            }
+            "disc" => {
+                let center = self.vector()?;
+                self.eat(',')?;
+                let normal = self.vector()?;
+                self.eat(',')?;
+                let radius = self.positive("the radius")?;
+                let hole = if self.eat(',')? { self.float()? } else { 0.0 };
+                if normal.length() == 0.0 {
+                    return Err(self.error_at(loc, "the disc's normal is zero"));
+                }
+                if !(0.0..radius).contains(&hole) {
+                    return Err(self.error_at(loc, "the hole must be >= 0 and below the radius"));
+                }
+                Kind::Disc {
+                    center,
+                    normal,
+                    radius,
+                    hole,
+                }
+            }
+            "quadric" => {
+                let sq = self.vector()?;
+                self.eat(',')?;
+                let mixed = self.vector()?;
+                self.eat(',')?;
+                let lin = self.vector()?;
+                self.eat(',')?;
+                let c = self.float()?;
+                // A x² + B y² + C z² + D xy + E xz + F yz + G x + H y + I z + J.
+                let a = DMat3::from_cols(
+                    DVec3::new(sq.x, mixed.x / 2.0, mixed.y / 2.0),
+                    DVec3::new(mixed.x / 2.0, sq.y, mixed.z / 2.0),
+                    DVec3::new(mixed.y / 2.0, mixed.z / 2.0, sq.z),
+                );
+                Kind::Quadric { a, b: lin, c }
+            }
+            "cubic" | "quartic" | "poly" => {
+                let degree = match keyword {
+                    "cubic" => 3,
+                    "quartic" => 4,
+                    _ => {
+                        let n = self.float()?;
+                        self.eat(',')?;
+                        if !(n.fract() == 0.0 && (2.0..=35.0).contains(&n)) {
+                            return Err(self.error_at(loc, "a poly's order is a whole number from 2 to 35"));
+                        }
+                        n as u32
+                    }
+                };
+                let coeff_loc = self.here();
+                let v = self.poly_coefficients()?;
+                let n = ((degree + 1) * (degree + 2) * (degree + 3) / 6) as usize;
+                if v.len() != n {
+                    return Err(self.error_at(
+                        coeff_loc,
+                        format!("a {keyword} of order {degree} takes {n} coefficients, found {}", v.len()),
+                    ));
+                }
+                Kind::Poly(poly_terms(degree, &v))
+            }
+            "union" | "intersection" | "difference" | "merge" => {
+                let op = match keyword {
+                    "union" => CsgOp::Union,
+                    "intersection" => CsgOp::Intersection,
+                    "difference" => CsgOp::Difference,
+                    _ => CsgOp::Merge,
+                };
+                let mut children = Vec::new();
+                while let Some(w) = self.peek_word()? {
+                    if !(super::value::OBJECT_KEYWORDS.contains(&w.as_str())
+                        || UNSUPPORTED.contains(&w.as_str()) && !matches!(w.as_str(), "normal" | "material" | "photons" | "radiosity"))
+                    {
+                        break;
+                    }
+                    if let Some(child) = self.object_statement()? {
+                        children.push(child);
+                    }
+                }
+                Kind::Csg { op, children }
+            }
+            "mesh" => self.mesh(loc)?,
+            "mesh2" => self.mesh2(loc)?,
+            _ => unreachable!("object keywords are matched before"),
+        })
+    }
+
+    /// The numbers of a `poly`: one vector of any length.
+    fn poly_coefficients(&mut self) -> Result<Vec<f64>> {
+        self.expect('<')?;
+        let mut v = Vec::new();
+        loop {
+            let loc = self.here();
+            let x = self.expression(true)?;
+            match x {
+                Value::Float(f) => v.push(f),
+                _ => return Err(self.error_at(loc, "expected a number")),
+            }
+            if !self.eat(',')? {
+                // POV-Ray's own samples leave out some commas between rows.
+                if self.eat('>')? {
+                    return Ok(v);
+                }
+            }
+        }
+    }
+
+    fn positive(&mut self, what: &str) -> Result<f64> {
+        let loc = self.here();
+        let v = self.float()?;
+        if v > 0.0 && v.is_finite() {
+            Ok(v)
+        } else {
+            Err(self.error_at(loc, format!("{what} must be a number > 0, found {v}")))
+        }
+    }
+
+    /// An object's modifiers, up to and including its `}`.
+    fn modifiers(&mut self, obj: &mut Obj) -> Result<()> {
+        while !self.eat('}')? {
+            let loc = self.here();
+            let word = match self.peek()? {
+                Some(Tok::Word(w)) => w,
+                Some(other) => {
+                    return Err(self.error(format!(
+                        "expected a modifier of this object or `}}`, found {}",
+                        super::lex::describe(&other)
+                    )));
+                }
+                None => return Err(self.error("this object is never closed (`}`)")),
+            };
+            if let Some(t) = self.transform_item(&word)? {
+                obj.apply(t);
+                continue;
+            }
+            self.next()?;
+            match word.as_str() {
+                "texture" => {
+                    let t = self.texture_block()?;
+                    if obj.texture.is_some() {
+                        self.warn(loc, "a layered texture: only its first layer is drawn");
+                    } else {
+                        obj.set_texture(t);
+                    }
+                }
+                "pigment" => {
+                    let mut p = self.pigment_block()?;
+                    p.transform(obj.local());
+                    obj.texture.get_or_insert_with(|| self.new_texture()).pigment = p;
+                }
+                "finish" => {
+                    let base = obj.texture.as_ref().map(|t| t.finish);
+                    let f = self.finish_block(base)?;
+                    obj.texture.get_or_insert_with(|| self.new_texture()).finish = f;
+                }
+                "interior" => obj.ior = Some(self.interior_block()?),
+                "material" => {
+                    self.expect('{')?;
+                    while !self.eat('}')? {
+                        let loc = self.here();
+                        match self.word()?.as_str() {
+                            "texture" => {
+                                let t = self.texture_block()?;
+                                obj.set_texture(t);
+                            }
+                            "interior" => obj.ior = Some(self.interior_block()?),
+                            other => self.unknown_item(loc, other, "material")?,
+                        }
+                    }
+                }
+                "inverse" => obj.inverse = !obj.inverse,
+                "open" => match &mut obj.kind {
+                    Kind::Round { open, .. } => *open = true,
+                    _ => self.warn(loc, "`open` applies to cylinders and cones; ignored"),
+                },
+                "no_shadow" => obj.no_shadow = true,
+                "sturm" | "hollow" | "double_illuminate" | "no_reflection" | "no_image"
+                | "no_radiosity" => {
+                    // `sturm`: sturmray's solver always isolates roots with
+                    // Sturm sequences. `hollow`: there is no media to fill.
+                    if self.starts_number()? {
+                        self.float()?;
+                    }
+                    if matches!(word.as_str(), "no_reflection" | "no_image") {
+                        self.skip_warning(loc, &word, "ignored: the object is seen everywhere");
+                    }
+                }
+                "bounded_by" | "clipped_by" => {
+                    self.expect('{')?;
+                    let mut list = Vec::new();
+                    if self.eat_word("clipped_by")? {
+                        list = obj.clipped_by.iter().map(|c| placed(c, obj.transform)).collect();
+                    } else if self.eat_word("bounded_by")? {
+                        list = obj.bounded_by.iter().map(|c| placed(c, obj.transform)).collect();
+                    } else {
+                        while self.peek()? != Some(Tok::Punct('}')) {
+                            if let Some(o) = self.object_statement()? {
+                                list.push(o);
+                            }
+                        }
+                    }
+                    self.expect('}')?;
+                    let local = obj.local();
+                    let list: Vec<Obj> = list
+                        .into_iter()
+                        .map(|mut o| {
+                            o.apply(local);
+                            o
+                        })
+                        .collect();
+                    if word == "bounded_by" {
+                        obj.bounded_by = list;
+                    } else {
+                        obj.clipped_by = list;
+                    }
+                }
+                "photons" | "radiosity" | "normal" => {
+                    self.skip_warning(loc, &word, "skipped");
+                    self.skip_block()?;
+                }
+                "inside_vector" => {
+                    self.vector()?;
+                }
+                other => self.unknown_item(loc, other, "object")?,
+            }
+        }
+        Ok(())
+    }
+
+    /// A texture from the defaults, for `pigment` or `finish` given alone.
+    fn new_texture(&self) -> Texture {
+        match self.symbol(super::texture::DEFAULT) {
+            Some(Value::Texture(t)) => (**t).clone(),
+            _ => super::texture::default_texture(),
+        }
+    }
+
+    /// `light_source { position, colour, … }` after its `{`.
+    fn light_source(&mut self, loc: Loc) -> Result<LightSource> {
+        let position = self.vector()?;
+        self.eat(',')?;
+        let cloc = self.here();
+        let c = self.colour_rest(None)?;
+        let c = self.as_colour(&c, cloc)?;
+        let mut light = LightSource {
+            position,
+            colour: DVec3::new(c[0], c[1], c[2]),
+            area: None,
+            shadowless: false,
+        };
+        let mut transform = DAffine3::IDENTITY;
+        while !self.eat('}')? {
+            let iloc = self.here();
+            let word = self.word()?;
+            if let Some(t) = self.transform_item(&word)? {
+                transform = t * transform;
+                continue;
+            }
+            match word.as_str() {
+                "area_light" => {
+                    let a = self.vector()?;
+                    self.eat(',')?;
+                    let b = self.vector()?;
+                    self.eat(',')?;
+                    let n1 = self.float()?;
+                    self.eat(',')?;
+                    let n2 = self.float()?;
+                    let count = |n: f64| n.clamp(1.0, 64.0).round() as u32;
+                    light.area = Some((a, b, count(n1), count(n2)));
+                }
+                "adaptive" | "area_illumination" => {
+                    self.float()?;
+                }
+                "jitter" | "circular" | "orient" | "media_attenuation" | "media_interaction" => {
+                    if self.starts_number()? {
+                        self.float()?;
+                    }
+                }
+                "shadowless" => light.shadowless = true,
+                "color" | "colour" => {
+                    let cloc = self.here();
+                    let c = self.colour_rest(None)?;
+                    let c = self.as_colour(&c, cloc)?;
+                    light.colour = DVec3::new(c[0], c[1], c[2]);
+                }
+                "fade_power" | "fade_distance" => {
+                    let v = self.float()?;
+                    if word == "fade_power" && v != 0.0 {
+                        self.skip_warning(iloc, "fade_power", "the light does not fade with distance");
+                    }
+                }
+                "spotlight" | "cylinder" | "parallel" | "point_at" | "radius" | "falloff"
+                | "tightness" | "looks_like" | "projected_through" => {
+                    self.skip_warning(iloc, &word, "the light is drawn as a plain point light");
+                    if self.peek()? == Some(Tok::Punct('{')) {
+                        self.skip_block()?;
+                    } else if self.starts_number()? || self.peek()? == Some(Tok::Punct('<')) {
+                        self.expression(false)?;
+                    }
+                }
+                other => self.unknown_item(iloc, other, "light_source")?,
+            }
+        }
+        let _ = loc;
+        light.position = transform.transform_point3(light.position);
+        if let Some((a, b, n1, n2)) = light.area {
+            light.area = Some((
+                transform.transform_vector3(a),
+                transform.transform_vector3(b),
+                n1,
+                n2,
+            ));
+        }
+        Ok(light)
+    }
+
+    /// `mesh { triangle { a, b, c [texture] } smooth_triangle { … } … }`.
+    fn mesh(&mut self, loc: Loc) -> Result<Kind> {
+        let mut triangles = Vec::new();
+        while let Some(w) = self.peek_word()? {
+            if !matches!(w.as_str(), "triangle" | "smooth_triangle") {
+                break;
+            }
+            self.next()?;
+            self.expect('{')?;
+            let mut p = [DVec3::ZERO; 3];
+            for (i, corner) in p.iter_mut().enumerate() {
+                if i > 0 {
+                    self.eat(',')?;
+                }
+                *corner = self.vector()?;
+                if w == "smooth_triangle" {
+                    self.eat(',')?;
+                    self.vector()?;
+                }
+            }
+            let mut texture = None;
+            while !self.eat('}')? {
+                let tloc = self.here();
+                match self.word()?.as_str() {
+                    "texture" => texture = Some(self.texture_block()?),
+                    other => self.unknown_item(tloc, other, "triangle")?,
+                }
+            }
+            triangles.push((p, texture));
+        }
+        if triangles.is_empty() {
+            return Err(self.error_at(loc, "a mesh needs at least one triangle"));
+        }
+        Ok(Kind::Mesh(triangles))
+    }
+
+    /// `mesh2 { vertex_vectors { n, … } face_indices { n, … } … }`.
+    fn mesh2(&mut self, loc: Loc) -> Result<Kind> {
+        let mut vertices: Vec<DVec3> = Vec::new();
+        let mut faces: Vec<([usize; 3], Option<usize>)> = Vec::new();
+        let mut textures: Vec<Texture> = Vec::new();
+        while let Some(w) = self.peek_word()? {
+            let section_loc = self.here();
+            match w.as_str() {
+                "vertex_vectors" | "normal_vectors" | "uv_vectors" => {
+                    self.next()?;
+                    self.expect('{')?;
+                    let n = self.float()? as usize;
+                    let mut list = Vec::with_capacity(n.min(1 << 20));
+                    for _ in 0..n {
+                        self.eat(',')?;
+                        let v = self.expression(false)?;
+                        if let Value::Vector(c) = v {
+                            list.push(DVec3::new(c[0], c[1], c.get(2).copied().unwrap_or(0.0)));
+                        }
+                    }
+                    self.eat(',')?;
+                    self.expect('}')?;
+                    if w == "vertex_vectors" {
+                        vertices = list;
+                    }
+                }
+                "texture_list" => {
+                    self.next()?;
+                    self.expect('{')?;
+                    let n = self.float()? as usize;
+                    for _ in 0..n {
+                        self.eat(',')?;
+                        if self.eat_word("texture")? {
+                            textures.push(self.texture_block()?);
+                        }
+                    }
+                    self.expect('}')?;
+                }
+                "face_indices" | "normal_indices" | "uv_indices" => {
+                    self.next()?;
+                    self.expect('{')?;
+                    let n = self.float()? as usize;
+                    for _ in 0..n {
+                        self.eat(',')?;
+                        let floc = self.here();
+                        let v = self.vector()?;
+                        let mut texture = None;
+                        while self.eat(',')? {
+                            if self.starts_number()? {
+                                let t = self.float()?;
+                                texture.get_or_insert(t as usize);
+                            } else {
+                                break;
+                            }
+                        }
+                        if w == "face_indices" {
+                            let idx = [v.x, v.y, v.z];
+                            if idx.iter().any(|&i| i < 0.0 || i.fract() != 0.0) {
+                                return Err(self.error_at(floc, "face indices are whole numbers >= 0"));
+                            }
+                            faces.push((idx.map(|i| i as usize), texture));
+                        }
+                    }
+                    self.eat(',')?;
+                    self.expect('}')?;
+                }
+                _ => break,
+            }
+            let _ = section_loc;
+        }
+        let mut triangles = Vec::with_capacity(faces.len());
+        for (idx, texture) in faces {
+            let Some(p) = idx.iter().map(|&i| vertices.get(i).copied()).collect::<Option<Vec<_>>>()
+            else {
+                return Err(self.error_at(loc, format!(
+                    "a face refers to a vertex beyond the {} in vertex_vectors",
+                    vertices.len()
+                )));
+            };
+            triangles.push(([p[0], p[1], p[2]], texture.and_then(|t| textures.get(t).cloned())));
+        }
+        if triangles.is_empty() {
+            return Err(self.error_at(loc, "a mesh2 needs at least one face"));
+        }
+        Ok(Kind::Mesh(triangles))
+    }
+}
+
+/// `o`, given in the space of an object whose transform is `t`, in that
+/// object's parent space.
+fn placed(o: &Obj, t: DAffine3) -> Obj {
+    let mut o = o.clone();
+    o.apply(t);
+    o
+}
+
+/// The polynomial of a POV-Ray `poly` of order `n`: its coefficients belong
+/// to the monomials x^i y^j z^k (i + j + k ≤ n) in POV-Ray's order, by
+/// falling power of x, then of y, then of z.
+pub fn poly_terms(n: u32, v: &[f64]) -> Trivariate {
+    let mut terms = Vec::with_capacity(v.len());
+    let mut index = 0;
+    for i in (0..=n).rev() {
+        for j in (0..=n - i).rev() {
+            for k in (0..=n - i - j).rev() {
+                if v[index] != 0.0 {
+                    terms.push(([i as u8, j as u8, k as u8], v[index]));
+                }
+                index += 1;
+            }
+        }
+    }
+    Trivariate::from_terms(terms)
+}
+
+/// Whether a pigment lets all light through (POV-Ray's `Clear`).
+pub fn clear(p: &Pigment) -> bool {
+    matches!(p, Pigment::Colour(c) if c[3] + c[4] >= 1.0)
+}

@@ -1,0 +1,514 @@
+//! The token stream of a POV-Ray scene with its language directives applied
+//! as it is read: `#include` (a stack of files), `#declare`/`#local`,
+//! `#if`/`#ifdef`/`#ifndef`/`#else`/`#end`, `#version`, `#default`. What the
+//! subset does not run (`#macro`, `#while`, `#switch`, file I/O) is skipped
+//! whole, balanced by its `#end`, with a warning where it would have acted:
+//! a macro is named when it is called, not where an include defines it.
+
+use std::collections::{BTreeMap, HashMap};
+use std::path::{Path, PathBuf};
+use std::rc::Rc;
+
+use super::lex::{self, At, Tok, Token};
+use super::value::Value;
+use crate::error::{Error, Result};
+
+/// POV-Ray's own include files, as Debian's `povray-includes` installs them.
+pub const SYSTEM_INCLUDE: &str = "/usr/share/povray-3.7/include";
+
+/// Includes nest at most this deep (POV-Ray's own limit is 32 too): a file
+/// that includes itself is refused instead of exhausting the stack.
+const MAX_INCLUDE_DEPTH: usize = 32;
+
+/// Where a token is: its file (an index into `Parser::files`) and position.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Loc {
+    pub file: u16,
+    pub at: At,
+}
+
+struct Frame {
+    file: u16,
+    tokens: Rc<Vec<Token>>,
+    pos: usize,
+    /// How many `#if` branches that are being taken this file has open.
+    open_ifs: usize,
+}
+
+/// The reader's state: the token stream and what the directives declared.
+pub struct Parser {
+    pub files: Vec<PathBuf>,
+    frames: Vec<Frame>,
+    symbols: HashMap<String, Value>,
+    include_dirs: Vec<PathBuf>,
+    pub warnings: Vec<String>,
+    /// What was read, by kind, for `sturmray info`.
+    pub read: BTreeMap<String, usize>,
+    /// What was skipped, by keyword.
+    pub skipped: BTreeMap<String, usize>,
+    /// `image_width`, `image_height`.
+    pub size: (u32, u32),
+    /// Where the last token taken was, for errors at the end of a file.
+    last: Loc,
+}
+
+impl Parser {
+    /// A parser at the start of the scene file `path`, which `#include`
+    /// resolves against its own folder, then `include_dirs`, then
+    /// POV-Ray's installed includes.
+    pub fn new(path: &Path, include_dirs: &[PathBuf], size: (u32, u32)) -> Result<Parser> {
+        let mut dirs: Vec<PathBuf> = path.parent().map(Path::to_path_buf).into_iter().collect();
+        dirs.extend(include_dirs.iter().cloned());
+        dirs.push(PathBuf::from(SYSTEM_INCLUDE));
+        let mut parser = Parser {
+            files: Vec::new(),
+            frames: Vec::new(),
+            symbols: HashMap::new(),
+            include_dirs: dirs,
+            warnings: Vec::new(),
+            read: BTreeMap::new(),
+            skipped: BTreeMap::new(),
+            size,
+            last: Loc::default(),
+        };
+        parser.open(path)?;
+        Ok(parser)
+    }
+
+    fn open(&mut self, path: &Path) -> Result<()> {
+        if self.frames.len() >= MAX_INCLUDE_DEPTH {
+            return Err(self.error(format!(
+                "includes nest deeper than {MAX_INCLUDE_DEPTH} files (does a file include itself?)"
+            )));
+        }
+        let text = crate::io::input::read_text(path)?;
+        let file = self.files.len() as u16;
+        self.files.push(path.to_owned());
+        let tokens = lex::tokens(&text).map_err(|e| Error::Syntax {
+            path: path.to_owned(),
+            line: e.at.line as usize,
+            column: e.at.column as usize,
+            message: e.message,
+        })?;
+        self.frames.push(Frame {
+            file,
+            tokens: Rc::new(tokens),
+            pos: 0,
+            open_ifs: 0,
+        });
+        Ok(())
+    }
+
+    /// Where the next token is (or the last one, at the end).
+    pub fn here(&self) -> Loc {
+        match self.frames.last() {
+            Some(f) if f.pos < f.tokens.len() => Loc {
+                file: f.file,
+                at: f.tokens[f.pos].at,
+            },
+            _ => self.last,
+        }
+    }
+
+    /// "file:line:column" of `loc`.
+    pub fn place(&self, loc: Loc) -> String {
+        format!(
+            "{}:{}:{}",
+            self.files[loc.file as usize].display(),
+            loc.at.line,
+            loc.at.column
+        )
+    }
+
+    /// A syntax error at the next token.
+    pub fn error(&self, message: impl Into<String>) -> Error {
+        self.error_at(self.here(), message)
+    }
+
+    pub fn error_at(&self, loc: Loc, message: impl Into<String>) -> Error {
+        Error::Syntax {
+            path: self.files[loc.file as usize].clone(),
+            line: loc.at.line as usize,
+            column: loc.at.column as usize,
+            message: message.into(),
+        }
+    }
+
+    /// A warning about what is at `loc`.
+    pub fn warn(&mut self, loc: Loc, message: impl AsRef<str>) {
+        let text = format!("{}: {}", self.place(loc), message.as_ref());
+        if !self.warnings.contains(&text) {
+            self.warnings.push(text);
+        }
+    }
+
+    /// Warns that `keyword` at `loc` is outside the subset and was skipped.
+    pub fn skip_warning(&mut self, loc: Loc, keyword: &str, what: &str) {
+        *self.skipped.entry(keyword.to_owned()).or_default() += 1;
+        self.warn(loc, format!("`{keyword}` is not supported: {what}"));
+    }
+
+    /// Counts one `kind` read, for `info`.
+    pub fn count(&mut self, kind: &str) {
+        *self.read.entry(kind.to_owned()).or_default() += 1;
+    }
+
+    /// The raw token at the top of the stream, without running directives.
+    fn raw(&mut self) -> Option<Token> {
+        loop {
+            let frame = self.frames.last_mut()?;
+            if frame.pos < frame.tokens.len() {
+                return Some(frame.tokens[frame.pos].clone());
+            }
+            if frame.open_ifs > 0 {
+                return None;
+            }
+            self.frames.pop();
+        }
+    }
+
+    fn advance(&mut self) {
+        let frame = self.frames.last_mut().expect("a token was peeked");
+        self.last = Loc {
+            file: frame.file,
+            at: frame.tokens[frame.pos].at,
+        };
+        frame.pos += 1;
+    }
+
+    /// The next token, after running any directives before it; None at the
+    /// end of the scene.
+    pub fn peek(&mut self) -> Result<Option<Tok>> {
+        loop {
+            let Some(token) = self.raw() else {
+                if let Some(f) = self.frames.last()
+                    && f.open_ifs > 0
+                {
+                    return Err(self.error("this file ends inside an `#if` (a missing `#end`)"));
+                }
+                return Ok(None);
+            };
+            match token.tok {
+                Tok::Directive(name) => {
+                    self.advance();
+                    let loc = self.last;
+                    self.directive(&name, loc)?;
+                }
+                tok => return Ok(Some(tok)),
+            }
+        }
+    }
+
+    /// Takes the next token.
+    pub fn next(&mut self) -> Result<Tok> {
+        match self.peek()? {
+            Some(tok) => {
+                self.advance();
+                Ok(tok)
+            }
+            None => Err(self.error("unexpected end of the scene")),
+        }
+    }
+
+    /// Takes the next token if it is the punctuation `c`.
+    pub fn eat(&mut self, c: char) -> Result<bool> {
+        if self.peek()? == Some(Tok::Punct(c)) {
+            self.advance();
+            return Ok(true);
+        }
+        Ok(false)
+    }
+
+    /// Takes the punctuation `c`, or fails naming what was there.
+    pub fn expect(&mut self, c: char) -> Result<()> {
+        if self.eat(c)? {
+            return Ok(());
+        }
+        let found = self.peek()?;
+        Err(self.error(format!(
+            "expected `{c}`, found {}",
+            found.map_or("the end of the scene".into(), |t| lex::describe(&t))
+        )))
+    }
+
+    /// The next token if it is a word.
+    pub fn peek_word(&mut self) -> Result<Option<String>> {
+        Ok(match self.peek()? {
+            Some(Tok::Word(w)) => Some(w),
+            _ => None,
+        })
+    }
+
+    /// Takes the next token if it is the word `w`.
+    pub fn eat_word(&mut self, w: &str) -> Result<bool> {
+        if self.peek_word()?.as_deref() == Some(w) {
+            self.advance();
+            return Ok(true);
+        }
+        Ok(false)
+    }
+
+    /// The value `name` was declared with.
+    pub fn symbol(&self, name: &str) -> Option<&Value> {
+        self.symbols.get(name)
+    }
+
+    /// Every declared name, for suggestions.
+    pub fn symbol_names(&self) -> impl Iterator<Item = &str> {
+        self.symbols.keys().map(String::as_str)
+    }
+
+    /// Skips a balanced `{ … }` (the next token must be `{`), running no
+    /// directives in it.
+    pub fn skip_block(&mut self) -> Result<()> {
+        self.expect('{')?;
+        let mut depth = 1usize;
+        while depth > 0 {
+            let Some(token) = self.raw() else {
+                return Err(self.error("this block is never closed (`}`)"));
+            };
+            self.advance();
+            match token.tok {
+                Tok::Punct('{') => depth += 1,
+                Tok::Punct('}') => depth -= 1,
+                _ => {}
+            }
+        }
+        Ok(())
+    }
+
+    /// Skips a balanced `( … )` if one is next.
+    pub fn skip_parens(&mut self) -> Result<()> {
+        if self.peek()? != Some(Tok::Punct('(')) {
+            return Ok(());
+        }
+        let mut depth = 0usize;
+        loop {
+            let Some(token) = self.raw() else {
+                return Err(self.error("this `(` is never closed"));
+            };
+            self.advance();
+            match token.tok {
+                Tok::Punct('(') => depth += 1,
+                Tok::Punct(')') => {
+                    depth -= 1;
+                    if depth == 0 {
+                        return Ok(());
+                    }
+                }
+                _ => {}
+            }
+        }
+    }
+
+    /// Skips raw tokens to the `#end` that closes the construct just
+    /// opened; with `at_else`, stops after an `#else` or `#elseif` of the same
+    /// level instead, returning its name.
+    fn skip_to_end(&mut self, at_else: bool, opened: Loc) -> Result<Option<String>> {
+        let mut depth = 0usize;
+        loop {
+            let frame = self.frames.last_mut().expect("a file is open");
+            let Some(token) = frame.tokens.get(frame.pos).cloned() else {
+                return Err(self.error_at(opened, "this directive is never closed by `#end`"));
+            };
+            self.advance();
+            let Tok::Directive(name) = token.tok else {
+                continue;
+            };
+            match name.as_str() {
+                "if" | "ifdef" | "ifndef" | "while" | "switch" | "macro" | "for" => depth += 1,
+                "end" if depth == 0 => return Ok(None),
+                "end" => depth -= 1,
+                "else" | "elseif" if depth == 0 && at_else => return Ok(Some(name)),
+                _ => {}
+            }
+        }
+    }
+
+    /// Runs the directive `#name` found at `loc`.
+    fn directive(&mut self, name: &str, loc: Loc) -> Result<()> {
+        match name {
+            "declare" | "local" => self.declare(loc),
+            "undef" => {
+                let name = self.word()?;
+                self.symbols.remove(&name);
+                Ok(())
+            }
+            "include" => {
+                let file = match self.next()? {
+                    Tok::Str(s) => s,
+                    _ => return Err(self.error_at(loc, "expected a file name in quotes after #include")),
+                };
+                let path = self.resolve(&file).ok_or_else(|| {
+                    self.error_at(
+                        loc,
+                        format!(
+                            "cannot find the include file \"{file}\" (searched {}; add a folder with --pov-include)",
+                            self.include_dirs
+                                .iter()
+                                .map(|d| d.display().to_string())
+                                .collect::<Vec<_>>()
+                                .join(", ")
+                        ),
+                    )
+                })?;
+                self.count("#include");
+                self.open(&path)
+            }
+            "version" => {
+                self.float()?;
+                self.eat(';')?;
+                Ok(())
+            }
+            "if" => {
+                let taken = self.float()? != 0.0;
+                self.branch(taken, loc)
+            }
+            "ifdef" | "ifndef" => {
+                self.expect('(')?;
+                let word = self.word()?;
+                self.expect(')')?;
+                let defined = self.symbols.contains_key(&word);
+                self.branch(defined == (name == "ifdef"), loc)
+            }
+            "elseif" | "else" => {
+                // Met while taking a branch: the rest up to `#end` is not taken.
+                self.close_if(loc, name)?;
+                self.skip_to_end(false, loc)?;
+                Ok(())
+            }
+            "end" => self.close_if(loc, "end"),
+            "macro" => {
+                let name = self.word()?;
+                self.symbols.insert(name, Value::Macro);
+                self.skip_to_end(false, loc)?;
+                Ok(())
+            }
+            "while" | "for" | "switch" => {
+                self.skip_warning(loc, &format!("#{name}"), "skipped up to its #end");
+                self.skip_to_end(false, loc)?;
+                Ok(())
+            }
+            "debug" | "warning" => {
+                self.skip_value()?;
+                Ok(())
+            }
+            "error" => {
+                let message = match self.next()? {
+                    Tok::Str(s) => s,
+                    _ => "(no message)".into(),
+                };
+                Err(self.error_at(loc, format!("the scene stops with #error: {message}")))
+            }
+            "default" => self.default_block(loc),
+            "fopen" | "fclose" | "read" | "write" => {
+                self.skip_warning(loc, &format!("#{name}"), "file input and output are skipped");
+                match name {
+                    "fopen" => {
+                        self.next()?;
+                        self.next()?;
+                        self.next()?;
+                    }
+                    "fclose" => {
+                        self.next()?;
+                    }
+                    _ => self.skip_parens()?,
+                }
+                Ok(())
+            }
+            other => {
+                self.skip_warning(loc, &format!("#{other}"), "skipped");
+                Ok(())
+            }
+        }
+    }
+
+    /// After `#if`-like at `loc`: go on in the branch taken, or skip to the
+    /// `#else` (taken) or `#end`.
+    fn branch(&mut self, taken: bool, loc: Loc) -> Result<()> {
+        let mut taken = taken;
+        while !taken {
+            match self.skip_to_end(true, loc)?.as_deref() {
+                None => return Ok(()),
+                Some("else") => taken = true,
+                _ => taken = self.float()? != 0.0,
+            }
+        }
+        self.frames.last_mut().expect("a file is open").open_ifs += 1;
+        Ok(())
+    }
+
+    fn close_if(&mut self, loc: Loc, name: &str) -> Result<()> {
+        let frame = self.frames.last_mut().expect("a file is open");
+        if frame.open_ifs == 0 {
+            return Err(self.error_at(
+                loc,
+                format!("`#{name}` without an `#if` (or #ifdef, #ifndef) before it in this file"),
+            ));
+        }
+        frame.open_ifs -= 1;
+        Ok(())
+    }
+
+    /// `#declare NAME = value [;]`.
+    fn declare(&mut self, loc: Loc) -> Result<()> {
+        let name = self.word()?;
+        if self.peek()? == Some(Tok::Punct('[')) {
+            self.skip_warning(loc, "array", "an array element is not declared");
+            while !matches!(self.next()?, Tok::Punct(';')) {}
+            return Ok(());
+        }
+        self.expect('=')?;
+        let value = self.value()?;
+        self.eat(';')?;
+        self.symbols.insert(name, value);
+        Ok(())
+    }
+
+    /// The include file `name`, searched in the include folders.
+    fn resolve(&self, name: &str) -> Option<PathBuf> {
+        let including = self
+            .frames
+            .last()
+            .and_then(|f| self.files[f.file as usize].parent().map(Path::to_path_buf));
+        including
+            .into_iter()
+            .chain(self.include_dirs.iter().cloned())
+            .map(|d| d.join(name))
+            .find(|p| p.is_file())
+    }
+
+    /// A word (a name), or an error.
+    pub fn word(&mut self) -> Result<String> {
+        match self.next()? {
+            Tok::Word(w) => Ok(w),
+            other => Err(self.error_at(
+                self.last,
+                format!("expected a name, found {}", lex::describe(&other)),
+            )),
+        }
+    }
+
+    /// Skips one value of a directive (a string, or an expression with
+    /// strings in it): up to the next token that starts a new statement.
+    fn skip_value(&mut self) -> Result<()> {
+        self.skip_parens()?;
+        if let Some(Tok::Str(_)) = self.raw().map(|t| t.tok) {
+            self.advance();
+        } else if let Some(Tok::Word(_)) = self.raw().map(|t| t.tok) {
+            self.advance();
+            self.skip_parens()?;
+        }
+        Ok(())
+    }
+
+    /// Declares `name` as `value` (the reader's own, such as `#default`'s).
+    pub fn set(&mut self, name: &str, value: Value) {
+        self.symbols.insert(name.to_owned(), value);
+    }
+
+    /// Where the last token taken was.
+    pub fn last(&self) -> Loc {
+        self.last
+    }
+}

@@ -1,0 +1,513 @@
+//! Textures of POV-Ray's language: `pigment` (a colour, `checker`, and a
+//! pattern's mean colour), `finish` (sturmray's classic finish, with
+//! POV-Ray's defaults), `interior` (its ior), `#default`, and transforms.
+
+use glam::{DAffine3, DVec3};
+
+use super::lex::Tok;
+use super::parse::{Loc, Parser};
+use super::value::{Value, rotation};
+use crate::error::Result;
+use crate::shading::Finish;
+
+/// POV-Ray's pigment, as far as the subset goes.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Pigment {
+    /// red, green, blue, filter, transmit.
+    Colour([f64; 5]),
+    /// Unit cubes of two colours alternating; the transform takes the
+    /// pattern's space to the space of the texture's owner.
+    Checker {
+        colours: [[f64; 5]; 2],
+        to_owner: DAffine3,
+    },
+}
+
+impl Pigment {
+    /// POV-Ray's default pigment: black.
+    pub fn black() -> Pigment {
+        Pigment::Colour([0.0; 5])
+    }
+
+    /// Applies a transform given after the pigment.
+    pub fn transform(&mut self, t: DAffine3) {
+        if let Pigment::Checker { to_owner, .. } = self {
+            *to_owner = t * *to_owner;
+        }
+    }
+}
+
+/// A texture: pigment and finish (normals are outside the subset).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Texture {
+    pub pigment: Pigment,
+    pub finish: Finish,
+}
+
+impl Texture {
+    pub fn transform(&mut self, t: DAffine3) {
+        self.pigment.transform(t);
+    }
+}
+
+/// POV-Ray's default finish (ambient 0.1; sturmray's own classic default is
+/// 0, see `Finish`).
+pub fn pov_finish() -> Finish {
+    Finish {
+        ambient: 0.1,
+        ..Finish::default()
+    }
+}
+
+/// What `#default` set, which every new texture, pigment and finish starts from.
+pub fn default_texture() -> Texture {
+    Texture {
+        pigment: Pigment::black(),
+        finish: pov_finish(),
+    }
+}
+
+/// The name the reader keeps `#default`'s texture under (not a name a
+/// scene can write: it starts with a space).
+pub const DEFAULT: &str = " default";
+
+impl Parser {
+    fn defaults(&self) -> Texture {
+        match self.symbol(DEFAULT) {
+            Some(Value::Texture(t)) => (**t).clone(),
+            _ => default_texture(),
+        }
+    }
+
+    /// `#default { texture {…} | pigment {…} | finish {…} }`.
+    pub fn default_block(&mut self, _loc: Loc) -> Result<()> {
+        self.expect('{')?;
+        let mut t = self.defaults();
+        while !self.eat('}')? {
+            let loc = self.here();
+            match self.word()?.as_str() {
+                "texture" => t = self.texture_block()?,
+                "pigment" => t.pigment = self.pigment_block()?,
+                "finish" => t.finish = self.finish_block(None)?,
+                other => {
+                    self.skip_warning(loc, other, "not used as a default");
+                    if self.peek()? == Some(Tok::Punct('{')) {
+                        self.skip_block()?;
+                    }
+                }
+            }
+        }
+        self.set(DEFAULT, Value::Texture(Box::new(t)));
+        Ok(())
+    }
+
+    /// The contents of `texture { … }` (after the keyword).
+    pub fn texture_block(&mut self) -> Result<Texture> {
+        self.expect('{')?;
+        let mut t = self.defaults();
+        if let Some(w) = self.peek_word()?
+            && let Some(Value::Texture(base)) = self.symbol(&w)
+        {
+            t = (**base).clone();
+            self.next()?;
+        }
+        while !self.eat('}')? {
+            let loc = self.here();
+            let word = self.word()?;
+            match word.as_str() {
+                "pigment" => t.pigment = self.pigment_block()?,
+                "finish" => t.finish = self.finish_block(Some(t.finish))?,
+                "normal" => {
+                    self.skip_warning(loc, "normal", "the surface is drawn without its bumps");
+                    self.skip_block()?;
+                }
+                w => {
+                    if let Some(m) = self.transform_item(w)? {
+                        t.transform(m);
+                    } else {
+                        self.unknown_item(loc, w, "texture")?;
+                    }
+                }
+            }
+        }
+        Ok(t)
+    }
+
+    /// The contents of `pigment { … }`.
+    pub fn pigment_block(&mut self) -> Result<Pigment> {
+        self.expect('{')?;
+        let mut p = self.defaults().pigment;
+        while !self.eat('}')? {
+            let loc = self.here();
+            let Some(word) = self.peek_word()? else {
+                // A colour given as a vector expression, `pigment { <1, 0, 0> }`.
+                let v = self.expression(false)?;
+                p = Pigment::Colour(self.as_colour(&v, loc)?);
+                continue;
+            };
+            if let Some(Value::Pigment(base)) = self.symbol(&word) {
+                p = base.clone();
+                self.next()?;
+                continue;
+            }
+            if let Some(m) = self.transform_item(&word)? {
+                p.transform(m);
+                continue;
+            }
+            match word.as_str() {
+                "checker" => {
+                    self.next()?;
+                    let mut colours = [[0.0, 0.0, 1.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0, 0.0]];
+                    for c in &mut colours {
+                        if self.peek_word()?.is_none_or(|w| self.starts_colour(&w)) {
+                            let loc = self.here();
+                            let v = self.colour_rest(None)?;
+                            *c = self.as_colour(&v, loc)?;
+                            self.eat(',')?;
+                        }
+                    }
+                    p = Pigment::Checker {
+                        colours,
+                        to_owner: DAffine3::IDENTITY,
+                    };
+                }
+                "quick_color" | "quick_colour" => {
+                    self.next()?;
+                    self.colour_rest(None)?;
+                }
+                w if self.starts_colour(w) => {
+                    let v = self.colour_rest(None)?;
+                    p = Pigment::Colour(self.as_colour(&v, loc)?);
+                }
+                _ => {
+                    self.next()?;
+                    p = Pigment::Colour(self.pattern(loc, &word)?);
+                }
+            }
+        }
+        Ok(p)
+    }
+
+    /// Whether the word `w` begins a colour.
+    fn starts_colour(&self, w: &str) -> bool {
+        matches!(
+            w,
+            "color" | "colour" | "rgb" | "rgbf" | "rgbt" | "rgbft" | "srgb" | "srgbf" | "srgbt"
+                | "srgbft" | "red" | "green" | "blue"
+        ) || matches!(self.symbol(w), Some(Value::Vector(_) | Value::Float(_)))
+    }
+
+    /// A pattern pigment outside the subset (`granite`, `bozo`, …) up to the
+    /// end of its pigment block: drawn as the mean of the colours of its
+    /// colour map, with a warning.
+    fn pattern(&mut self, loc: Loc, keyword: &str) -> Result<[f64; 5]> {
+        let colours = self.map_colours()?;
+        self.skip_warning(
+            loc,
+            keyword,
+            if colours.is_empty() {
+                "the pattern is drawn black (no colour map read)"
+            } else {
+                "the pattern is drawn as the mean colour of its colour map"
+            },
+        );
+        Ok(mean(&colours))
+    }
+
+    /// The colours of a colour map (or of a whole pattern pigment): every
+    /// colour in its `[ … ]` entries and every declared colour named, up to
+    /// the `}` that closes the block (left in the stream).
+    pub fn map_colours(&mut self) -> Result<Vec<[f64; 5]>> {
+        let mut colours: Vec<[f64; 5]> = Vec::new();
+        let mut depth = 0usize;
+        loop {
+            match self.peek()? {
+                Some(Tok::Punct('}')) if depth == 0 => return Ok(colours),
+                Some(Tok::Punct('{')) => {
+                    depth += 1;
+                    self.next()?;
+                }
+                Some(Tok::Punct('}')) => {
+                    depth -= 1;
+                    self.next()?;
+                }
+                Some(Tok::Punct('[')) => {
+                    self.next()?;
+                    while !self.eat(']')? {
+                        let loc = self.here();
+                        let w = self.peek_word()?;
+                        if let Some(w) = w
+                            && self.starts_colour(&w)
+                            && !matches!(self.symbol(&w), Some(Value::Float(_)))
+                        {
+                            let v = self.colour_rest(None)?;
+                            colours.push(self.as_colour(&v, loc)?);
+                        } else {
+                            self.expression(false)?;
+                        }
+                        self.eat(',')?;
+                    }
+                }
+                Some(Tok::Word(w)) => {
+                    self.next()?;
+                    // A declared colour (a colour map declared earlier is
+                    // kept as its mean colour).
+                    if let Some(Value::Vector(c)) = self.symbol(&w)
+                        && c.len() == 5
+                    {
+                        let mut colour = [0.0; 5];
+                        colour.copy_from_slice(c);
+                        colours.push(colour);
+                    }
+                }
+                Some(_) => {
+                    self.next()?;
+                }
+                None => return Err(self.error("this block is never closed (`}`)")),
+            }
+        }
+    }
+
+    /// The contents of `finish { … }`, starting from `base` (or the default).
+    pub fn finish_block(&mut self, base: Option<Finish>) -> Result<Finish> {
+        self.expect('{')?;
+        let mut f = base.unwrap_or_else(|| self.defaults().finish);
+        if let Some(w) = self.peek_word()?
+            && let Some(Value::Finish(named)) = self.symbol(&w)
+        {
+            f = *named;
+            self.next()?;
+        }
+        while !self.eat('}')? {
+            let loc = self.here();
+            let word = self.word()?;
+            let mut fraction = |p: &mut Parser, name: &str| -> Result<f32> {
+                let v = p.finish_amount(name, loc)?;
+                Ok(v as f32)
+            };
+            match word.as_str() {
+                "ambient" => f.ambient = fraction(self, "ambient")?,
+                "diffuse" => {
+                    if self.eat_word("albedo")? {
+                        self.warn(loc, "`diffuse albedo` is read as plain diffuse");
+                    }
+                    f.diffuse = fraction(self, "diffuse")?;
+                }
+                "phong" => f.phong = fraction(self, "phong")?,
+                "phong_size" => f.phong_size = self.float()? as f32,
+                "specular" => f.specular = fraction(self, "specular")?,
+                "roughness" => f.roughness = self.float()? as f32,
+                "metallic" => {
+                    f.metallic = if self.starts_number()? {
+                        self.float()? as f32
+                    } else {
+                        1.0
+                    };
+                }
+                "reflection" => self.reflection(&mut f, loc)?,
+                "brilliance" => {
+                    let b = self.float()?;
+                    if b != 1.0 {
+                        self.warn(loc, "`brilliance` other than 1 is read as 1");
+                    }
+                }
+                "conserve_energy" | "crand" => {
+                    if word == "crand" {
+                        self.float()?;
+                    }
+                    self.skip_warning(loc, &word, "ignored");
+                }
+                "emission" => {
+                    let v = self.expression(false)?;
+                    let c = self.as_colour(&v, loc)?;
+                    f.ambient += ((c[0] + c[1] + c[2]) / 3.0) as f32;
+                    self.warn(loc, "`emission` is added to ambient, as a grey");
+                }
+                other => self.unknown_item(loc, other, "finish")?,
+            }
+        }
+        Ok(f)
+    }
+
+    /// A finish amount: a number, or a colour read as its mean (with a warning).
+    fn finish_amount(&mut self, name: &str, loc: Loc) -> Result<f64> {
+        let v = self.expression(false)?;
+        Ok(match v {
+            Value::Float(f) => f,
+            Value::Vector(c) => {
+                self.warn(loc, format!("a coloured `{name}` is read as the mean of its colour"));
+                c.iter().take(3).sum::<f64>() / 3.0
+            }
+            _ => return Err(self.error_at(loc, format!("expected a number after `{name}`"))),
+        })
+    }
+
+    /// `reflection f`, `reflection { [min] max [fresnel] [metallic] }`.
+    fn reflection(&mut self, f: &mut Finish, loc: Loc) -> Result<()> {
+        if !self.eat('{')? {
+            let r = self.finish_amount("reflection", loc)? as f32;
+            f.reflection = r;
+            f.reflection_max = r;
+            return Ok(());
+        }
+        let first = self.finish_amount("reflection", loc)? as f32;
+        self.eat(',')?;
+        let (min, max) = if self.starts_number()? {
+            (first, self.finish_amount("reflection", loc)? as f32)
+        } else {
+            (first, first)
+        };
+        f.reflection = min;
+        f.reflection_max = max;
+        while !self.eat('}')? {
+            let loc = self.here();
+            match self.word()?.as_str() {
+                "fresnel" => {
+                    f.fresnel = !self.starts_number()? || self.float()? != 0.0;
+                }
+                "metallic" => {
+                    f.metallic = if self.starts_number()? {
+                        self.float()? as f32
+                    } else {
+                        1.0
+                    };
+                }
+                "falloff" | "exponent" => {
+                    self.float()?;
+                    self.skip_warning(loc, "reflection falloff", "ignored");
+                }
+                other => self.unknown_item(loc, other, "reflection")?,
+            }
+        }
+        Ok(())
+    }
+
+    /// Whether the next token starts a number.
+    pub fn starts_number(&mut self) -> Result<bool> {
+        Ok(match self.peek()? {
+            Some(Tok::Number(_)) | Some(Tok::Punct('-' | '(' | '+')) => true,
+            Some(Tok::Word(w)) => {
+                matches!(self.symbol(&w), Some(Value::Float(_)))
+                    || matches!(w.as_str(), "pi" | "sqrt" | "sin" | "cos" | "abs" | "pow")
+            }
+            _ => false,
+        })
+    }
+
+    /// The contents of `interior { … }`: its ior.
+    pub fn interior_block(&mut self) -> Result<f64> {
+        self.expect('{')?;
+        let mut ior = 1.0;
+        if let Some(w) = self.peek_word()?
+            && let Some(Value::Interior(named)) = self.symbol(&w)
+        {
+            ior = *named;
+            self.next()?;
+        }
+        while !self.eat('}')? {
+            let loc = self.here();
+            let word = self.word()?;
+            match word.as_str() {
+                "ior" => ior = self.float()?,
+                other => self.unknown_item(loc, other, "interior")?,
+            }
+        }
+        Ok(ior)
+    }
+
+    /// `transform { … }` (after the keyword) or `transform NAME`.
+    pub fn transform_block(&mut self) -> Result<DAffine3> {
+        if let Some(w) = self.peek_word()? {
+            return match self.symbol(&w) {
+                Some(Value::Transform(t)) => {
+                    let t = *t;
+                    self.next()?;
+                    Ok(t)
+                }
+                _ => Err(self.error(format!("`{w}` is not a declared transform"))),
+            };
+        }
+        self.expect('{')?;
+        let mut m = DAffine3::IDENTITY;
+        while !self.eat('}')? {
+            let loc = self.here();
+            let word = self.word()?;
+            if word == "inverse" {
+                m = m.inverse();
+            } else if let Some(t) = self.transform_item(&word)? {
+                m = t * m;
+            } else if let Some(Value::Transform(t)) = self.symbol(&word) {
+                m = *t * m;
+            } else {
+                return Err(self.error_at(loc, format!("`{word}` is not a transform")));
+            }
+        }
+        Ok(m)
+    }
+
+    /// If `word` is a transform keyword (already peeked or taken), takes it
+    /// and its value and returns the transform.
+    pub fn transform_item(&mut self, word: &str) -> Result<Option<DAffine3>> {
+        if !matches!(word, "translate" | "rotate" | "scale" | "matrix" | "transform") {
+            return Ok(None);
+        }
+        if self.peek_word()?.as_deref() == Some(word) {
+            self.next()?;
+        }
+        let loc = self.here();
+        Ok(Some(match word {
+            "translate" => DAffine3::from_translation(self.vector()?),
+            "rotate" => rotation(self.vector()? * (std::f64::consts::PI / 180.0)),
+            "scale" => {
+                let mut s = self.vector()?;
+                for i in 0..3 {
+                    if s[i] == 0.0 {
+                        self.warn(loc, "a scale of 0 is changed to 1, as POV-Ray does");
+                        s[i] = 1.0;
+                    }
+                }
+                DAffine3::from_scale(s)
+            }
+            "matrix" => {
+                let v = self.expression(false)?;
+                let Value::Vector(m) = v else {
+                    return Err(self.error_at(loc, "`matrix` takes 12 numbers in < >"));
+                };
+                if m.len() != 12 {
+                    return Err(self.error_at(loc, "`matrix` takes 12 numbers"));
+                }
+                DAffine3::from_cols(
+                    DVec3::new(m[0], m[1], m[2]),
+                    DVec3::new(m[3], m[4], m[5]),
+                    DVec3::new(m[6], m[7], m[8]),
+                    DVec3::new(m[9], m[10], m[11]),
+                )
+            }
+            _ => self.transform_block()?,
+        }))
+    }
+
+    /// An item of a block that the subset does not know: skipped with a
+    /// warning, with its block or value.
+    pub fn unknown_item(&mut self, loc: Loc, word: &str, block: &str) -> Result<()> {
+        self.skip_warning(loc, word, &format!("skipped in this {block}"));
+        if self.peek()? == Some(Tok::Punct('{')) {
+            self.skip_block()?;
+        } else if self.starts_number()? || self.peek()? == Some(Tok::Punct('<')) {
+            self.expression(false)?;
+        }
+        Ok(())
+    }
+}
+
+/// The mean of `colours` (black for none).
+pub fn mean(colours: &[[f64; 5]]) -> [f64; 5] {
+    let n = colours.len().max(1) as f64;
+    let mut mean = [0.0; 5];
+    for c in colours {
+        for i in 0..5 {
+            mean[i] += c[i] / n;
+        }
+    }
+    mean
+}
