@@ -25,6 +25,7 @@ fn mesh_scene(positions: Vec<Vec3>, triangles: Vec<[u32; 3]>) -> Scene {
         light_picker: Default::default(),
         warnings: Vec::new(),
         sources: Vec::new(),
+        import: None,
     }
 }
 

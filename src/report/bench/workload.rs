@@ -99,6 +99,7 @@ pub fn bumpy_sphere(triangles: usize) -> Scene {
         warnings: Vec::new(),
         // Generated, read from no file.
         sources: Vec::new(),
+        import: None,
     };
     scene.gather_emitters();
     scene

@@ -3,7 +3,7 @@
 //! recursively, become the leaves of one `Csg`, each placed by its parents'
 //! transforms and its own, with its own material or its parent's.
 
-use glam::{DAffine3, DVec3};
+use glam::DAffine3;
 
 use super::Objects;
 use super::schema::{Object, ShapeFile};

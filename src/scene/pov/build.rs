@@ -120,7 +120,10 @@ pub(super) fn scene(
     }
     scene.import = Some(crate::scene::Import {
         read: parser.read.clone(),
-        skipped: parser.skipped.clone(),
+        skipped: parser.skipped.iter().fold(Default::default(), |mut m: std::collections::BTreeMap<String, usize>, k| {
+            *m.entry(k.clone()).or_default() += 1;
+            m
+        }),
     });
     Ok(scene)
 }

@@ -192,8 +192,3 @@ fn globals(p: &mut Parser, g: &mut Globals) -> Result<()> {
     }
     Ok(())
 }
-
-/// Whether `obj` is a light (which `build` takes out of any CSG).
-fn is_light(obj: &Obj) -> bool {
-    matches!(obj.kind, Kind::Light(_))
-}

@@ -40,12 +40,16 @@ pub struct Parser {
     pub files: Vec<PathBuf>,
     frames: Vec<Frame>,
     symbols: HashMap<String, Value>,
+    /// The warnings (and skipped keywords) met while reading a declared
+    /// value, given only where the name is used: an include file declares
+    /// much that a scene never uses.
+    deferred: HashMap<String, (Vec<String>, Vec<String>)>,
     include_dirs: Vec<PathBuf>,
     pub warnings: Vec<String>,
     /// What was read, by kind, for `sturmray info`.
     pub read: BTreeMap<String, usize>,
-    /// What was skipped, by keyword.
-    pub skipped: BTreeMap<String, usize>,
+    /// What was skipped, by keyword, in order.
+    pub skipped: Vec<String>,
     /// `image_width`, `image_height`.
     pub size: (u32, u32),
     /// Where the last token taken was, for errors at the end of a file.
@@ -64,10 +68,11 @@ impl Parser {
             files: Vec::new(),
             frames: Vec::new(),
             symbols: HashMap::new(),
+            deferred: HashMap::new(),
             include_dirs: dirs,
             warnings: Vec::new(),
             read: BTreeMap::new(),
-            skipped: BTreeMap::new(),
+            skipped: Vec::new(),
             size,
             last: Loc::default(),
         };
@@ -144,7 +149,7 @@ impl Parser {
 
     /// Warns that `keyword` at `loc` is outside the subset and was skipped.
     pub fn skip_warning(&mut self, loc: Loc, keyword: &str, what: &str) {
-        *self.skipped.entry(keyword.to_owned()).or_default() += 1;
+        self.skipped.push(keyword.to_owned());
         self.warn(loc, format!("`{keyword}` is not supported: {what}"));
     }
 
@@ -204,6 +209,17 @@ impl Parser {
         match self.peek()? {
             Some(tok) => {
                 self.advance();
+                if let Tok::Word(w) = &tok
+                    && let Some((warnings, skipped)) = self.deferred.get(w)
+                {
+                    let (warnings, skipped) = (warnings.clone(), skipped.clone());
+                    for w in warnings {
+                        if !self.warnings.contains(&w) {
+                            self.warnings.push(w);
+                        }
+                    }
+                    self.skipped.extend(skipped);
+                }
                 Ok(tok)
             }
             None => Err(self.error("unexpected end of the scene")),
@@ -459,9 +475,21 @@ impl Parser {
             return Ok(());
         }
         self.expect('=')?;
+        let (warnings, skipped) = (self.warnings.len(), self.skipped.len());
         let value = self.value()?;
-        self.eat(';')?;
+        let deferred = (
+            self.warnings.split_off(warnings),
+            self.skipped.split_off(skipped),
+        );
+        if deferred.0.is_empty() && deferred.1.is_empty() {
+            self.deferred.remove(&name);
+        } else {
+            self.deferred.insert(name.clone(), deferred);
+        }
+        // Declared before the `;` is looked for: looking ahead runs the
+        // directives after it, which may use the name.
         self.symbols.insert(name, value);
+        self.eat(';')?;
         Ok(())
     }
 

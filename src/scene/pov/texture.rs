@@ -281,7 +281,7 @@ impl Parser {
         while !self.eat('}')? {
             let loc = self.here();
             let word = self.word()?;
-            let mut fraction = |p: &mut Parser, name: &str| -> Result<f32> {
+            let fraction = |p: &mut Parser, name: &str| -> Result<f32> {
                 let v = p.finish_amount(name, loc)?;
                 Ok(v as f32)
             };
@@ -388,7 +388,11 @@ impl Parser {
             Some(Tok::Number(_)) | Some(Tok::Punct('-' | '(' | '+')) => true,
             Some(Tok::Word(w)) => {
                 matches!(self.symbol(&w), Some(Value::Float(_)))
-                    || matches!(w.as_str(), "pi" | "sqrt" | "sin" | "cos" | "abs" | "pow")
+                    || matches!(
+                        w.as_str(),
+                        "pi" | "sqrt" | "sin" | "cos" | "abs" | "pow" | "on" | "off" | "true"
+                            | "false" | "yes" | "no"
+                    )
             }
             _ => false,
         })

@@ -8,7 +8,8 @@ use glam::DAffine3;
 use super::lex::Tok;
 use super::object::Obj;
 use super::parse::Parser;
-use super::texture::{Finish, Pigment, Texture};
+use super::texture::{Pigment, Texture};
+use crate::shading::Finish;
 use crate::error::Result;
 use crate::suggest;
 
@@ -18,7 +19,8 @@ pub enum Value {
     Float(f64),
     /// 2 to 5 numbers; a colour is 5: red, green, blue, filter, transmit.
     Vector(Vec<f64>),
-    Str(String),
+    /// A string (read, not used: strings name fonts and files).
+    Str,
     Object(Box<Obj>),
     Texture(Box<Texture>),
     Pigment(Pigment),
@@ -109,7 +111,15 @@ impl Parser {
             match w {
                 "texture" => {
                     self.next()?;
-                    return Ok(Value::Texture(Box::new(self.texture_block()?)));
+                    let texture = self.texture_block()?;
+                    // Layers over the first: POV-Ray's layered texture.
+                    while self.peek_word()?.as_deref() == Some("texture") {
+                        let at = self.here();
+                        self.skip_warning(at, "texture", "a layered texture: only its first layer is drawn");
+                        self.next()?;
+                        self.texture_block()?;
+                    }
+                    return Ok(Value::Texture(Box::new(texture)));
                 }
                 "pigment" => {
                     self.next()?;
@@ -163,7 +173,8 @@ impl Parser {
         }
         if let Some(Tok::Str(s)) = self.peek()? {
             self.next()?;
-            return Ok(Value::Str(s));
+            let _ = s;
+            return Ok(Value::Str);
         }
         self.expression(false)
     }
