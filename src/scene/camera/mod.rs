@@ -309,9 +309,9 @@ impl ImagePlane {
         }
         let [d, r, u] = [self.direction, self.right, self.up].map(Vec3::as_dvec3);
         let normal = r.cross(u);
-        // NaN (right or up zero) fails the comparison too.
+        // NaN when right or up is zero.
         let sine = normal.length() / (r.length() * u.length());
-        if !(sine >= MIN_VIEW) {
+        if sine.is_nan() || sine < MIN_VIEW {
             return Some((
                 "camera.right",
                 format!(
@@ -325,7 +325,7 @@ impl ImagePlane {
         // The eye's distance from the plane, against the largest of its vectors.
         let distance = d.dot(normal).abs() / normal.length();
         let size = d.length().max(r.length()).max(u.length());
-        (!(distance >= MIN_VIEW * size)).then(|| {
+        (distance < MIN_VIEW * size).then(|| {
             (
                 "camera.direction",
                 format!(

@@ -232,7 +232,8 @@ fn an_image_plane_that_makes_no_rays_is_refused() {
         Camera::with_plane(Vec3::ZERO, plane, 4, 3).check()
     };
     assert!(with(|_| ()).is_ok());
-    let cases: [(fn(&mut ImagePlane), &str, &str); 9] = [
+    type Edit = fn(&mut ImagePlane);
+    let cases: [(Edit, &str, &str); 9] = [
         (|p| p.up.y = f32::NAN, "camera.up", "finite"),
         (
             |p| p.direction.z = f32::INFINITY,
