@@ -109,7 +109,7 @@ fn bad_input_exits_with_2_and_names_the_problem() {
         ),
         (
             &["info", "scene.txt"],
-            "expected a scene file ending in .toml or .obj",
+            "expected a scene file ending in .toml, .obj or .pov",
         ),
         (&["frobnicate"], "unrecognized subcommand"),
     ];

@@ -8,13 +8,16 @@ use sturmray::accel::Accel;
 use sturmray::io::console::print;
 use sturmray::render::RayKind;
 
-use super::shared::{BackendArg, load};
+use super::shared::{BackendArg, SizeArgs, load_sized};
 
 /// Print the ray tree of one pixel sample: each ray's kind, what it hit, t,
 /// the material, its weight and the radiance it brings back.
 #[derive(clap::Args)]
 pub struct Args {
     scene: PathBuf,
+    /// The image size, as `render`'s: the pixel is the rendered image's.
+    #[command(flatten)]
+    size: SizeArgs,
     /// The pixel, from the top-left corner.
     #[arg(long, value_parser = parse_pixel)]
     pixel: (usize, usize),
@@ -50,13 +53,14 @@ fn triple(v: [f32; 3]) -> String {
 pub fn run(args: Args) -> anyhow::Result<()> {
     let Args {
         scene,
+        size,
         pixel,
         sample,
         all_effects,
         frame,
         backend,
     } = args;
-    let mut scene = load(&scene)?;
+    let mut scene = load_sized(&scene, &size)?;
     scene.camera.go_to_frame(frame);
     let accel = Accel::build(&scene, backend.into(), None)?;
     let (result, tree) = sturmray::render::explain(&scene, &accel, pixel, sample, all_effects)?;

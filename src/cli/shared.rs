@@ -1,5 +1,5 @@
-//! What several subcommands share: the `--backend` choice, loading a scene,
-//! and the checks that no output replaces an input or another output.
+//! What several subcommands share: the `--backend` choice, the image size
+//! (`--width`, `--height`), loading a scene, and the checks that no output replaces an input or another output.
 
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
@@ -10,7 +10,7 @@ use sturmray::accel::Backend;
 use sturmray::error::Error;
 use sturmray::io::console::note;
 use sturmray::io::output::{Role, check_distinct, prepare, write_atomic};
-use sturmray::scene::Scene;
+use sturmray::scene::{Scene, SizeRequest};
 
 // `--backend`: the doc comments of the values are their help text.
 #[derive(Clone, Copy, ValueEnum)]
@@ -73,9 +73,34 @@ pub fn scene_inputs(scene: &Scene) -> Vec<Role<'_>> {
         .collect()
 }
 
+/// `--width` and `--height`, for the commands whose pixels are the rendered
+/// image's. The doc comments are their help text.
+#[derive(clap::Args, Default)]
+pub struct SizeArgs {
+    /// Image width in pixels, replacing the scene's (a .pov scene's: 800). Alone,
+    /// the height follows the scene's aspect ratio. A TOML or OBJ camera keeps
+    /// its vertical field of view.
+    #[arg(long)]
+    width: Option<u32>,
+    /// Image height in pixels, replacing the scene's (a .pov scene's: 600).
+    /// Alone, the width follows the scene's aspect ratio.
+    #[arg(long)]
+    height: Option<u32>,
+}
+
 /// Loads a scene and prints its warnings, once per command.
 pub fn load(path: &Path) -> Result<Scene, Error> {
-    let scene = Scene::load(path)?;
+    load_sized(path, &SizeArgs::default())
+}
+
+/// Loads a scene at the size `--width`/`--height` ask for, and prints its
+/// warnings, once per command.
+pub fn load_sized(path: &Path, size: &SizeArgs) -> Result<Scene, Error> {
+    let request = SizeRequest {
+        width: size.width,
+        height: size.height,
+    };
+    let scene = Scene::load_sized(path, request, Vec::new())?;
     for warning in &scene.warnings {
         note(format_args!("sturmray: warning: {warning}"));
     }

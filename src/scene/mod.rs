@@ -1,4 +1,5 @@
-//! Scenes: the in-memory form, loaded from a TOML file or a bare OBJ.
+//! Scenes: the in-memory form, loaded from a TOML file, a bare OBJ or a
+//! POV-Ray scene (.pov), at the scene's own image size or one a command asks for.
 
 mod camera;
 mod emitters;
@@ -8,14 +9,16 @@ mod interaction;
 mod locate;
 mod obj;
 mod pov;
+mod size;
 mod solids;
 
 use std::path::{Path, PathBuf};
 
-pub use camera::{Camera, CameraFrame, CameraKey, CameraProblem};
+pub use camera::{Camera, CameraFrame, CameraKey, CameraProblem, ImagePlane};
 pub use interaction::Interaction;
 use obj::MAX_COORDINATE;
 pub use obj::{ObjFile, load_obj};
+pub use size::SizeRequest;
 
 use crate::error::{Error, Result};
 use crate::geometry::{Mesh, Shape};
@@ -196,17 +199,69 @@ pub struct Import {
     pub skipped: std::collections::BTreeMap<String, usize>,
 }
 
-impl Scene {
-    /// Loads a `.toml` scene or a bare `.obj` file.
-    pub fn load(path: &Path) -> Result<Scene> {
-        match path.extension().and_then(|e| e.to_str()) {
-            Some(ext) if ext.eq_ignore_ascii_case("obj") => Scene::from_obj(path),
-            Some(ext) if ext.eq_ignore_ascii_case("toml") => file::load(path),
-            _ => Err(Error::Input(format!(
-                "{}: expected a scene file ending in .toml or .obj",
+/// What a command asks of the loader beyond the file itself.
+#[derive(Clone, Debug, Default)]
+pub struct LoadOptions {
+    /// The image size asked for on the command line (`--width`, `--height`), replacing the scene's.
+    pub size: Option<(u32, u32)>,
+    /// Extra folders `#include` searches in a .pov scene (`--pov-include DIR`), before POV-Ray's installed includes.
+    pub pov_include: Vec<PathBuf>,
+}
+
+/// The kinds of scene file, told by the extension (in any case).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum SceneKind {
+    Toml,
+    Obj,
+    Pov,
+}
+
+impl SceneKind {
+    fn of(path: &Path) -> Result<SceneKind> {
+        let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
+        [
+            ("toml", SceneKind::Toml),
+            ("obj", SceneKind::Obj),
+            ("pov", SceneKind::Pov),
+        ]
+        .into_iter()
+        .find_map(|(name, kind)| ext.eq_ignore_ascii_case(name).then_some(kind))
+        .ok_or_else(|| {
+            Error::Input(format!(
+                "{}: expected a scene file ending in .toml, .obj or .pov",
                 path.display()
-            ))),
+            ))
+        })
+    }
+}
+
+impl Scene {
+    /// Loads a `.toml` scene, a bare `.obj` file or a `.pov` scene.
+    pub fn load(path: &Path) -> Result<Scene> {
+        Scene::load_with(path, &LoadOptions::default())
+    }
+
+    /// Loads a scene as [`Scene::load`], with what a command asks beyond the
+    /// file. `options.size` is checked first, as a scene file's size is, but
+    /// with errors naming the flags: a .pov scene is read at that size (its
+    /// `image_width` and `image_height`), and a TOML or OBJ scene's camera
+    /// takes it once loaded, keeping its vertical field of view.
+    pub fn load_with(path: &Path, options: &LoadOptions) -> Result<Scene> {
+        let kind = SceneKind::of(path)?;
+        if let Some(size) = options.size {
+            SizeRequest::both(size).check(size)?;
         }
+        let mut scene = match kind {
+            SceneKind::Toml => file::load(path)?,
+            SceneKind::Obj => Scene::from_obj(path)?,
+            SceneKind::Pov => pov::load(path, options)?,
+        };
+        // A .pov scene's camera (an image plane, perhaps) was made for this
+        // size already; setting it again changes nothing there.
+        if let Some(size) = options.size {
+            (scene.camera.width, scene.camera.height) = size;
+        }
+        Ok(scene)
     }
 
     /// A scene named after the file at `path`, with nothing in it yet: the

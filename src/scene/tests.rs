@@ -296,7 +296,7 @@ fn toml_errors_name_line_and_suggest() {
         }
     }
     let err = Scene::load(&write(dir, "scene.txt", "")).unwrap_err();
-    assert!(message(err).contains("expected a scene file ending in .toml or .obj"));
+    assert!(message(err).contains("expected a scene file ending in .toml, .obj or .pov"));
 }
 
 const SHAPES: &str = r#"

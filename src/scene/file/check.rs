@@ -5,14 +5,11 @@ use std::path::Path;
 
 use glam::DVec3;
 
+use super::super::camera::{SizeFault, size_problem};
 use super::super::obj::MAX_COORDINATE;
-use super::super::{GIB, MAX_COLOUR, MAX_DEPTH, PhotonSettings, RenderSettings, locate};
+use super::super::{MAX_COLOUR, MAX_DEPTH, PhotonSettings, RenderSettings, locate};
 use crate::error::{Error, Result};
 use crate::math::{Bounds, Vec3};
-
-/// What a render holds per pixel: the film's f64 sums (`film::Pixel`, 88
-/// bytes) and the f32 layers written out (beauty, depth, normal, albedo: 40).
-const FILM_BYTES_PER_PIXEL: u64 = 128;
 
 /// The machine's memory in bytes, where the system says (Linux), so an image
 /// whose film cannot be allocated is refused at load instead of aborting the
@@ -106,30 +103,17 @@ impl Check<'_> {
                 format!("expected degrees in (0, 180), found {fov}"),
             ));
         }
-        const MAX_SIDE: u32 = 1 << 16;
-        for (key, side) in [("camera.width", width), ("camera.height", height)] {
-            if side == 0 || side > MAX_SIDE {
-                return Err(self.error(
-                    key,
-                    format!("expected 1 to {MAX_SIDE} pixels, found {side}"),
-                ));
-            }
+        match size_problem(width, height) {
+            None => Ok(()),
+            Some((fault, message)) => Err(self.error(
+                match fault {
+                    SizeFault::Width => "camera.width",
+                    SizeFault::Height => "camera.height",
+                    SizeFault::Film => "camera",
+                },
+                message,
+            )),
         }
-        let bytes = u64::from(width) * u64::from(height) * FILM_BYTES_PER_PIXEL;
-        if let Some(memory) = physical_memory()
-            && bytes > memory
-        {
-            return Err(self.error(
-                "camera",
-                format!(
-                    "a {width}x{height} image needs {:.1} GiB for its film ({FILM_BYTES_PER_PIXEL} \
-                     bytes per pixel), more than this machine's {:.1} GiB of memory",
-                    bytes as f64 / GIB,
-                    memory as f64 / GIB
-                ),
-            ));
-        }
-        Ok(())
     }
 
     /// The render settings' ranges, and adaptive sampling's rounds against spp.

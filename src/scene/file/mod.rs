@@ -178,6 +178,7 @@ fn camera(check: &Check, c: &CameraFile) -> Result<Camera> {
         fov: c.fov,
         width: c.width,
         height: c.height,
+        plane: None,
     };
     camera.check().map_err(|p| check.error(&p.key, p.message))?;
     Ok(camera)

@@ -1,7 +1,11 @@
-//! The pinhole camera.
+//! The pinhole camera: by eye, look_at and a vertical field of view, or by
+//! its image plane (POV-Ray's `direction`, `right`, `up`); and the image
+//! size's limits, which scene files and `--width`/`--height` share.
 
 use glam::DVec3;
 
+use super::GIB;
+use super::file::physical_memory;
 use crate::math::{Bounds, RAY_LIMIT, Ray, Vec3, sci, unit};
 
 /// The view direction must make at least this sine with `up`, and eye and
@@ -9,6 +13,53 @@ use crate::math::{Bounds, RAY_LIMIT, Ray, Vec3, sci, unit};
 /// rounding (of the inputs, of the interpolation between keys) decides where
 /// the camera looks.
 const MIN_VIEW: f64 = 1e-4;
+
+/// The most pixels on a side of an image (ARCHITECTURE.md's limits).
+const MAX_SIDE: u32 = 1 << 16;
+
+/// What a render holds per pixel: the film's f64 sums (`film::Pixel`, 88
+/// bytes) and the f32 layers written out (beauty, depth, normal, albedo: 40).
+const FILM_BYTES_PER_PIXEL: u64 = 128;
+
+/// Which part of an image size is at fault.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum SizeFault {
+    Width,
+    Height,
+    /// Both together: the film does not fit in memory.
+    Film,
+}
+
+/// Why an image side of `side` pixels is refused, if it is.
+pub(super) fn side_problem(side: u32) -> Option<String> {
+    (side == 0 || side > MAX_SIDE).then(|| format!("expected 1 to {MAX_SIDE} pixels, found {side}"))
+}
+
+/// Why an image of `width` × `height` pixels cannot be rendered, if it
+/// cannot: a side of 0 or above [`MAX_SIDE`], or a film larger than this
+/// machine's memory, which would abort the render instead of refusing it.
+/// A scene file's size and `--width`/`--height` both go through here; each
+/// caller names the key or flag at fault.
+pub(super) fn size_problem(width: u32, height: u32) -> Option<(SizeFault, String)> {
+    for (fault, side) in [(SizeFault::Width, width), (SizeFault::Height, height)] {
+        if let Some(message) = side_problem(side) {
+            return Some((fault, message));
+        }
+    }
+    let bytes = u64::from(width) * u64::from(height) * FILM_BYTES_PER_PIXEL;
+    let memory = physical_memory()?;
+    (bytes > memory).then(|| {
+        (
+            SizeFault::Film,
+            format!(
+                "a {width}x{height} image needs {:.1} GiB for its film ({FILM_BYTES_PER_PIXEL} \
+                 bytes per pixel), more than this machine's {:.1} GiB of memory",
+                bytes as f64 / GIB,
+                memory as f64 / GIB
+            ),
+        )
+    })
+}
 
 /// What is wrong with a camera: the TOML key to blame and why.
 #[derive(Clone, Debug, PartialEq)]
@@ -36,6 +87,27 @@ pub struct Camera {
     pub fov: f32,
     pub width: u32,
     pub height: u32,
+    /// A camera given by its image plane instead of look_at/fov (POV-Ray's `direction`, `right`, `up`):
+    /// the ray through image point (u, v) ∈ [0, 1]², u to the right and v down, has the direction
+    /// `direction + (u − ½)·right + (½ − v)·up` (not normalised; the frame normalises as it does now).
+    /// Then `look_at` is `eye + direction` and `fov` the vertical angle the plane spans at its
+    /// centre, for display only (see [`Camera::with_plane`]). Left out of the serialisation when
+    /// absent, so the scene hash of every other camera is what it was before planes existed.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub plane: Option<ImagePlane>,
+}
+
+/// A camera's image plane, as POV-Ray gives it: none of the three vectors
+/// need be perpendicular to another, and right and up need not have the
+/// image's aspect ratio (the image is then stretched, as POV-Ray's is).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct ImagePlane {
+    /// From the eye to the image's centre.
+    pub direction: Vec3,
+    /// Across the whole image, from its left edge to its right.
+    pub right: Vec3,
+    /// Across the whole image, from its bottom edge to its top.
+    pub up: Vec3,
 }
 
 /// The camera's frame, precomputed once per render.
@@ -59,6 +131,7 @@ impl Default for Camera {
             fov: 40.0,
             width: 640,
             height: 480,
+            plane: None,
         }
     }
 }
@@ -109,6 +182,25 @@ impl Camera {
             fov,
             width,
             height,
+            plane: None,
+        }
+    }
+
+    /// A still camera at `eye` that sees through `plane`, with `look_at`, `up`
+    /// and `fov` filled in for display: the plane's centre, its up, and the
+    /// angle between the rays through the middle of its top and bottom edges.
+    pub fn with_plane(eye: Vec3, plane: ImagePlane, width: u32, height: u32) -> Camera {
+        let (direction, up) = (plane.direction.as_dvec3(), plane.up.as_dvec3());
+        let fov = (direction + 0.5 * up).angle_between(direction - 0.5 * up);
+        Camera {
+            keys: Vec::new(),
+            eye,
+            look_at: eye + plane.direction,
+            up: plane.up,
+            fov: fov.to_degrees() as f32,
+            width,
+            height,
+            plane: Some(plane),
         }
     }
 
@@ -116,8 +208,34 @@ impl Camera {
     /// Embree's limit and, at every point of the path between keys (they
     /// are interpolated linearly, so the whole segment, not only its integer
     /// frames), a view direction that exists and is not along `up`.
+    ///
+    /// A camera given by its image plane has no path (the .pov reader never
+    /// makes one), and its plane must make rays: see [`ImagePlane::problem`].
     pub fn check(&self) -> Result<(), CameraProblem> {
         let problem = |key: String, message: String| Err(CameraProblem { key, message });
+        let eye_problem = |name: &str, eye: Vec3| {
+            (!eye.abs().cmple(Vec3::splat(RAY_LIMIT)).all()).then(|| CameraProblem {
+                key: format!("{name}.eye"),
+                message: format!(
+                    "{} lies beyond {RAY_LIMIT:e}, the largest ray origin Embree takes",
+                    sci(eye)
+                ),
+            })
+        };
+        if let Some(plane) = &self.plane {
+            if !self.keys.is_empty() {
+                return problem(
+                    "camera.keys".into(),
+                    "a camera given by its image plane cannot also follow a path of keys".into(),
+                );
+            }
+            if let Some(p) = eye_problem("camera", self.eye) {
+                return Err(p);
+            }
+            return plane
+                .problem()
+                .map_or(Ok(()), |(key, message)| problem(key.into(), message));
+        }
         let still = CameraKey {
             frame: 0,
             eye: self.eye,
@@ -130,14 +248,8 @@ impl Camera {
                 .map(|(i, &k)| (format!("camera.keys[{i}]"), k)),
         );
         for (name, k) in named {
-            if !k.eye.abs().cmple(Vec3::splat(RAY_LIMIT)).all() {
-                return problem(
-                    format!("{name}.eye"),
-                    format!(
-                        "{} lies beyond {RAY_LIMIT:e}, the largest ray origin Embree takes",
-                        sci(k.eye)
-                    ),
-                );
+            if let Some(p) = eye_problem(&name, k.eye) {
+                return Err(p);
             }
             if let Some(message) = view_problem(k, k, self.up) {
                 return problem(format!("{name}.look_at"), message);
@@ -160,6 +272,9 @@ impl Camera {
     }
 
     pub fn frame(&self) -> CameraFrame {
+        if let Some(plane) = &self.plane {
+            return plane.frame(self.eye, self.width, self.height);
+        }
         // `unit`: a view a billionth long, or ten billion, still has a direction.
         let forward = unit(self.look_at - self.eye);
         let right = unit(forward.cross(self.up));
@@ -172,6 +287,70 @@ impl Camera {
             right: right * pixel,
             down: -true_up * pixel,
             top_left: forward - right * half_w + true_up * half_h,
+        }
+    }
+}
+
+impl ImagePlane {
+    /// What keeps this plane from making rays, if anything, with the key to
+    /// blame (POV-Ray's names): a vector that is not finite; right and up zero
+    /// or (nearly) parallel, so they span no plane; or a plane that (nearly)
+    /// passes through the eye, where rays at the image's centre would have no
+    /// direction. "Nearly" is [`MIN_VIEW`], relative to the vectors' sizes, so
+    /// the plane's scale never matters (its rays are normalised).
+    fn problem(&self) -> Option<(&'static str, String)> {
+        let named = [
+            ("camera.direction", self.direction),
+            ("camera.right", self.right),
+            ("camera.up", self.up),
+        ];
+        if let Some((key, v)) = named.iter().find(|(_, v)| !v.is_finite()) {
+            return Some((key, format!("expected finite numbers, found {}", sci(*v))));
+        }
+        let [d, r, u] = [self.direction, self.right, self.up].map(Vec3::as_dvec3);
+        let normal = r.cross(u);
+        // NaN when right or up is zero.
+        let sine = normal.length() / (r.length() * u.length());
+        if sine.is_nan() || sine < MIN_VIEW {
+            return Some((
+                "camera.right",
+                format!(
+                    "right {} and up {} must span the image plane: they are zero or parallel \
+                     (at a sine of {sine:.2e}; it must be at least {MIN_VIEW:e})",
+                    sci(self.right),
+                    sci(self.up)
+                ),
+            ));
+        }
+        // The eye's distance from the plane, against the largest of its vectors.
+        let distance = d.dot(normal).abs() / normal.length();
+        let size = d.length().max(r.length()).max(u.length());
+        (distance < MIN_VIEW * size).then(|| {
+            (
+                "camera.direction",
+                format!(
+                    "direction {} lies (nearly) in the plane of right and up, {distance:.3e} \
+                     from it at vectors of size {size:.3e}: it must leave it by at least \
+                     {MIN_VIEW:e} of that",
+                    sci(self.direction)
+                ),
+            )
+        })
+    }
+
+    /// The frame of an image of `width` × `height` pixels seen through this
+    /// plane from `eye`.
+    fn frame(&self, eye: Vec3, width: u32, height: u32) -> CameraFrame {
+        let [d, r, u] = [self.direction, self.right, self.up].map(Vec3::as_dvec3);
+        // Rays are normalised, so the plane may be scaled at will: at unit size
+        // the f32 sums of the ray directions can neither overflow nor underflow.
+        let scale = 1.0 / d.abs().max(r.abs()).max(u.abs()).max_element();
+        let (d, r, u) = (scale * d, scale * r, scale * u);
+        CameraFrame {
+            eye,
+            right: (r / f64::from(width)).as_vec3(),
+            down: (-u / f64::from(height)).as_vec3(),
+            top_left: (d - 0.5 * r + 0.5 * u).as_vec3(),
         }
     }
 }
@@ -265,133 +444,4 @@ impl CameraFrame {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn camera() -> Camera {
-        Camera {
-            keys: Vec::new(),
-            eye: Vec3::new(0.0, 0.0, 5.0),
-            look_at: Vec3::ZERO,
-            up: Vec3::Y,
-            fov: 90.0,
-            width: 200,
-            height: 100,
-        }
-    }
-
-    #[test]
-    fn centre_ray_looks_at_the_target() {
-        let ray = camera().frame().ray(100.0, 50.0);
-        assert!((ray.dir - Vec3::new(0.0, 0.0, -1.0)).length() < 1e-6);
-    }
-
-    #[test]
-    fn edges_span_the_vertical_field_of_view() {
-        let f = camera().frame();
-        // 90° vertical: the top edge's ray is 45° up, the image's right edge at
-        // tan = aspect = 2.
-        let top = f.ray(100.0, 0.0).dir;
-        assert!((top.y - top.z.abs()).abs() < 1e-6 && top.y > 0.0);
-        let right = f.ray(200.0, 50.0).dir;
-        assert!((right.x / right.z.abs() - 2.0).abs() < 1e-5);
-    }
-
-    #[test]
-    fn framing_sees_the_whole_box() {
-        let b = Bounds {
-            min: Vec3::splat(-1.0),
-            max: Vec3::new(3.0, 1.0, 1.0),
-        };
-        let cam = Camera::framing(b, 64, 48);
-        let forward = (cam.look_at - cam.eye).normalize();
-        let half = (0.5 * cam.fov).to_radians();
-        for i in 0..8 {
-            let corner = Vec3::new(
-                if i & 1 == 0 { b.min.x } else { b.max.x },
-                if i & 2 == 0 { b.min.y } else { b.max.y },
-                if i & 4 == 0 { b.min.z } else { b.max.z },
-            );
-            let angle = forward.angle_between(corner - cam.eye);
-            assert!(angle < half, "corner {corner} at {angle} rad");
-        }
-    }
-
-    #[test]
-    fn a_keyframed_camera_moves_linearly_and_holds_at_the_ends() {
-        let key = |frame, x: f32| CameraKey {
-            frame,
-            eye: Vec3::new(x, 0.0, 5.0),
-            look_at: Vec3::new(x, 0.0, 0.0),
-        };
-        let path = Camera {
-            keys: vec![key(10, 0.0), key(20, 4.0), key(30, 2.0)],
-            ..camera()
-        };
-        for (frame, x) in [
-            (0, 0.0),
-            (10, 0.0),
-            (15, 2.0),
-            (20, 4.0),
-            (25, 3.0),
-            (30, 2.0),
-            (99, 2.0),
-        ] {
-            let mut c = path.clone();
-            c.go_to_frame(frame);
-            assert_eq!(c.eye, Vec3::new(x, 0.0, 5.0), "frame {frame}");
-            assert_eq!(c.look_at.x, x);
-            assert!(c.keys.is_empty());
-        }
-        // A still camera stays where it is.
-        let mut still = camera();
-        still.go_to_frame(7);
-        assert_eq!(still, camera());
-    }
-
-    #[test]
-    fn a_path_is_checked_between_its_keys_not_only_at_them() {
-        let key = |frame, d: [f32; 3]| CameraKey {
-            frame,
-            eye: Vec3::ZERO,
-            look_at: Vec3::from(d),
-        };
-        let path = |d0, d1| Camera {
-            keys: vec![key(0, d0), key(7, d1)],
-            ..camera()
-        };
-        // Up is +y. Through it halfway, between frames 3 and 4; then past it at
-        // 1e-5 (too close), and at a comfortable 0.45 in sine.
-        for (z, ok) in [(0.0, false), (1e-5, false), (0.5, true)] {
-            let result = path([1.0, 1.0, z], [-1.0, 1.0, z]).check();
-            assert_eq!(result.is_ok(), ok, "z = {z}: {result:?}");
-            if let Err(p) = result {
-                assert_eq!(p.key, "camera.keys[1]");
-                assert!(p.message.contains("camera.up"), "{}", p.message);
-            }
-        }
-        // Eye and look_at swap places: they meet halfway.
-        let swap = Camera {
-            keys: vec![
-                CameraKey {
-                    frame: 0,
-                    eye: Vec3::Z,
-                    look_at: -Vec3::Z,
-                },
-                CameraKey {
-                    frame: 1,
-                    eye: -Vec3::Z,
-                    look_at: Vec3::Z,
-                },
-            ],
-            ..camera()
-        };
-        let p = swap.check().unwrap_err();
-        assert!(p.message.contains("eye and look_at"), "{}", p.message);
-        // Each key on its own, and the still camera, too.
-        let mut still = camera();
-        still.look_at = Vec3::new(0.0, 1.0, 5.0);
-        assert_eq!(still.check().unwrap_err().key, "camera.look_at");
-        assert!(camera().check().is_ok());
-    }
-}
+mod tests;
