@@ -19,6 +19,14 @@
 //! intersection, outside a union's other children; subtracted, a sheet cuts
 //! nothing. `union` keeps every surface of its children, inner ones too, as
 //! POV-Ray's does; `merge` keeps only the boundary.
+//!
+//! `clip` is POV-Ray's `clipped_by`: as a solid it is the intersection of
+//! its children, but only its first child's surface is ever seen. Where a
+//! clip object's boundary changes the state, the node reports a *hidden*
+//! crossing: its parents count it like any other, so the inside of every
+//! node above stays right, but no node turns it into a surface and no ray
+//! stops there. A sphere clipped by a half-space is a bowl open at the cut,
+//! through which its inner wall is seen.
 
 use std::cell::RefCell;
 
@@ -35,6 +43,9 @@ pub enum Op {
     Intersection,
     Difference,
     Merge,
+    /// POV-Ray's `clipped_by`: the first child's surface where it lies inside
+    /// every other child; inside where all children are (see the module's doc).
+    Clip,
 }
 
 /// What a leaf of the tree is.
@@ -105,6 +116,9 @@ struct Event {
     flip: bool,
     /// Which child of the node being combined reported it.
     child: u32,
+    /// A boundary with no surface (a clip object's): the state changes
+    /// there, but nothing is seen.
+    hidden: bool,
 }
 
 thread_local! {
@@ -165,13 +179,33 @@ impl Csg {
         EVENTS.with_borrow_mut(|events| {
             events.clear();
             self.events(&self.root, o, d, tmax, events);
-            let e = events.iter().find(|e| e.t > tmin && e.t < tmax)?;
+            let e = events
+                .iter()
+                .find(|e| !e.hidden && e.t > tmin && e.t < tmax)?;
             let normal = self.leaf_normal(e, o, d);
             Some(ShapeHit {
                 t: e.t,
                 normal: if e.flip { -normal } else { normal },
                 part: e.leaf,
             })
+        })
+    }
+
+    /// Whether the line o + t·d is inside the tree at t = tmin or crosses its
+    /// seen surface beyond it: what a gate asks (see `Shape::set_gate`).
+    pub fn inside_or_crossed(&self, o: DVec3, d: DVec3, tmin: f64) -> bool {
+        EVENTS.with_borrow_mut(|events| {
+            events.clear();
+            let start = self.events(&self.root, o, d, f64::INFINITY, events);
+            let inside = events
+                .iter()
+                .take_while(|e| e.t <= tmin)
+                .fold(start, |inside, e| match e.kind {
+                    Kind::Enter => true,
+                    Kind::Leave => false,
+                    Kind::Sheet { .. } => inside,
+                });
+            inside || events.iter().any(|e| !e.hidden && e.t > tmin)
         })
     }
 
@@ -220,8 +254,10 @@ impl Csg {
                 for (k, child) in children.iter().enumerate() {
                     let from = out.len();
                     let inside = self.events(child, o, d, tmax, out);
+                    let clipping = *op == Op::Clip && k > 0;
                     for e in &mut out[from..] {
                         e.child = k as u32;
+                        e.hidden |= clipping;
                     }
                     state.apply(k as u32, inside);
                 }
@@ -246,6 +282,7 @@ impl Csg {
             face: c.face,
             flip: inverse,
             child: 0,
+            hidden: false,
         };
         let crossing = |t| Crossing {
             t,
@@ -336,7 +373,7 @@ impl State {
     fn inside(&self) -> bool {
         match self.op {
             Op::Union | Op::Merge => self.count > 0,
-            Op::Intersection => self.count == self.children,
+            Op::Intersection | Op::Clip => self.count == self.children,
             Op::Difference => self.first && self.count <= 0,
         }
     }
@@ -347,10 +384,14 @@ impl State {
         let Kind::Sheet { inside } = e.kind else {
             return false;
         };
+        if e.hidden {
+            return false;
+        }
         let others = self.count - isize::from(inside);
         match self.op {
             Op::Union | Op::Merge => others <= 0,
             Op::Intersection => others == self.children - 1,
+            Op::Clip => e.child == 0 && others == self.children - 1,
             Op::Difference => e.child == 0 && self.count <= 0,
         }
     }
@@ -373,7 +414,11 @@ fn combine(state: &mut State, inverse: bool, out: &mut Vec<Event>, base: usize) 
         let after = state.inside();
         let group = &out[read..end];
         let found = if before != after {
-            group.iter().find(|e| !is_sheet(e)).map(|e| Event {
+            // A surface where one changes the state with a hidden boundary
+            // (a clip object's face meeting the clipped surface) is seen.
+            let changes = || group.iter().filter(|e| !is_sheet(e));
+            let shown = changes().find(|e| !e.hidden);
+            shown.or_else(|| changes().next()).map(|e| Event {
                 kind: if after != inverse {
                     Kind::Enter
                 } else {
@@ -389,11 +434,12 @@ fn combine(state: &mut State, inverse: bool, out: &mut Vec<Event>, base: usize) 
                 inside: after != inverse,
             };
             match state.op {
-                // Inner surfaces of a union stay, as in POV-Ray.
-                Op::Union => Some(Event {
-                    kind: sheet,
-                    ..head
-                }),
+                // Inner surfaces of a union stay, as in POV-Ray; hidden
+                // boundaries inside it change nothing and are dropped.
+                Op::Union => group
+                    .iter()
+                    .find(|e| !e.hidden)
+                    .map(|e| Event { kind: sheet, ..*e }),
                 _ => group
                     .iter()
                     .find(|e| state.shows(e))
@@ -458,7 +504,7 @@ fn node_bounds(node: &Node, leaves: &[Leaf]) -> Option<Box3> {
                         max: a.max.max(b.max),
                     })))
                 })?,
-                Op::Intersection => boxes.flatten().reduce(|a, b| a.intersection(&b)),
+                Op::Intersection | Op::Clip => boxes.flatten().reduce(|a, b| a.intersection(&b)),
                 Op::Difference => boxes.next().flatten(),
             }
         }
