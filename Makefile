@@ -3,6 +3,10 @@
 
 SHELL := /bin/bash
 APT_PACKAGES := libembree-dev libclang-dev python3-venv openexr
+# For the tests only: POV-Ray 3.7 and its sample scenes and includes are the
+# comparator of tests/test_povray.py and tools/povray/, never a dependency of
+# the renderer (sturmray reads .pov files with its own parser).
+APT_TEST_PACKAGES := povray povray-examples povray-includes
 VENV := .venv
 PYTHON := $(VENV)/bin/python
 # The Rust tests and the Python cross-check use the same (dev) build.
@@ -14,7 +18,7 @@ EMBREE4_DIR := $(CURDIR)/embree4
 EMBREE4_TARGET := target/embree4
 
 .PHONY: setup render test test-rust test-python lint bench scenes clean embree4 test-embree4 \
-	fuzz check-memory wrapper-overhead
+	fuzz check-memory wrapper-overhead povray-compare povray-speed
 
 # Installs those of the Debian packages $(1) that are missing (none: no apt-get at all).
 define apt_install
@@ -29,7 +33,7 @@ define apt_install
 endef
 
 setup: $(VENV)/.installed
-	$(call apt_install,$(APT_PACKAGES))
+	$(call apt_install,$(APT_PACKAGES) $(APT_TEST_PACKAGES))
 	@command -v cargo >/dev/null || { echo "cargo not found: install Rust (https://rustup.rs)"; exit 1; }
 
 # python3-venv must exist before the venv; the stamp is rebuilt when requirements change.
