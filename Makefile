@@ -90,6 +90,27 @@ wrapper-overhead: setup
 	cargo build --release
 	python3 tools/wrapper_overhead.py --bin $(RELEASE_BIN) --rounds $(WRAPPER_ROUNDS)
 
+# sturmray against POV-Ray 3.7 on Debian's objects/quartic and objects/csg
+# samples (issue 20 §5) at POV-Ray's default 800x600: hit masks and colour
+# differences, as the Markdown table docs/img/povray/compare.md and two
+# side-by-side images beside it, for the README. Exits 1 if a scene misses the
+# issue's limits. Not part of `make test`, where tests/test_povray.py runs the
+# same comparison at 160x120.
+POVRAY_OUT := docs/img/povray
+povray-compare: setup
+	cargo build --release
+	$(PYTHON) tools/povray/compare.py --sturmray $(RELEASE_BIN) --out $(POVRAY_OUT) \
+	  --width 800 --height 600 --threads 2
+
+# Time against POV-Ray 3.7 on the objects/quartic samples at 800x600, two
+# threads each, no anti-aliasing, POVRAY_ROUNDS alternated runs; prints the
+# table for the README. Not part of `make test`.
+POVRAY_ROUNDS ?= 3
+povray-speed: setup
+	cargo build --release
+	$(PYTHON) tools/povray/speed.py --sturmray $(RELEASE_BIN) --rounds $(POVRAY_ROUNDS) \
+	  --width 800 --height 600 --threads 2
+
 # Property-based fuzzing (proptest on stable Rust), not part of `make test` or
 # CI: each target runs FUZZ_CASES fresh random cases, or stops after
 # FUZZ_SECONDS (five targets: at most 5 x 60 s). A failure is shrunk, printed
