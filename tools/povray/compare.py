@@ -124,9 +124,12 @@ class Render:
         return len(WARNING.findall(self.stderr))
 
     def failure(self) -> str:
-        """The last line of stderr, to say why a render failed."""
-        lines = [line for line in self.stderr.strip().splitlines() if line.strip()]
-        return f"exit {self.returncode}: {lines[-1] if lines else 'no message'}"
+        """Why a render failed: its first error line (clap ends with a hint
+        to try --help), else the last line of stderr."""
+        lines = [line.strip() for line in self.stderr.splitlines() if line.strip()]
+        errors = [line for line in lines if "error" in line.lower()]
+        message = (errors or lines[-1:] or ["no message"])[0]
+        return f"exit {self.returncode}: {message}"
 
 
 @dataclass
