@@ -88,7 +88,7 @@ OUTSIDE_SUBSET = {
 EXTRA_HITS_ALLOWED: dict[str, str] = {}
 
 # The two scenes shown side by side in the README.
-SIDE_BY_SIDE = ("torus", "intee1")
+SIDE_BY_SIDE = ("helix", "intee1")
 
 WARNING = re.compile(r"\bwarning:", re.IGNORECASE)
 
