@@ -86,8 +86,8 @@ def test_png_reader_matches_povray_ppm(povray, tmp_path):
     # filters) and as PPM (raw bytes): the reader must give the PPM's bytes.
     common = [f"+I{TORUS}", f"+W{WIDTH}", f"+H{HEIGHT}", "-A", "-D", "-V", "File_Gamma=sRGB"]
     for kind, name in (("+FN", "t.png"), ("+FP", "t.ppm")):
-        subprocess.run([povray, *common, kind, f"+O{name}"], cwd=tmp_path, check=True,
-                       capture_output=True)  # fmt: skip
+        command = [povray, *common, kind, f"+O{name}"]
+        subprocess.run(command, cwd=tmp_path, check=True, capture_output=True)
     ppm = (tmp_path / "t.ppm").read_bytes()
     pixels = np.frombuffer(ppm[-WIDTH * HEIGHT * 3 :], dtype=np.uint8)
     assert np.array_equal(read_png(tmp_path / "t.png"), pixels.reshape(HEIGHT, WIDTH, 3))

@@ -52,7 +52,8 @@ def read_png(path: Path) -> np.ndarray:
     stride = width * bpp
     raw = zlib.decompress(b"".join(idat))
     if len(raw) != height * (stride + 1):
-        raise ValueError(f"{path}: {len(raw)} bytes of pixel data, expected {height * (stride + 1)}")
+        expected = height * (stride + 1)
+        raise ValueError(f"{path}: {len(raw)} bytes of pixel data, expected {expected}")
     rows = np.frombuffer(raw, dtype=np.uint8).reshape(height, stride + 1)
     image = np.zeros((height, stride), dtype=np.uint8)
     prior = np.zeros(stride, dtype=np.uint8)
@@ -97,7 +98,9 @@ def unfilter(kind: int, line: np.ndarray, prior: np.ndarray, bpp: int, path) -> 
 def write_png(path: Path, image: np.ndarray) -> None:
     """Writes an (height, width, 3) uint8 array as an sRGB PNG (no row filter)."""
     if image.dtype != np.uint8 or image.ndim != 3 or image.shape[2] != 3:
-        raise ValueError(f"expected a (height, width, 3) uint8 image, got {image.dtype} {image.shape}")
+        raise ValueError(
+            f"expected a (height, width, 3) uint8 image, got {image.dtype} {image.shape}"
+        )
     height, width, _ = image.shape
     rows = np.zeros((height, width * 3 + 1), dtype=np.uint8)  # filter byte 0 first
     rows[:, 1:] = image.reshape(height, -1)

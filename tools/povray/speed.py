@@ -120,8 +120,9 @@ def main(argv=None) -> int:
     means = [statistics.geometric_mean(r[i] for r in ratios) for i in (0, 1)]
     print(f"| geometric mean | | | | | {means[0]:.2f}× | {means[1]:.2f}× |")
     print(
-        f"\nA POV-Ray run of 1×1 pixels takes {statistics.median(overhead):.3f} s wall (median over "
-        "the scenes): its start-up and exit, which every POV-Ray wall time above includes."
+        f"\nA POV-Ray run of 1×1 pixels takes {statistics.median(overhead):.3f} s wall "
+        "(median over the scenes): its start-up and exit, which every POV-Ray wall time "
+        "above includes."
     )
     return 0
 
