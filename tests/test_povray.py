@@ -112,6 +112,37 @@ def test_png_writer_round_trip(tmp_path):
     assert np.array_equal(read_png(tmp_path / "r.png"), image)
 
 
+def srgb8(c: float) -> int:
+    """IEC 61966-2-1's encoding of linear c, rounded to 8 bits."""
+    encoded = 12.92 * c if c <= 0.0031308 else 1.055 * c ** (1 / 2.4) - 0.055
+    return round(255 * encoded)
+
+
+@pytest.mark.parametrize("colour", [(0.002, 0.2, 0.5), (0.01, 0.7, 0.9)])
+def test_both_renderers_encode_srgb_alike(povray, sturmray, tmp_path, colour):
+    # A background alone, linear in both (POV-Ray: assumed_gamma 1): POV-Ray's
+    # File_Gamma=sRGB and sturmray's PNG preview give the same 8-bit values,
+    # the sRGB encoding (0.002 is on its linear segment). File_Gamma=2.2
+    # would give 31 for 0.01, not 25.
+    expected = [srgb8(c) for c in colour]
+    rgb = ", ".join(map(str, colour))
+    pov = tmp_path / "bg.pov"
+    pov.write_text(
+        "#version 3.7;\nglobal_settings { assumed_gamma 1.0 }\n"
+        f"camera {{ location <0, 0, -5> look_at 0 }}\nbackground {{ color rgb <{rgb}> }}\n"
+    )
+    from_povray = renderers(Path("unused"), 4, 3).run_povray(pov, pov, tmp_path, "bg-povray")
+    toml = tmp_path / "bg.toml"
+    toml.write_text(
+        f"background = [{rgb}]\n[camera]\neye = [0, 0, -5]\nlook_at = [0, 0, 0]\n"
+        "up = [0, 1, 0]\nfov = 40\nwidth = 4\nheight = 3\n"
+    )
+    sturmray("render", toml, "--spp", "1", "-o", tmp_path / "bg-sturmray.exr")
+    from_sturmray = read_png(tmp_path / "bg-sturmray.png")
+    assert (from_povray.image == expected).all(), from_povray.image[0, 0]
+    assert (from_sturmray == expected).all(), from_sturmray[0, 0]
+
+
 def test_wrapper_keeps_camera_and_lights_and_its_background_wins(povray, tmp_path):
     r = renderers(Path("unused"))
     own = r.run_povray(TORUS, TORUS, tmp_path, "own")
