@@ -192,30 +192,20 @@ class Renderers:
         # restrictions (/etc/povray/3.7/povray.conf) allow writing to the
         # current folder and /tmp, and reading the samples and includes.
         out = f"{name}.png"
-        proc = subprocess.run(
-            self.povray_command(pov, scene, out),
-            cwd=work,
-            capture_output=True,
-            text=True,
-            timeout=self.timeout,
-        )
-        return finished(proc, work / out)
+        return self.run(self.povray_command(pov, scene, out), work, work / out)
 
     def run_sturmray(self, pov: Path, scene: Path, work: Path, name: str) -> Render:
         exr = work / f"{name}.exr"
+        # The image is the PNG preview sturmray writes beside the EXR.
+        return self.run(self.sturmray_command(pov, scene, exr), work, exr.with_suffix(".png"))
+
+    def run(self, command: list[str], work: Path, png: Path) -> Render:
+        """Runs a renderer in `work`; its image is `png` if it succeeded."""
         proc = subprocess.run(
-            self.sturmray_command(pov, scene, exr),
-            cwd=work,
-            capture_output=True,
-            text=True,
-            timeout=self.timeout,
+            command, cwd=work, capture_output=True, text=True, timeout=self.timeout
         )
-        return finished(proc, exr.with_suffix(".png"))  # the PNG preview beside the EXR
-
-
-def finished(proc: subprocess.CompletedProcess, png: Path) -> Render:
-    image = read_png(png) if proc.returncode == 0 and png.is_file() else None
-    return Render(proc.returncode, proc.stderr, image)
+        image = read_png(png) if proc.returncode == 0 and png.is_file() else None
+        return Render(proc.returncode, proc.stderr, image)
 
 
 def linear(srgb8: np.ndarray) -> np.ndarray:
