@@ -1,0 +1,328 @@
+"""sturmray against POV-Ray 3.7 on POV-Ray's own sample scenes (issue 20, §5).
+
+The comparison itself is tools/povray/compare.py; `make povray-compare` runs
+it at 800x600 for the README. Here it runs at 160x120 over every sample of
+objects/quartic/ and objects/csg/ and the issue's limits are asserted: at most
+0.1% of the pixels differ in their hit, and the mean colour difference is at
+most 2%. The scenes exempt from a check are named with their reasons in
+compare.py's tables (COLOUR_EXEMPT, OUTSIDE_SUBSET, EXTRA_HITS_ALLOWED), so
+that the README's table and this test judge alike; the test checks that each
+exemption names a feature its scene really uses.
+
+The harness's own parts are checked against POV-Ray alone: the PNG reader
+against POV-Ray's PPM output of the same render, the wrapper that forces the
+background, the hit mask against a count worked out by hand, and the whole
+pipeline with POV-Ray standing in for sturmray.
+
+POV-Ray (Debian's povray, povray-examples, povray-includes) is installed by
+`make setup`; a missing one is a failure, never a skip.
+"""
+
+from __future__ import annotations
+
+import re
+import shutil
+import struct
+import subprocess
+import sys
+import zlib
+from pathlib import Path
+
+import numpy as np
+import pytest
+from conftest import REPO
+
+sys.path.insert(0, str(REPO / "tools" / "povray"))
+import compare  # noqa: E402
+from pngio import read_png, write_png  # noqa: E402
+
+WIDTH, HEIGHT = 160, 120
+TORUS = compare.EXAMPLES / "quartic" / "torus.pov"
+
+
+@pytest.fixture(scope="module")
+def povray() -> str:
+    path = shutil.which("povray")
+    if path is None or not compare.sample_scenes():
+        pytest.fail(
+            "POV-Ray 3.7 and its samples are missing: run `make setup` "
+            "(apt packages povray povray-examples povray-includes)",
+            pytrace=False,
+        )
+    return path
+
+
+def renderers(binary: Path, width: int = WIDTH, height: int = HEIGHT) -> compare.Renderers:
+    return compare.Renderers(binary, width, height)
+
+
+def test_the_samples_are_there(povray):
+    names = [p.stem for p in compare.sample_scenes()]
+    # Debian's povray-examples 3.7: 18 quartic and 4 csg samples.
+    assert len(names) == 22, names
+    for table in (compare.COLOUR_EXEMPT, compare.OUTSIDE_SUBSET, compare.EXTRA_HITS_ALLOWED):
+        assert set(table) <= set(names), f"an exemption names no sample: {set(table) - set(names)}"
+
+
+def without_comments(text: str) -> str:
+    return re.sub(r"//[^\n]*", "", re.sub(r"/\*.*?\*/", "", text, flags=re.DOTALL))
+
+
+@pytest.mark.parametrize(
+    "name, features",
+    [*compare.COLOUR_EXEMPT.items(), *compare.OUTSIDE_SUBSET.items()],
+)
+def test_each_exemption_names_what_its_scene_uses(povray, name, features):
+    # An exemption is earned by the scene, not by a failing number: every
+    # feature it names occurs in the scene's own text outside comments.
+    (scene,) = [p for p in compare.sample_scenes() if p.stem == name]
+    text = without_comments(scene.read_text(errors="replace"))
+    for feature in features:
+        assert re.search(rf"\b{feature}\b", text), f"{scene} does not use {feature}"
+
+
+def test_png_reader_matches_povray_ppm(povray, tmp_path):
+    # The same render written by POV-Ray as PNG (libpng, adaptive row
+    # filters) and as PPM (raw bytes): the reader must give the PPM's bytes.
+    common = [f"+I{TORUS}", f"+W{WIDTH}", f"+H{HEIGHT}", "-A", "-D", "-V", "File_Gamma=sRGB"]
+    for kind, name in (("+FN", "t.png"), ("+FP", "t.ppm")):
+        command = [povray, *common, kind, f"+O{name}"]
+        subprocess.run(command, cwd=tmp_path, check=True, capture_output=True)
+    ppm = (tmp_path / "t.ppm").read_bytes()
+    pixels = np.frombuffer(ppm[-WIDTH * HEIGHT * 3 :], dtype=np.uint8)
+    assert np.array_equal(read_png(tmp_path / "t.png"), pixels.reshape(HEIGHT, WIDTH, 3))
+    # The check means something only if all four filters were used.
+    assert row_filters(tmp_path / "t.png", WIDTH * 3) >= {1, 2, 3, 4}
+
+
+def row_filters(png: Path, stride: int) -> set[int]:
+    data, pos, idat = png.read_bytes(), 8, b""
+    while pos < len(data):
+        (length,) = struct.unpack(">I", data[pos : pos + 4])
+        if data[pos + 4 : pos + 8] == b"IDAT":
+            idat += data[pos + 8 : pos + 8 + length]
+        pos += 12 + length
+    raw = zlib.decompress(idat)
+    return set(raw[:: stride + 1])
+
+
+def test_png_writer_round_trip(tmp_path):
+    image = np.random.default_rng(20).integers(0, 256, size=(7, 5, 3), dtype=np.uint8)
+    write_png(tmp_path / "r.png", image)
+    assert np.array_equal(read_png(tmp_path / "r.png"), image)
+
+
+def srgb8(c: float) -> int:
+    """IEC 61966-2-1's encoding of linear c, rounded to 8 bits."""
+    encoded = 12.92 * c if c <= 0.0031308 else 1.055 * c ** (1 / 2.4) - 0.055
+    return round(255 * encoded)
+
+
+@pytest.mark.parametrize("colour", [(0.002, 0.2, 0.5), (0.01, 0.7, 0.9)])
+def test_both_renderers_encode_srgb_alike(povray, sturmray, tmp_path, colour):
+    # A background alone, linear in both (POV-Ray: assumed_gamma 1): POV-Ray's
+    # File_Gamma=sRGB and sturmray's PNG preview give the same 8-bit values,
+    # the sRGB encoding (0.002 is on its linear segment). File_Gamma=2.2
+    # would give 31 for 0.01, not 25.
+    expected = [srgb8(c) for c in colour]
+    rgb = ", ".join(map(str, colour))
+    pov = tmp_path / "bg.pov"
+    pov.write_text(
+        "#version 3.7;\nglobal_settings { assumed_gamma 1.0 }\n"
+        f"camera {{ location <0, 0, -5> look_at 0 }}\nbackground {{ color rgb <{rgb}> }}\n"
+    )
+    from_povray = renderers(Path("unused"), 4, 3).run_povray(pov, pov, tmp_path, "bg-povray")
+    toml = tmp_path / "bg.toml"
+    toml.write_text(
+        f"background = [{rgb}]\n[camera]\neye = [0, 0, -5]\nlook_at = [0, 0, 0]\n"
+        "up = [0, 1, 0]\nfov = 40\nwidth = 4\nheight = 3\n"
+    )
+    sturmray("render", toml, "--spp", "1", "-o", tmp_path / "bg-sturmray.exr")
+    from_sturmray = read_png(tmp_path / "bg-sturmray.png")
+    assert (from_povray.image == expected).all(), from_povray.image[0, 0]
+    assert (from_sturmray == expected).all(), from_sturmray[0, 0]
+
+
+def test_wrapper_keeps_camera_and_lights_and_its_background_wins(povray, tmp_path):
+    r = renderers(Path("unused"))
+    own = r.run_povray(TORUS, TORUS, tmp_path, "own")
+    renders = []
+    for grey in (0, 1):
+        wrapper = tmp_path / f"bg{grey}.pov"
+        wrapper.write_text(compare.wrapper_text(TORUS, grey))
+        renders.append(r.run_povray(wrapper, TORUS, tmp_path, f"bg{grey}"))
+    black, white = (x.image for x in renders)
+    assert own.image is not None and black is not None and white is not None
+    assert all(x.warnings == 0 for x in renders), [x.stderr for x in renders]
+    hit = compare.object_mask(black, white)
+    # torus.pov's own background is not black: the wrapper's later one won.
+    assert not np.array_equal(own.image[~hit], black[~hit])
+    assert (black[~hit] == 0).all() and (white[~hit] == 255).all()
+    # The torus fills a good part of the frame, lit and seen as in the scene:
+    # same camera, same lights.
+    assert 0.2 < hit.mean() < 0.8
+    assert np.array_equal(own.image[hit], black[hit])
+    assert np.array_equal(own.image[hit], white[hit])
+
+
+ORTHO_SCENE = """\
+#version 3.7;
+global_settings {{ assumed_gamma 1.0 }}
+camera {{ orthographic location <0, 0, -10> direction z right 4*x up 3*y }}
+light_source {{ <-5, 5, -10> color rgb 1 }}
+background {{ color rgb <0.2, 0.4, 0.6> }}
+// Opaque, but glossy: it reflects a fifth of the background.
+sphere {{ 0, {radius} pigment {{ color rgb <1, 0.5, 0> }} finish {{ reflection 0.2 }} }}
+// Clear: what shows through it is the background.
+sphere {{ <1.5, 0.9, 0>, 0.45 pigment {{ color rgbt <1, 1, 1, 1> }} }}
+"""
+
+
+def pixel_centres_inside(radius: float, width: int, height: int) -> int:
+    """Pixel centres of a width x height image of [-2, 2] x [-1.5, 1.5] inside
+    the circle of `radius` about the origin. With pixels 0.1 wide (40 x 30),
+    centres sit at odd multiples of 0.05, and x^2 + y^2 = r^2 for r = 1 or 0.8
+    would need two odd squares to sum to 400 or 256, a multiple of 4, which
+    no two odd squares do: no centre lies on a rim."""
+    count = 0
+    for j in range(height):
+        for i in range(width):
+            x = -2 + (i + 0.5) * 4 / width
+            y = 1.5 - (j + 0.5) * 3 / height
+            count += x * x + y * y < radius * radius
+    return count
+
+
+def ortho_mask(r: compare.Renderers, folder: Path, radius: float) -> np.ndarray:
+    scene = folder / f"ortho{radius}.pov"
+    scene.write_text(ORTHO_SCENE.format(radius=radius))
+    images = []
+    for grey in (0, 1):
+        wrapper = folder / f"ortho{radius}-bg{grey}.pov"
+        wrapper.write_text(compare.wrapper_text(scene, grey))
+        images.append(r.run_povray(wrapper, scene, folder, f"ortho{radius}-bg{grey}").image)
+    return compare.object_mask(*images)
+
+
+def test_hit_mask_counts_pixel_centres(povray, tmp_path):
+    # 40 x 30 pixels over a 4 x 3 orthographic view: one ray through each
+    # pixel centre (POV-Ray -A), so the unit sphere covers exactly the
+    # centres inside the unit circle. The glossy sphere counts as an object,
+    # the clear one as background.
+    r = renderers(Path("unused"), 40, 30)
+    big, small = ortho_mask(r, tmp_path, 1.0), ortho_mask(r, tmp_path, 0.8)
+    assert big.sum() == pixel_centres_inside(1.0, 40, 30)
+    assert small.sum() == pixel_centres_inside(0.8, 40, 30)
+    ring = pixel_centres_inside(1.0, 40, 30) - pixel_centres_inside(0.8, 40, 30)
+    assert compare.hit_differences(big, small) == (ring, 0)
+    assert compare.hit_differences(small, big) == (0, ring)
+
+
+def test_colour_difference_by_hand():
+    a = np.full((2, 3, 3), 100, dtype=np.uint8)
+    b = a.copy()
+    b[0, :, 0] = 110  # the top row's red, 10 levels up
+    per_channel, overall = compare.colour_difference(a, b)
+    # 3 of 6 pixels differ by 10/255 in one of three channels.
+    assert np.allclose(per_channel, [10 / 255 / 2, 0, 0])
+    assert overall == pytest.approx(10 / 255 / 6)
+    top = np.zeros((2, 3), dtype=bool)
+    top[0] = True
+    per_channel, overall = compare.colour_difference(a, b, top)
+    assert np.allclose(per_channel, [10 / 255, 0, 0])
+    assert compare.colour_difference(a, b, np.zeros((2, 3), dtype=bool)) is None
+
+
+def result(name: str, pov_only=0, sturm_only=0, colour=0.0, warnings=0) -> compare.SceneResult:
+    image = np.zeros((HEIGHT, WIDTH, 3), dtype=np.uint8)
+    stderr = "sturmray: warning: x\n" * warnings
+    r = compare.SceneResult(
+        Path(f"/samples/{name}.pov"),
+        WIDTH,
+        HEIGHT,
+        compare.Render(0, "", image),
+        compare.Render(0, stderr, image),
+        pov_only,
+        sturm_only,
+        (np.array([colour] * 3), colour),
+    )
+    r.problems = compare.judge(r)
+    return r
+
+
+def test_judge_holds_the_issue_limits(monkeypatch):
+    # 0.1% of 160 x 120 = 19.2 pixels; 2% mean colour difference.
+    assert result("torus", pov_only=10, sturm_only=9).passed
+    assert not result("torus", pov_only=10, sturm_only=10).passed
+    assert not result("torus", pov_only=20).passed
+    assert result("torus", colour=0.02).passed
+    assert not result("torus", colour=0.0201).passed
+    # Exempt from the colour check, never from the hit check.
+    assert result("granite", colour=0.5).passed
+    assert not result("granite", sturm_only=20).passed
+    # Outside the subset: a warning and exit 0 are all that is asked.
+    assert result("hfclip", pov_only=5000, colour=0.5, warnings=1).passed
+    assert not result("hfclip", warnings=0).passed
+    # Extra hits where POV-Ray misses, only for a named scene, only that way.
+    monkeypatch.setitem(compare.EXTRA_HITS_ALLOWED, "torus", "a test")
+    assert result("torus", sturm_only=500).passed
+    assert not result("torus", pov_only=20).passed
+
+
+SHIM = """\
+#!{python}
+# sturmray's render command played by POV-Ray, to test the harness alone.
+import subprocess, sys
+from pathlib import Path
+args = sys.argv[2:]
+scene, rest = args[0], args[1:]
+opts = dict(zip(rest[::2], rest[1::2]))
+libs = [rest[i + 1] for i, a in enumerate(rest) if a == "--pov-include"]
+out = Path(opts["-o"]).with_suffix(".png").name  # beside the EXR, in the cwd
+sys.exit(subprocess.run(
+    ["{povray}", "+I" + scene, "+O" + out, "+W" + opts["--width"], "+H" + opts["--height"],
+     "-A", "+FN", "-D", "-V", "File_Gamma=sRGB"] + ["+L" + d for d in libs]).returncode)
+"""
+
+
+def test_pipeline_with_povray_standing_in_for_sturmray(povray, tmp_path):
+    shim = tmp_path / "fake-sturmray"
+    shim.write_text(SHIM.format(python=sys.executable, povray=povray))
+    shim.chmod(0o755)
+    scenes = [p for p in compare.sample_scenes() if p.stem in ("torus", "cliptst2", "hfclip")]
+    results = compare.run(renderers(shim), scenes, tmp_path, jobs=6)
+    by_name = {r.name: r for r in results}
+    for name in ("torus", "cliptst2"):
+        r = by_name[name]
+        assert (r.pov_only, r.sturm_only, r.colour[1]) == (0, 0, 0.0), name
+        assert r.passed, r.problems
+    # POV-Ray does not warn about height_field, so as sturmray it fails there.
+    assert by_name["hfclip"].problems == ["sturmray gave no warning for height_field"]
+    out = tmp_path / "out"
+    compare.write_outputs(results, out, {"torus"})
+    table = (out / "compare.md").read_text()
+    assert table.count("\n") == 2 + len(scenes)
+    picture = read_png(out / "torus.png")
+    assert picture.shape == (HEIGHT, 2 * WIDTH + 8, 3)
+    assert np.array_equal(picture[:, :WIDTH], picture[:, WIDTH + 8 :])
+
+
+def pov_supported(binary: Path, folder: Path) -> bool:
+    """False while sturmray refuses .pov files (the reader of issue 20 §4)."""
+    scene = folder / "probe.pov"
+    scene.write_text("sphere { 0, 1 }\n")
+    proc = subprocess.run(
+        [str(binary), "info", str(scene)], capture_output=True, text=True, timeout=60
+    )
+    return not (
+        proc.returncode == 2
+        and ("not read yet" in proc.stderr or "ending in .toml or .obj" in proc.stderr)
+    )
+
+
+def test_samples_match_povray(povray, sturmray_bin, tmp_path):
+    if not pov_supported(sturmray_bin, tmp_path):
+        pytest.xfail("sturmray does not read .pov scenes yet (issue 20 §4)")
+    results = compare.run(renderers(sturmray_bin), compare.sample_scenes(), tmp_path, jobs=4)
+    failed = [r for r in results if not r.passed]
+    assert not failed, "\n" + compare.markdown_table(results)
