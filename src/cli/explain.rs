@@ -8,7 +8,7 @@ use sturmray::accel::Accel;
 use sturmray::io::console::print;
 use sturmray::render::RayKind;
 
-use super::shared::{BackendArg, SizeArgs, load_sized};
+use super::shared::{BackendArg, IncludeArgs, SizeArgs, load_sized};
 
 /// Print the ray tree of one pixel sample: each ray's kind, what it hit, t,
 /// the material, its weight and the radiance it brings back.
@@ -18,6 +18,8 @@ pub struct Args {
     /// The image size, as `render`'s: the pixel is the rendered image's.
     #[command(flatten)]
     size: SizeArgs,
+    #[command(flatten)]
+    include: IncludeArgs,
     /// The pixel, from the top-left corner.
     #[arg(long, value_parser = parse_pixel)]
     pixel: (usize, usize),
@@ -54,13 +56,14 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let Args {
         scene,
         size,
+        include,
         pixel,
         sample,
         all_effects,
         frame,
         backend,
     } = args;
-    let mut scene = load_sized(&scene, &size)?;
+    let mut scene = load_sized(&scene, &size, &include)?;
     scene.camera.go_to_frame(frame);
     let accel = Accel::build(&scene, backend.into(), None)?;
     let (result, tree) = sturmray::render::explain(&scene, &accel, pixel, sample, all_effects)?;

@@ -10,7 +10,7 @@ use sturmray::math::Vec3;
 use sturmray::render::Plan;
 use sturmray::scene::Scene;
 
-use super::shared::{BackendArg, load};
+use super::shared::{BackendArg, IncludeArgs, load};
 
 /// Print the backend in use, the objects, triangle count, lights and settings.
 #[derive(clap::Args)]
@@ -18,10 +18,12 @@ pub struct Args {
     scene: PathBuf,
     #[arg(long, value_enum, default_value = "embree")]
     backend: BackendArg,
+    #[command(flatten)]
+    include: IncludeArgs,
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
-    let scene = load(&args.scene)?;
+    let scene = load(&args.scene, &args.include)?;
     let accel = Accel::build(&scene, args.backend.into(), None)?;
     print(&describe(&scene, &accel))?;
     Ok(())
@@ -38,6 +40,22 @@ fn describe(scene: &Scene, accel: &Accel) -> String {
     // Writing to a String cannot fail.
     let _ = writeln!(s, "scene      {}", scene.name);
     let _ = writeln!(s, "backend    {}", accel.describe());
+    if let Some(import) = &scene.import {
+        let list = |m: &std::collections::BTreeMap<String, usize>| {
+            m.iter()
+                .map(|(k, n)| if *n == 1 { k.clone() } else { format!("{k} ×{n}") })
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        let _ = writeln!(s, "read       {}", list(&import.read));
+        if !import.skipped.is_empty() {
+            let _ = writeln!(
+                s,
+                "skipped    {} (outside the POV-Ray subset; see the warnings)",
+                list(&import.skipped)
+            );
+        }
+    }
     let _ = writeln!(
         s,
         "camera     eye {} look_at {} up {} fov {}°, {}x{}",

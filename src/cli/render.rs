@@ -12,7 +12,9 @@ use sturmray::render::RenderOptions;
 use sturmray::render::job::{Job, Part, Written, preview_path, state_path};
 use sturmray::scene::PhotonSettings;
 
-use super::shared::{BackendArg, SizeArgs, check_outputs, load_sized, scene_inputs, write_text};
+use super::shared::{
+    BackendArg, IncludeArgs, SizeArgs, check_outputs, load_sized, scene_inputs, write_text,
+};
 use super::signals::{Interrupted, Signals};
 
 /// Render a scene (.toml, a bare .obj, or .pov) to an EXR with a PNG preview beside it.
@@ -21,6 +23,8 @@ pub struct Args {
     scene: PathBuf,
     #[command(flatten)]
     size: SizeArgs,
+    #[command(flatten)]
+    include: IncludeArgs,
     /// Output EXR (default: out/<scene name>.exr).
     #[arg(short, long)]
     output: Option<PathBuf>,
@@ -83,7 +87,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     // Caught from the start: the first signal stops the render, even
     // while it loads (see `Signals`).
     let signals = Signals::catch()?;
-    let mut scene = load_sized(&args.scene, &args.size)?;
+    let mut scene = load_sized(&args.scene, &args.size, &args.include)?;
     if let Some(count) = args.photons {
         // Refused even where the plan has no photon pass: a typo either way.
         PhotonSettings::check_count(count).map_err(|e| Error::Input(format!("--photons: {e}")))?;

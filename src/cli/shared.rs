@@ -88,19 +88,29 @@ pub struct SizeArgs {
     height: Option<u32>,
 }
 
+/// `--pov-include DIR`, for every command that loads a scene.
+#[derive(clap::Args, Default)]
+pub struct IncludeArgs {
+    /// A folder where a .pov scene's `#include` looks for files, after the
+    /// including file's own folder and before POV-Ray's installed includes
+    /// (/usr/share/povray-3.7/include); may be given more than once.
+    #[arg(long = "pov-include", value_name = "DIR")]
+    pov_include: Vec<PathBuf>,
+}
+
 /// Loads a scene and prints its warnings, once per command.
-pub fn load(path: &Path) -> Result<Scene, Error> {
-    load_sized(path, &SizeArgs::default())
+pub fn load(path: &Path, include: &IncludeArgs) -> Result<Scene, Error> {
+    load_sized(path, &SizeArgs::default(), include)
 }
 
 /// Loads a scene at the size `--width`/`--height` ask for, and prints its
 /// warnings, once per command.
-pub fn load_sized(path: &Path, size: &SizeArgs) -> Result<Scene, Error> {
+pub fn load_sized(path: &Path, size: &SizeArgs, include: &IncludeArgs) -> Result<Scene, Error> {
     let request = SizeRequest {
         width: size.width,
         height: size.height,
     };
-    let scene = Scene::load_sized(path, request, Vec::new())?;
+    let scene = Scene::load_sized(path, request, include.pov_include.clone())?;
     for warning in &scene.warnings {
         note(format_args!("sturmray: warning: {warning}"));
     }

@@ -6,7 +6,7 @@ use sturmray::accel::Accel;
 use sturmray::io;
 use sturmray::io::output::Role;
 
-use super::shared::{BackendArg, check_outputs, load, scene_inputs};
+use super::shared::{BackendArg, IncludeArgs, check_outputs, load, scene_inputs};
 use super::signals::Signals;
 
 /// Trace rays from a .npy file and write the hits as a structured .npy.
@@ -20,10 +20,12 @@ pub struct Args {
     out: PathBuf,
     #[arg(long, value_enum, default_value = "embree")]
     backend: BackendArg,
+    #[command(flatten)]
+    include: IncludeArgs,
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
-    let scene = load(&args.scene)?;
+    let scene = load(&args.scene, &args.include)?;
     let mut inputs = scene_inputs(&scene);
     inputs.push(Role::new("--rays", &args.rays));
     check_outputs(&inputs, &[Role::new("--out", &args.out)])?;

@@ -29,7 +29,7 @@ use super::{LoadOptions, Scene};
 use crate::error::Result;
 use camera::CameraSpec;
 use lex::Tok;
-use object::{Kind, Obj};
+use object::Obj;
 use parse::Parser;
 use texture::Pigment;
 use value::{OBJECT_KEYWORDS, UNSUPPORTED};

@@ -401,6 +401,12 @@ impl Parser {
                 obj.apply(t);
                 continue;
             }
+            if super::value::OBJECT_KEYWORDS.contains(&word.as_str()) {
+                return Err(self.error(format!(
+                    "expected a modifier of this object or `}}`, found the object `{word}` \
+                     (is a `}}` missing before it?)"
+                )));
+            }
             self.next()?;
             match word.as_str() {
                 "texture" => {

@@ -54,6 +54,10 @@ pub struct Parser {
     pub size: (u32, u32),
     /// Where the last token taken was, for errors at the end of a file.
     last: Loc,
+    /// While a directive's own expression is read (an `#if` condition, a
+    /// declared number): a directive after it ends the expression instead of
+    /// running inside it.
+    hold: bool,
 }
 
 impl Parser {
@@ -75,6 +79,7 @@ impl Parser {
             skipped: Vec::new(),
             size,
             last: Loc::default(),
+            hold: false,
         };
         parser.open(path)?;
         Ok(parser)
@@ -194,6 +199,7 @@ impl Parser {
                 return Ok(None);
             };
             match token.tok {
+                Tok::Directive(_) if self.hold => return Ok(None),
                 Tok::Directive(name) => {
                     self.advance();
                     let loc = self.last;
@@ -372,12 +378,12 @@ impl Parser {
                 self.open(&path)
             }
             "version" => {
-                self.float()?;
+                self.held_float()?;
                 self.eat(';')?;
                 Ok(())
             }
             "if" => {
-                let taken = self.float()? != 0.0;
+                let taken = self.held_float()? != 0.0;
                 self.branch(taken, loc)
             }
             "ifdef" | "ifndef" => {
@@ -447,11 +453,32 @@ impl Parser {
             match self.skip_to_end(true, loc)?.as_deref() {
                 None => return Ok(()),
                 Some("else") => taken = true,
-                _ => taken = self.float()? != 0.0,
+                _ => taken = self.held_float()? != 0.0,
             }
         }
-        self.frames.last_mut().expect("a file is open").open_ifs += 1;
+        match self.frames.last_mut() {
+            Some(frame) => frame.open_ifs += 1,
+            None => return Err(self.error_at(loc, "the scene ends inside an `#if` (a missing `#end`)")),
+        }
         Ok(())
+    }
+
+    /// A number read with directives after it held back.
+    fn held_float(&mut self) -> Result<f64> {
+        self.hold = true;
+        let v = self.float();
+        self.hold = false;
+        v
+    }
+
+    /// A declared value read with directives after it held back when it is
+    /// an expression (a block's directives run as it is read).
+    pub fn held<T>(&mut self, read: impl FnOnce(&mut Parser) -> Result<T>) -> Result<T> {
+        let before = self.hold;
+        self.hold = true;
+        let v = read(self);
+        self.hold = before;
+        v
     }
 
     fn close_if(&mut self, loc: Loc, name: &str) -> Result<()> {

@@ -171,12 +171,11 @@ impl Parser {
                 return Ok(v);
             }
         }
-        if let Some(Tok::Str(s)) = self.peek()? {
+        if let Some(Tok::Str(_)) = self.peek()? {
             self.next()?;
-            let _ = s;
             return Ok(Value::Str);
         }
-        self.expression(false)
+        self.held(|p| p.expression(false))
     }
 
     /// A number.
