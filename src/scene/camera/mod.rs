@@ -11,7 +11,8 @@ use crate::math::{Bounds, RAY_LIMIT, Ray, Vec3, sci, unit};
 /// The view direction must make at least this sine with `up`, and eye and
 /// look_at must lie at least this fraction of their size apart: closer, and
 /// rounding (of the inputs, of the interpolation between keys) decides where
-/// the camera looks.
+/// the camera looks. An image plane's right and up must make this sine too,
+/// and its eye lie this fraction of the plane's size off it.
 const MIN_VIEW: f64 = 1e-4;
 
 /// The most pixels on a side of an image (ARCHITECTURE.md's limits).
@@ -61,7 +62,8 @@ pub(super) fn size_problem(width: u32, height: u32) -> Option<(SizeFault, String
     })
 }
 
-/// What is wrong with a camera: the TOML key to blame and why.
+/// What is wrong with a camera: the key to blame (TOML's, or for an image
+/// plane POV-Ray's camera keyword) and why.
 #[derive(Clone, Debug, PartialEq)]
 pub struct CameraProblem {
     pub key: String,
@@ -114,7 +116,8 @@ pub struct ImagePlane {
 #[derive(Clone, Copy, Debug)]
 pub struct CameraFrame {
     eye: Vec3,
-    /// Image-plane axes at distance 1, scaled so pixel (0,0)..(w,h) spans the view.
+    /// Image-plane axes, scaled so pixel (0,0)..(w,h) spans the view (at
+    /// distance 1 for a look_at camera; any distance does, as rays are normalised).
     right: Vec3,
     down: Vec3,
     top_left: Vec3,
