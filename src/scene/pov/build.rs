@@ -75,21 +75,12 @@ pub(super) fn scene(
     let resolved = camera
         .resolve()
         .map_err(|m| parser.error_at(camera.loc, m))?;
-    scene.camera = Camera {
-        keys: Vec::new(),
-        eye: resolved.location.as_vec3(),
-        look_at: (resolved.location + resolved.direction).as_vec3(),
+    let plane = ImagePlane {
+        direction: resolved.direction.as_vec3(),
+        right: resolved.right.as_vec3(),
         up: resolved.up.as_vec3(),
-        fov: (2.0 * (0.5 * resolved.up.length()).atan2(resolved.direction.length())).to_degrees()
-            as f32,
-        width: size.0,
-        height: size.1,
-        plane: Some(ImagePlane {
-            direction: resolved.direction.as_vec3(),
-            right: resolved.right.as_vec3(),
-            up: resolved.up.as_vec3(),
-        }),
     };
+    scene.camera = Camera::with_plane(resolved.location.as_vec3(), plane, size.0, size.1);
     scene
         .camera
         .check()
@@ -334,15 +325,16 @@ impl Builder<'_> {
         if depth > MAX_NESTING {
             return Err(self.parser.error_at(obj.loc, format!("CSG nests deeper than {MAX_NESTING} levels")));
         }
+        // Nothing of it shows outside its own box either.
+        let context = context.intersection(&world_box(obj, parent));
+        if context.is_empty() {
+            // Cut away by what it is intersected with: nothing of it shows.
+            return Ok(None);
+        }
         let to_world = parent * obj.transform;
         let texture = obj.texture.as_ref().or(inherited);
         // A clipped object: as a solid, the object and its clips; seen, only the object.
         if !obj.clipped_by.is_empty() {
-            let context = obj
-                .clipped_by
-                .iter()
-                .filter_map(|c| world_box(c, to_world))
-                .fold(context, |b, c| b.intersection(&c));
             let mut inner = obj.clone();
             inner.clipped_by.clear();
             inner.inverse = false;
@@ -497,15 +489,20 @@ impl Builder<'_> {
         let inner = match op {
             CsgOp::Intersection => solids
                 .iter()
-                .filter_map(|c| world_box(c, to_world))
+                .map(|c| world_box(c, to_world))
                 .fold(context, |b, c| b.intersection(&c)),
-            CsgOp::Difference => world_box(solids[0], to_world).map_or(context, |b| b.intersection(&context)),
+            CsgOp::Difference => world_box(solids[0], to_world).intersection(&context),
             CsgOp::Union | CsgOp::Merge => context,
         };
         let mut shown = Vec::new();
         let mut cuts = Vec::new();
         for (i, child) in solids.iter().enumerate() {
             let Some(node) = self.node(child, to_world, texture, inner, depth + 1)? else {
+                // An empty part empties an intersection, and the first part
+                // of a difference is all there is.
+                if op == CsgOp::Intersection || (op == CsgOp::Difference && i == 0) {
+                    return Ok(None);
+                }
                 continue;
             };
             if is_clear(child) && (op != CsgOp::Difference || i > 0) {
@@ -631,13 +628,19 @@ fn tree(built: Built, leaves: &mut Vec<Leaf>) -> Node {
     }
 }
 
-/// The world box of an object placed by `parent`, if it is bounded (an
-/// inverted object is not).
-fn world_box(obj: &Obj, parent: DAffine3) -> Option<Box3> {
-    if obj.inverse {
-        return None;
-    }
+/// The world box of an object placed by `parent`: where its inside can be,
+/// infinite along the axes it does not bound (a half-space bounds one side
+/// of one axis, a quadric cylinder the axes across it), so that the
+/// intersections of unbounded parts can still be finite.
+fn world_box(obj: &Obj, parent: DAffine3) -> Box3 {
     let to_world = parent * obj.transform;
+    let everywhere = Box3 {
+        min: DVec3::NEG_INFINITY,
+        max: DVec3::INFINITY,
+    };
+    if obj.inverse {
+        return everywhere;
+    }
     let local = match &obj.kind {
         Kind::Sphere { center, radius } => Box3 {
             min: *center - *radius,
@@ -675,63 +678,100 @@ fn world_box(obj: &Obj, parent: DAffine3) -> Option<Box3> {
             }
             b
         }
+        Kind::Plane { normal, distance } => half_space(*normal, *distance).unwrap_or(everywhere),
+        Kind::Quadric { a, b, c } => quadric_box(a, *b, *c).unwrap_or(everywhere),
+        Kind::Poly(_) | Kind::Light(_) => everywhere,
         Kind::Csg { op, children } => {
-            let boxes = children
+            let mut boxes = children
                 .iter()
                 .filter(|c| !matches!(c.kind, Kind::Light(_)))
                 .map(|c| world_box(c, DAffine3::IDENTITY));
-            let combined = match op {
-                CsgOp::Union | CsgOp::Merge => boxes.collect::<Option<Vec<_>>>().and_then(|b| {
-                    b.into_iter().reduce(|a, c| Box3 {
+            match op {
+                CsgOp::Union | CsgOp::Merge => boxes
+                    .reduce(|a, c| Box3 {
                         min: a.min.min(c.min),
                         max: a.max.max(c.max),
                     })
-                }),
-                CsgOp::Intersection => boxes.flatten().reduce(|a, c| a.intersection(&c)),
-                CsgOp::Difference => children.first().and_then(|c| world_box(c, DAffine3::IDENTITY)),
-            }?;
-            let clipped = obj
-                .clipped_by
-                .iter()
-                .filter_map(|c| world_box(c, DAffine3::IDENTITY))
-                .fold(combined, |b, c| b.intersection(&c));
-            return Some(transform_box(&clipped, to_world));
-        }
-        Kind::Plane { .. } | Kind::Quadric { .. } | Kind::Poly(_) | Kind::Light(_) => {
-            let clipped = obj
-                .clipped_by
-                .iter()
-                .filter_map(|c| world_box(c, DAffine3::IDENTITY))
-                .reduce(|a, c| a.intersection(&c))?;
-            return Some(transform_box(&clipped, to_world));
+                    .unwrap_or(everywhere),
+                CsgOp::Intersection => boxes.fold(everywhere, |a, c| a.intersection(&c)),
+                CsgOp::Difference => boxes.next().unwrap_or(everywhere),
+            }
         }
     };
     let clipped = obj
         .clipped_by
         .iter()
-        .filter_map(|c| world_box(c, DAffine3::IDENTITY))
+        .map(|c| world_box(c, DAffine3::IDENTITY))
         .fold(local, |b, c| b.intersection(&c));
-    Some(transform_box(&clipped, to_world))
+    transform_box(&clipped, to_world)
 }
 
-/// The box around `b`'s eight corners moved by `m`, padded by a millionth
-/// of its size so that no surface lies on its faces.
+/// The half-space n·p < d bounds one side of an axis when n is along it.
+fn half_space(normal: DVec3, distance: f64) -> Option<Box3> {
+    let n = normal.normalize();
+    let axis = (0..3).find(|&i| n[i].abs() == 1.0)?;
+    let mut b = Box3 {
+        min: DVec3::NEG_INFINITY,
+        max: DVec3::INFINITY,
+    };
+    if n[axis] > 0.0 {
+        b.max[axis] = distance;
+    } else {
+        b.min[axis] = -distance;
+    }
+    Some(b)
+}
+
+/// The inside of Σ aᵢ xᵢ² + b·x + c < 0 with a diagonal, aᵢ ≥ 0 (an
+/// ellipsoid, or a cylinder along the axes with aᵢ = 0 and bᵢ = 0): on each
+/// axis with aᵢ > 0, |xᵢ + bᵢ/2aᵢ| ≤ √(R/aᵢ), R = Σ bⱼ²/4aⱼ − c.
+fn quadric_box(a: &glam::DMat3, b: DVec3, c: f64) -> Option<Box3> {
+    let d = DVec3::new(a.x_axis.x, a.y_axis.y, a.z_axis.z);
+    let off = [a.x_axis.y, a.x_axis.z, a.y_axis.z, a.y_axis.x, a.z_axis.x, a.z_axis.y];
+    if off.iter().any(|v| *v != 0.0) || d.min_element() < 0.0 || d.max_element() <= 0.0 {
+        return None;
+    }
+    if (0..3).any(|i| d[i] == 0.0 && b[i] != 0.0) {
+        return None;
+    }
+    let r = (0..3)
+        .filter(|&i| d[i] > 0.0)
+        .map(|i| b[i] * b[i] / (4.0 * d[i]))
+        .sum::<f64>()
+        - c;
+    let mut out = Box3 {
+        min: DVec3::NEG_INFINITY,
+        max: DVec3::INFINITY,
+    };
+    for i in (0..3).filter(|&i| d[i] > 0.0) {
+        let (centre, half) = (-b[i] / (2.0 * d[i]), (r.max(0.0) / d[i]).sqrt());
+        out.min[i] = centre - half;
+        out.max[i] = centre + half;
+    }
+    Some(out)
+}
+
+/// The box of `b` moved by `m`, by interval arithmetic so that infinite
+/// sides stay infinite only along the axes they reach; finite boxes are
+/// padded by a millionth of their size so that no surface lies on a face.
 fn transform_box(b: &Box3, m: DAffine3) -> Box3 {
     let mut out = Box3 {
-        min: DVec3::INFINITY,
-        max: DVec3::NEG_INFINITY,
+        min: m.translation,
+        max: m.translation,
     };
-    for i in 0..8 {
-        let corner = DVec3::new(
-            if i & 1 == 0 { b.min.x } else { b.max.x },
-            if i & 2 == 0 { b.min.y } else { b.max.y },
-            if i & 4 == 0 { b.min.z } else { b.max.z },
-        );
-        let p = m.transform_point3(corner);
-        out.min = out.min.min(p);
-        out.max = out.max.max(p);
+    for k in 0..3 {
+        for j in 0..3 {
+            let f = m.matrix3.col(j)[k];
+            if f == 0.0 {
+                continue;
+            }
+            let (p, q) = (f * b.min[j], f * b.max[j]);
+            out.min[k] += p.min(q);
+            out.max[k] += p.max(q);
+        }
     }
-    let pad = 1e-6 * (out.max - out.min).max_element().max(1e-300);
+    let finite = (out.max - out.min).to_array().into_iter().filter(|v| v.is_finite());
+    let pad = 1e-6 * finite.fold(0.0, f64::max).max(1e-300);
     Box3 {
         min: out.min - pad,
         max: out.max + pad,

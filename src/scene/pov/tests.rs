@@ -330,3 +330,4 @@ fn a_clear_part_of_an_intersection_becomes_an_invisible_cut() {
         .unwrap();
     assert!((hit.t - 11.0).abs() < 1e-9, "{}", hit.t);
 }
+
