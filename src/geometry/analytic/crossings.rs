@@ -168,7 +168,7 @@ impl Shape {
 
     /// Whether the object-space point p is inside (F < 0) or outside, or
     /// None where F is within its rounding noise of 0.
-    fn side(&self, p: DVec3, d: DVec3) -> Option<bool> {
+    pub(super) fn side(&self, p: DVec3, d: DVec3) -> Option<bool> {
         let q = self.surface.along(p, d);
         let noise = f64::EPSILON * (4 * q.coeffs().len()) as f64 * self.surface.magnitude(p);
         let f = q.eval(0.0);

@@ -191,6 +191,24 @@ impl Csg {
         })
     }
 
+    /// Whether the line o + t·d is inside the tree at t = tmin or crosses its
+    /// seen surface beyond it: what a gate asks (see `Shape::set_gate`).
+    pub fn inside_or_crossed(&self, o: DVec3, d: DVec3, tmin: f64) -> bool {
+        EVENTS.with_borrow_mut(|events| {
+            events.clear();
+            let start = self.events(&self.root, o, d, f64::INFINITY, events);
+            let inside = events
+                .iter()
+                .take_while(|e| e.t <= tmin)
+                .fold(start, |inside, e| match e.kind {
+                    Kind::Enter => true,
+                    Kind::Leave => false,
+                    Kind::Sheet { .. } => inside,
+                });
+            inside || events.iter().any(|e| !e.hidden && e.t > tmin)
+        })
+    }
+
     /// A bound on the error in t of a hit on leaf `part` at t.
     pub fn hit_error(&self, part: u32, o: DVec3, d: DVec3, t: f64) -> f64 {
         match &self.leaves[part as usize].part {

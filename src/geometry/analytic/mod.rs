@@ -96,6 +96,10 @@ pub struct Shape {
     unit: i32,
     world_bounds: Bounds,
     solver: Solver,
+    /// POV-Ray's `bounded_by` (see `set_gate`). Left out of the scene hash
+    /// when absent, so shapes without one hash as they always have.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    gate: Option<Box<Shape>>,
 }
 
 /// Q(s) = F(start + s·d) of one ray in object space (|d| = 1, s the distance
@@ -189,7 +193,34 @@ impl Shape {
             },
             unit,
             solver,
+            gate: None,
         })
+    }
+
+    /// Gives the shape POV-Ray's `bounded_by` object: a ray is tested
+    /// against the shape only if it starts inside the gate or crosses the
+    /// gate's surface somewhere beyond its tmin, however far (past its tmax
+    /// too); then every hit of the shape counts, inside the gate or not. For
+    /// a gate that holds the shape this only saves time; for an unbounded
+    /// surface it decides what is seen. The shape's box stays its own: the
+    /// gate cuts rays, not space. Inside is the gate's own (F < 0 within its
+    /// box, or a tree's state); a sheet has none and gates by crossings only.
+    pub fn set_gate(&mut self, gate: Shape) {
+        self.gate = Some(Box::new(gate));
+    }
+
+    /// Whether this shape, as another's gate, lets the ray from o + tmin·d on
+    /// through (see `set_gate`).
+    fn lets_through(&self, o: DVec3, d: DVec3, tmin: f64) -> bool {
+        if let Surface::Csg(tree) = &self.surface {
+            return tree.inside_or_crossed(o, d, tmin);
+        }
+        let p = self.to_object.transform_point3(o + tmin * d);
+        let in_box = p.cmpge(self.object_box.min).all() && p.cmple(self.object_box.max).all();
+        // On the surface (F within its noise) counts as inside: a gate that
+        // opens once too often costs time, never a hit.
+        (in_box && self.side(p, DVec3::X) != Some(false))
+            || self.search(o, d, tmin, f64::INFINITY, true).is_some()
     }
 
     /// The material of the hit's `part` (see [`ShapeHit::part`]): a CSG
@@ -221,6 +252,10 @@ impl Shape {
         let Surface::Sphere { radius } = self.surface else {
             return None;
         };
+        // A gated sphere is not seen from every side a light would sample.
+        if self.gate.is_some() {
+            return None;
+        }
         let whole = Box3::cube(radius);
         if self.object_box.intersection(&whole) != whole {
             return None;
@@ -248,6 +283,11 @@ impl Shape {
 
     /// The nearest hit with t in (tmin, tmax) of the world ray o + t·d.
     pub fn intersect(&self, o: DVec3, d: DVec3, tmin: f64, tmax: f64) -> Option<ShapeHit> {
+        if let Some(gate) = &self.gate
+            && !gate.lets_through(o, d, tmin)
+        {
+            return None;
+        }
         if let Surface::Csg(tree) = &self.surface {
             return tree.intersect(o, d, tmin, tmax);
         }
@@ -295,6 +335,11 @@ impl Shape {
 
     /// Whether the world ray o + t·d crosses the surface for some t in (tmin, tmax).
     pub fn occluded(&self, o: DVec3, d: DVec3, tmin: f64, tmax: f64) -> bool {
+        if let Some(gate) = &self.gate
+            && !gate.lets_through(o, d, tmin)
+        {
+            return false;
+        }
         if let Surface::Csg(tree) = &self.surface {
             return tree.intersect(o, d, tmin, tmax).is_some();
         }
@@ -305,6 +350,9 @@ impl Shape {
     pub fn set_solver(&mut self, solver: Solver) {
         if let Surface::Csg(tree) = &mut self.surface {
             tree.set_solver(solver);
+        }
+        if let Some(gate) = &mut self.gate {
+            gate.set_solver(solver);
         }
         self.solver = solver;
     }
