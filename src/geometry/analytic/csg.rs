@@ -129,11 +129,30 @@ thread_local! {
 
 impl Csg {
     /// A tree over `leaves`. Its box: a union's is the union of its
-    /// children's, an intersection's the overlap of theirs, a difference's
-    /// its first child's; a half-space or an inverted child is unbounded, and
-    /// a tree that is unbounded as a whole is refused.
+    /// children's, an intersection's (and a clip's) the overlap of theirs, a
+    /// difference's its first child's; a half-space or an inverted child is
+    /// unbounded, and a tree that is unbounded as a whole is refused.
+    ///
+    /// A leaf with no box (`Shape::unclipped`) gets the box where its
+    /// context can show it: in an intersection or a clip, the overlap of its
+    /// bounded siblings' boxes; subtracted, its difference's first child's;
+    /// slightly padded, so the faces that close it never meet a sibling's
+    /// surface. With none to give, it is refused.
     pub fn new(root: Node, leaves: Vec<Leaf>) -> Result<Csg, String> {
-        let bounds = node_bounds(&root, &leaves).ok_or(
+        Csg::build(root, leaves, None)
+    }
+
+    /// A tree cut by the world box `world`: what may be unbounded as a whole
+    /// (POV-Ray's lone planes, or a union holding an unbounded quartic) is
+    /// bounded by it, and leaves with no box get it where nothing nearer
+    /// bounds them (see `new`). POV-Ray traces to 1e7 units at most.
+    pub fn within(root: Node, leaves: Vec<Leaf>, world: Box3) -> Result<Csg, String> {
+        Csg::build(root, leaves, Some(world))
+    }
+
+    fn build(root: Node, mut leaves: Vec<Leaf>, world: Option<Box3>) -> Result<Csg, String> {
+        bound_leaves(&root, &mut leaves, world)?;
+        let bounds = narrow(node_bounds(&root, &leaves), world).ok_or(
             "the CSG tree is unbounded (a half-space or an inverted object in a union, or first in a difference): intersect it with a bounded object",
         )?;
         if bounds.is_empty() {
@@ -178,7 +197,7 @@ impl Csg {
     pub fn intersect(&self, o: DVec3, d: DVec3, tmin: f64, tmax: f64) -> Option<ShapeHit> {
         EVENTS.with_borrow_mut(|events| {
             events.clear();
-            self.events(&self.root, o, d, tmax, events);
+            self.events(&self.root, o, d, tmin, tmax, events);
             let e = events
                 .iter()
                 .find(|e| !e.hidden && e.t > tmin && e.t < tmax)?;
@@ -196,7 +215,7 @@ impl Csg {
     pub fn inside_or_crossed(&self, o: DVec3, d: DVec3, tmin: f64) -> bool {
         EVENTS.with_borrow_mut(|events| {
             events.clear();
-            let start = self.events(&self.root, o, d, f64::INFINITY, events);
+            let start = self.events(&self.root, o, d, tmin, f64::INFINITY, events);
             let inside = events
                 .iter()
                 .take_while(|e| e.t <= tmin)
@@ -236,9 +255,20 @@ impl Csg {
 
     /// Appends the crossings of `node`'s surface along the line o + t·d, t <
     /// tmax, increasing, to `out`; returns whether the line starts inside.
-    fn events(&self, node: &Node, o: DVec3, d: DVec3, tmax: f64, out: &mut Vec<Event>) -> bool {
+    /// Those at t > tmin, where the ray starts, are right; a leaf may start
+    /// its crossings a little before tmin (see `Shape::crossings_from`), so
+    /// some before it may be missing.
+    fn events(
+        &self,
+        node: &Node,
+        o: DVec3,
+        d: DVec3,
+        tmin: f64,
+        tmax: f64,
+        out: &mut Vec<Event>,
+    ) -> bool {
         match node {
-            Node::Leaf(i) => self.leaf_events(*i, o, d, tmax, out),
+            Node::Leaf(i) => self.leaf_events(*i, o, d, tmin, tmax, out),
             Node::Op {
                 op,
                 inverse,
@@ -253,7 +283,7 @@ impl Csg {
                 };
                 for (k, child) in children.iter().enumerate() {
                     let from = out.len();
-                    let inside = self.events(child, o, d, tmax, out);
+                    let inside = self.events(child, o, d, tmin, tmax, out);
                     let clipping = *op == Op::Clip && k > 0;
                     for e in &mut out[from..] {
                         e.child = k as u32;
@@ -271,7 +301,15 @@ impl Csg {
         }
     }
 
-    fn leaf_events(&self, i: u32, o: DVec3, d: DVec3, tmax: f64, out: &mut Vec<Event>) -> bool {
+    fn leaf_events(
+        &self,
+        i: u32,
+        o: DVec3,
+        d: DVec3,
+        tmin: f64,
+        tmax: f64,
+        out: &mut Vec<Event>,
+    ) -> bool {
         let leaf = &self.leaves[i as usize];
         let inverse = leaf.inverse;
         let event = |c: &Crossing, kind| Event {
@@ -294,7 +332,8 @@ impl Csg {
             Part::Solid(s) | Part::Sheet(s) => {
                 let solid = matches!(leaf.part, Part::Solid(_));
                 let mut found = Crossings::default();
-                s.crossings(o, d, f64::NEG_INFINITY, tmax, solid, &mut found);
+                let from = s.crossings_from(d, tmin);
+                let starts = s.crossings(o, d, from, tmax, solid, &mut found);
                 for c in found.as_slice() {
                     let kind = match (solid, c.entering != inverse) {
                         (false, _) => Kind::Sheet { inside: false },
@@ -303,7 +342,7 @@ impl Csg {
                     };
                     out.push(event(c, kind));
                 }
-                solid && inverse
+                solid && (starts != inverse)
             }
             Part::Plane { normal, offset } => {
                 let (nd, no) = (normal.dot(d), normal.dot(o));
@@ -459,6 +498,58 @@ fn is_sheet(e: &Event) -> bool {
     matches!(e.kind, Kind::Sheet { .. })
 }
 
+/// How much a context's box is padded for a leaf with none (see `Csg::new`),
+/// relative to its extent: its closing faces then lie clear of every
+/// sibling's surface, and the box grows too little to cost precision.
+const CONTEXT_PAD: f64 = 1.0 / 1024.0;
+
+/// Gives every leaf with no box of its own the box of its context (see
+/// `Csg::new`): `context` is where `node`'s state can show, None for
+/// everywhere.
+fn bound_leaves(node: &Node, leaves: &mut [Leaf], context: Option<Box3>) -> Result<(), String> {
+    match node {
+        Node::Leaf(i) => match &mut leaves[*i as usize].part {
+            Part::Solid(s) | Part::Sheet(s) if !s.is_bounded() => {
+                let Some(b) = context else {
+                    return Err("an unbounded surface (a quadric or algebraic surface with no clip box) needs a bounded object to cut it: intersect it with one, or clip it by one".into());
+                };
+                let pad = CONTEXT_PAD * (b.max - b.min).max_element();
+                s.clip_to(&Box3 {
+                    min: b.min - pad,
+                    max: b.max + pad,
+                })
+            }
+            _ => Ok(()),
+        },
+        Node::Op { op, children, .. } => {
+            // The node's own box before any inversion: an inverted node is
+            // unbounded, but its children matter only where the node's
+            // uninverted state can change.
+            let own = op_bounds(*op, children, leaves);
+            for (k, child) in children.iter().enumerate() {
+                let inner = match op {
+                    Op::Union | Op::Merge => context,
+                    Op::Intersection | Op::Clip => narrow(context, own),
+                    Op::Difference if k == 0 => context,
+                    // After the first child got its box, so a subtracted
+                    // surface is cut to it too.
+                    Op::Difference => narrow(context, node_bounds(&children[0], leaves)),
+                };
+                bound_leaves(child, leaves, inner)?;
+            }
+            Ok(())
+        }
+    }
+}
+
+/// The overlap of two boxes where both are bounded, else the one that is.
+fn narrow(a: Option<Box3>, b: Option<Box3>) -> Option<Box3> {
+    match (a, b) {
+        (Some(a), Some(b)) => Some(a.intersection(&b)),
+        (a, b) => a.or(b),
+    }
+}
+
 /// A node's world box, None when unbounded.
 fn node_bounds(node: &Node, leaves: &[Leaf]) -> Option<Box3> {
     match node {
@@ -470,7 +561,7 @@ fn node_bounds(node: &Node, leaves: &[Leaf]) -> Option<Box3> {
             match &leaf.part {
                 Part::Solid(s) | Part::Sheet(s) => {
                     let b = s.bounds();
-                    Some(Box3 {
+                    s.is_bounded().then(|| Box3 {
                         min: b.min.as_dvec3(),
                         max: b.max.as_dvec3(),
                     })
@@ -495,19 +586,24 @@ fn node_bounds(node: &Node, leaves: &[Leaf]) -> Option<Box3> {
             if *inverse {
                 return None;
             }
-            let mut boxes = children.iter().map(|c| node_bounds(c, leaves));
-            match op {
-                Op::Union | Op::Merge => boxes.try_fold(None, |acc: Option<Box3>, b| {
-                    let b = b?;
-                    Some(Some(acc.map_or(b, |a| Box3 {
-                        min: a.min.min(b.min),
-                        max: a.max.max(b.max),
-                    })))
-                })?,
-                Op::Intersection | Op::Clip => boxes.flatten().reduce(|a, b| a.intersection(&b)),
-                Op::Difference => boxes.next().flatten(),
-            }
+            op_bounds(*op, children, leaves)
         }
+    }
+}
+
+/// The box of an operation over `children`, as if it were not inverted.
+fn op_bounds(op: Op, children: &[Node], leaves: &[Leaf]) -> Option<Box3> {
+    let mut boxes = children.iter().map(|c| node_bounds(c, leaves));
+    match op {
+        Op::Union | Op::Merge => boxes.try_fold(None, |acc: Option<Box3>, b| {
+            let b = b?;
+            Some(Some(acc.map_or(b, |a| Box3 {
+                min: a.min.min(b.min),
+                max: a.max.max(b.max),
+            })))
+        })?,
+        Op::Intersection | Op::Clip => boxes.flatten().reduce(|a, b| a.intersection(&b)),
+        Op::Difference => boxes.next().flatten(),
     }
 }
 
