@@ -5,25 +5,20 @@
 //! is a boundary no ray sees), nested clips, a clip by an inverted object, a
 //! clipped sheet, the node's box and the material of its hits.
 
+mod common;
+
 use glam::{DAffine3, DVec3};
 
+use common::analytic::{placed, tree_shape};
 use sturmray::geometry::{Box3, Csg, Leaf, Node, Op, Part, Shape, Surface};
-use sturmray::poly::solve::Solver;
 
 const X: DVec3 = DVec3::X;
 const Z: DVec3 = DVec3::Z;
 
+/// A ball as a leaf; the leaf's material is what a hit on it reports.
 fn sphere(radius: f64, at: DVec3, material: u32) -> Leaf {
-    let shape = Shape::new(
-        Surface::Sphere { radius },
-        DAffine3::from_translation(at),
-        None,
-        material,
-        Solver::default(),
-    )
-    .unwrap();
     Leaf {
-        part: Part::Solid(shape),
+        part: Part::Solid(placed(Surface::Sphere { radius }, at, None)),
         inverse: false,
         material,
     }
@@ -57,15 +52,7 @@ fn flat(kind: Op, n: u32) -> Node {
 }
 
 fn shape(root: Node, leaves: Vec<Leaf>) -> Shape {
-    let csg = Csg::new(root, leaves).unwrap();
-    Shape::new(
-        Surface::Csg(Box::new(csg)),
-        DAffine3::IDENTITY,
-        None,
-        0,
-        Solver::default(),
-    )
-    .unwrap()
+    tree_shape(Csg::new(root, leaves).unwrap())
 }
 
 /// The hit's t, unit normal and material.

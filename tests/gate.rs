@@ -5,25 +5,16 @@
 //! shape, outside the gate too; a sheet gates by its crossings alone; a CSG
 //! gate's inside is its tree's state; shadow rays are gated the same way.
 
+mod common;
+
 use glam::{DAffine3, DMat3, DVec3};
 
+use common::analytic::{placed, tree_shape};
 use sturmray::geometry::{Box3, Csg, Leaf, Node, Op, Part, Quadric, Shape, Surface};
-use sturmray::poly::solve::Solver;
 
 const X: DVec3 = DVec3::X;
 const Z: DVec3 = DVec3::Z;
 const FAR: f64 = f64::INFINITY;
-
-fn placed(surface: Surface, at: DVec3, clip: Option<Box3>) -> Shape {
-    Shape::new(
-        surface,
-        DAffine3::from_translation(at),
-        clip,
-        0,
-        Solver::default(),
-    )
-    .unwrap()
-}
 
 fn sphere(radius: f64, at: DVec3) -> Shape {
     placed(Surface::Sphere { radius }, at, None)
@@ -36,8 +27,7 @@ fn gated(shape: Shape, gate: Shape) -> Shape {
 }
 
 fn tree(root: Node, leaves: Vec<Leaf>) -> Shape {
-    let csg = Csg::new(root, leaves).unwrap();
-    placed(Surface::Csg(Box::new(csg)), DVec3::ZERO, None)
+    tree_shape(Csg::new(root, leaves).unwrap())
 }
 
 fn leaf(part: Part) -> Leaf {

@@ -5,8 +5,11 @@
 //! worked out by hand on the quartic tube x⁴ + y⁴ = 1 (along z, unbounded):
 //! along x at height y it is crossed at x = ±(1 − y⁴)^(1/4).
 
+mod common;
+
 use glam::{DAffine3, DVec3};
 
+use common::analytic::{placed, tree_shape};
 use sturmray::geometry::{Box3, Csg, Leaf, Node, Op, Part, Quadric, Shape, Surface};
 use sturmray::poly::solve::Solver;
 use sturmray::poly::trivariate::Trivariate;
@@ -38,14 +41,7 @@ fn tube_normal(x: f64, y: f64) -> DVec3 {
 }
 
 fn sphere(radius: f64) -> Shape {
-    Shape::new(
-        Surface::Sphere { radius },
-        DAffine3::IDENTITY,
-        None,
-        0,
-        Solver::default(),
-    )
-    .unwrap()
+    placed(Surface::Sphere { radius }, DVec3::ZERO, None)
 }
 
 fn solid(shape: Shape) -> Leaf {
@@ -65,14 +61,7 @@ fn pair(op: Op) -> Node {
 }
 
 fn shape(csg: Csg) -> Shape {
-    Shape::new(
-        Surface::Csg(Box::new(csg)),
-        DAffine3::IDENTITY,
-        None,
-        0,
-        Solver::default(),
-    )
-    .unwrap()
+    tree_shape(csg)
 }
 
 fn hit(s: &Shape, o: DVec3, d: DVec3, tmin: f64) -> Option<(f64, DVec3)> {
@@ -254,14 +243,11 @@ fn a_quartic_near_the_camera_in_a_world_box_is_hit_accurately() {
     lone.clip_to(&world).unwrap();
     // In a union with a sphere far down the tube, as one tree in the box:
     // the tube's crossings start near the ray, not 1e7 behind it.
-    let far = Shape::new(
+    let far = placed(
         Surface::Sphere { radius: 1.0 },
-        DAffine3::from_translation(DVec3::new(0.0, 0.0, 100.0)),
+        DVec3::new(0.0, 0.0, 100.0),
         None,
-        0,
-        Solver::default(),
-    )
-    .unwrap();
+    );
     let union =
         shape(Csg::within(pair(Op::Union), vec![solid(tube()), solid(far)], world).unwrap());
     let x = wall(0.5);
