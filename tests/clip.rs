@@ -127,8 +127,30 @@ fn a_sphere_clipped_by_a_half_space_is_a_bowl_open_at_the_cut() {
     );
     // From inside the bowl, up and out through the cut: nothing.
     assert_miss(&bowl, DVec3::new(0.0, 0.0, -0.5), Z);
-    // The hit's material is the clipped sphere's, not the plane's.
+    // The hit's material is the clipped sphere's, not the plane's, and the
+    // plane's is not among the materials the shape shows (the render plan's).
     assert_eq!(hit(&bowl, DVec3::new(x, 0.0, 5.0), -Z).unwrap().2, 1);
+    assert_eq!(bowl.materials(), [1]);
+}
+
+#[test]
+fn grazing_and_secondary_rays_in_a_bowl() {
+    let bowl = bowl();
+    // In the cut plane itself: the plane's inside is z < 0, so the line is
+    // outside the clip everywhere and sees nothing.
+    assert_miss(&bowl, DVec3::new(-5.0, 0.0, 0.0), X);
+    // Tangent to the sphere below the cut, at (0, 0.6, −0.8): a touch, no hit.
+    assert_miss(&bowl, DVec3::new(-5.0, 0.6, -0.8), X);
+    // Leaving the inner wall at (−√0.75, 0, −0.5) across the bowl: the wall
+    // opposite, not the one it starts on.
+    let w = 0.75f64.sqrt();
+    let o = DVec3::new(-w, 0.0, -0.5);
+    let h = bowl.intersect(o, X, 1e-9, f64::INFINITY).unwrap();
+    assert!((h.t - 2.0 * w).abs() < 1e-9, "{}", h.t);
+    // Leaving the bottom upwards: out through the cut.
+    let bottom = DVec3::new(0.0, 0.0, -1.0);
+    assert!(bowl.intersect(bottom, Z, 1e-9, f64::INFINITY).is_none());
+    assert!(!bowl.occluded(bottom, Z, 1e-9, f64::INFINITY));
 }
 
 #[test]

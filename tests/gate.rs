@@ -102,6 +102,15 @@ fn the_gate_counts_along_the_whole_ray_but_not_behind_it() {
         FAR,
         Some(2.0),
     );
+    // A ray that starts at tmin = 2 from (−5, 0, 0) starts at (−3, 0, 0),
+    // inside the gate: the sphere's hit at t = 4 counts. From tmin = 3 it
+    // starts past the gate, and nothing does.
+    let o = DVec3::new(-5.0, 0.0, 0.0);
+    let t = behind.intersect(o, X, 2.0, FAR).map(|h| h.t);
+    assert!(t.is_some_and(|t| (t - 4.0).abs() < 1e-9), "{t:?}");
+    assert!(behind.occluded(o, X, 2.0, FAR));
+    assert!(behind.intersect(o, X, 3.0, FAR).is_none());
+    assert!(!behind.occluded(o, X, 3.0, FAR));
 }
 
 #[test]

@@ -169,9 +169,16 @@ impl Csg {
         self.bounds
     }
 
-    /// Every leaf's material.
+    /// The material of every leaf whose surface can be seen: a clip
+    /// object's never is, so what its material calls for (refraction, say)
+    /// is not planned for it.
     pub fn materials(&self) -> impl Iterator<Item = u32> + '_ {
-        self.leaves.iter().map(|l| l.material)
+        let mut seen = vec![false; self.leaves.len()];
+        mark_seen(&self.root, &mut seen);
+        self.leaves
+            .iter()
+            .zip(seen)
+            .filter_map(|(leaf, seen)| seen.then_some(leaf.material))
     }
 
     pub fn material(&self, part: u32) -> u32 {
@@ -492,6 +499,24 @@ fn combine(state: &mut State, inverse: bool, out: &mut Vec<Event>, base: usize) 
         read = end;
     }
     out.truncate(write);
+}
+
+/// Marks the leaves under `node` whose surface can be seen: all but those
+/// under a clip's clip objects.
+fn mark_seen(node: &Node, seen: &mut [bool]) {
+    match node {
+        Node::Leaf(i) => seen[*i as usize] = true,
+        Node::Op { op, children, .. } => {
+            let shown = if *op == Op::Clip {
+                &children[..1]
+            } else {
+                children
+            };
+            for child in shown {
+                mark_seen(child, seen);
+            }
+        }
+    }
 }
 
 fn is_sheet(e: &Event) -> bool {
