@@ -309,3 +309,35 @@ fn a_quartic_cut_by_a_large_box_keeps_its_hits_to_the_tolerance() {
         assert!(error <= tolerance * r, "ball radius 1e{k}: error {error:e}");
     }
 }
+
+#[test]
+fn a_placed_quartic_is_cut_where_it_is_placed() {
+    // The tube scaled by 2, turned by 90° about y (its axis along x, its
+    // wall at |z| = 2 where y = 0) and moved to (10, 0, 0), intersected
+    // with a ball of radius 3 there: the ball's box, mapped into the tube's
+    // own space, must land around the tube, not around (10, 0, 0) of it.
+    let f = Trivariate::from_terms([([4, 0, 0], 1.0), ([0, 4, 0], 1.0), ([0, 0, 0], -1.0)]);
+    let at = DVec3::new(10.0, 0.0, 0.0);
+    let to_world = DAffine3::from_translation(at)
+        * DAffine3::from_rotation_y(std::f64::consts::FRAC_PI_2)
+        * DAffine3::from_scale(DVec3::splat(2.0));
+    let placed_tube = Shape::unclipped(
+        Surface::Algebraic(Box::new(f)),
+        to_world,
+        0,
+        Solver::default(),
+    )
+    .unwrap();
+    let ball = placed(Surface::Sphere { radius: 3.0 }, at, None);
+    let s = shape(
+        Csg::new(
+            pair(Op::Intersection),
+            vec![solid(placed_tube), solid(ball)],
+        )
+        .unwrap(),
+    );
+    // Down onto the wall z = 2 over the middle.
+    assert_hit(&s, DVec3::new(10.0, 0.0, 5.0), -Z, 3.0, Z, 1e-9);
+    // Along the axis: inside the tube all the way, into the ball at x = 7.
+    assert_hit(&s, DVec3::ZERO, X, 7.0, -X, 1e-9);
+}
