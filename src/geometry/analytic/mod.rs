@@ -16,7 +16,9 @@ use crate::poly::univariate::{Poly, normalize_pow2};
 
 mod crossings;
 pub mod csg;
+mod gate;
 mod surface;
+mod unbounded;
 
 pub use crossings::{Crossing, Crossings};
 use surface::root_uncertainty;
@@ -105,12 +107,6 @@ pub struct Shape {
     #[serde(skip_serializing_if = "<&bool as std::ops::Not>::not")]
     context_box: bool,
 }
-
-/// How far behind a ray's start (in object units) a tree walks the
-/// crossings of a leaf whose box is its context's (see
-/// `Shape::crossings_from`): far enough that the start is off the surface
-/// the ray leaves, so F's sign there is clear of its rounding noise.
-const CONTEXT_MARGIN: f64 = 1.0 / 1024.0;
 
 /// Q(s) = F(start + s·d) of one ray in object space (|d| = 1, s the distance
 /// from `start`): the search looks for its roots in s ∈ (0, hi), where the
@@ -206,91 +202,6 @@ impl Shape {
             gate: None,
             context_box: false,
         })
-    }
-
-    /// A shape with no clip box, as POV-Ray's quartics and planes come: a
-    /// sphere, a torus or a tree is bounded on its own; a quadric or an
-    /// algebraic surface is unbounded (see `is_bounded`) until a tree
-    /// around it (`Csg::new`) or the caller (`clip_to`) gives it a box, and
-    /// must be before it is traced.
-    pub fn unclipped(
-        surface: Surface,
-        to_world: DAffine3,
-        material: u32,
-        solver: Solver,
-    ) -> Result<Shape, String> {
-        if !matches!(surface, Surface::Quadric(_) | Surface::Algebraic(_)) {
-            return Shape::new(surface, to_world, None, material, solver);
-        }
-        // Built on a unit box, then widened: the corners of an infinite box
-        // would map to NaN under a rotation.
-        let mut shape = Shape::new(surface, to_world, Some(Box3::cube(1.0)), material, solver)?;
-        shape.object_box = Box3::cube(f64::INFINITY);
-        shape.world_bounds = Bounds {
-            min: Vec3::splat(f32::NEG_INFINITY),
-            max: Vec3::splat(f32::INFINITY),
-        };
-        Ok(shape)
-    }
-
-    /// Whether the shape has a finite box (see `unclipped`).
-    pub fn is_bounded(&self) -> bool {
-        self.object_box.min.is_finite() && self.object_box.max.is_finite()
-    }
-
-    /// Cuts the shape to the world box `world` (through the box around its
-    /// corners in object space): for an unbounded surface, the box where its
-    /// context can show it, or the world's for one alone in a scene. The
-    /// crossings of a surface given its box so start near the ray, not where
-    /// the line enters the box (see `crossings_from`).
-    pub fn clip_to(&mut self, world: &Box3) -> Result<(), String> {
-        let cut = world_box(world, &self.to_object).intersection(&self.object_box);
-        if cut.is_empty() || !world.min.is_finite() || !world.max.is_finite() {
-            return Err("the box around the surface leaves nothing of it, or is not finite".into());
-        }
-        self.context_box |= !self.is_bounded();
-        self.object_box = cut;
-        self.world_bounds = world_bounds(&cut, &self.to_object.inverse());
-        Ok(())
-    }
-
-    /// Where, in the world ray's t, a tree starts the walk over this shape's
-    /// crossings for a ray that starts at tmin: at the line's entry into its
-    /// box (−∞ here), where the line is known to be outside; but for a box
-    /// given by the context (`clip_to`), which may be a world box 1e7 wide,
-    /// just behind tmin, so Q is formed near the ray and not where its
-    /// coefficients would dwarf the roots (see docs/analytic.md).
-    pub(super) fn crossings_from(&self, d: DVec3, tmin: f64) -> f64 {
-        if !self.context_box {
-            return f64::NEG_INFINITY;
-        }
-        tmin - CONTEXT_MARGIN / self.to_object.transform_vector3(d).length()
-    }
-
-    /// Gives the shape POV-Ray's `bounded_by` object: a ray is tested
-    /// against the shape only if it starts inside the gate or crosses the
-    /// gate's surface somewhere beyond its tmin, however far (past its tmax
-    /// too); then every hit of the shape counts, inside the gate or not. For
-    /// a gate that holds the shape this only saves time; for an unbounded
-    /// surface it decides what is seen. The shape's box stays its own: the
-    /// gate cuts rays, not space. Inside is the gate's own (F < 0 within its
-    /// box, or a tree's state); a sheet has none and gates by crossings only.
-    pub fn set_gate(&mut self, gate: Shape) {
-        self.gate = Some(Box::new(gate));
-    }
-
-    /// Whether this shape, as another's gate, lets the ray from o + tmin·d on
-    /// through (see `set_gate`).
-    fn lets_through(&self, o: DVec3, d: DVec3, tmin: f64) -> bool {
-        if let Surface::Csg(tree) = &self.surface {
-            return tree.inside_or_crossed(o, d, tmin);
-        }
-        let p = self.to_object.transform_point3(o + tmin * d);
-        let in_box = p.cmpge(self.object_box.min).all() && p.cmple(self.object_box.max).all();
-        // On the surface (F within its noise) counts as inside: a gate that
-        // opens once too often costs time, never a hit.
-        (in_box && self.side(p, DVec3::X) != Some(false))
-            || self.search(o, d, tmin, f64::INFINITY, true).is_some()
     }
 
     /// The material of the hit's `part` (see [`ShapeHit::part`]): a CSG
