@@ -5,25 +5,20 @@
 //! is a boundary no ray sees), nested clips, a clip by an inverted object, a
 //! clipped sheet, the node's box and the material of its hits.
 
+mod common;
+
 use glam::{DAffine3, DVec3};
 
+use common::analytic::{placed, tree_shape};
 use sturmray::geometry::{Box3, Csg, Leaf, Node, Op, Part, Shape, Surface};
-use sturmray::poly::solve::Solver;
 
 const X: DVec3 = DVec3::X;
 const Z: DVec3 = DVec3::Z;
 
+/// A ball as a leaf; the leaf's material is what a hit on it reports.
 fn sphere(radius: f64, at: DVec3, material: u32) -> Leaf {
-    let shape = Shape::new(
-        Surface::Sphere { radius },
-        DAffine3::from_translation(at),
-        None,
-        material,
-        Solver::default(),
-    )
-    .unwrap();
     Leaf {
-        part: Part::Solid(shape),
+        part: Part::Solid(placed(Surface::Sphere { radius }, at, None)),
         inverse: false,
         material,
     }
@@ -57,15 +52,7 @@ fn flat(kind: Op, n: u32) -> Node {
 }
 
 fn shape(root: Node, leaves: Vec<Leaf>) -> Shape {
-    let csg = Csg::new(root, leaves).unwrap();
-    Shape::new(
-        Surface::Csg(Box::new(csg)),
-        DAffine3::IDENTITY,
-        None,
-        0,
-        Solver::default(),
-    )
-    .unwrap()
+    tree_shape(Csg::new(root, leaves).unwrap())
 }
 
 /// The hit's t, unit normal and material.
@@ -140,8 +127,30 @@ fn a_sphere_clipped_by_a_half_space_is_a_bowl_open_at_the_cut() {
     );
     // From inside the bowl, up and out through the cut: nothing.
     assert_miss(&bowl, DVec3::new(0.0, 0.0, -0.5), Z);
-    // The hit's material is the clipped sphere's, not the plane's.
+    // The hit's material is the clipped sphere's, not the plane's, and the
+    // plane's is not among the materials the shape shows (the render plan's).
     assert_eq!(hit(&bowl, DVec3::new(x, 0.0, 5.0), -Z).unwrap().2, 1);
+    assert_eq!(bowl.materials(), [1]);
+}
+
+#[test]
+fn grazing_and_secondary_rays_in_a_bowl() {
+    let bowl = bowl();
+    // In the cut plane itself: the plane's inside is z < 0, so the line is
+    // outside the clip everywhere and sees nothing.
+    assert_miss(&bowl, DVec3::new(-5.0, 0.0, 0.0), X);
+    // Tangent to the sphere below the cut, at (0, 0.6, −0.8): a touch, no hit.
+    assert_miss(&bowl, DVec3::new(-5.0, 0.6, -0.8), X);
+    // Leaving the inner wall at (−√0.75, 0, −0.5) across the bowl: the wall
+    // opposite, not the one it starts on.
+    let w = 0.75f64.sqrt();
+    let o = DVec3::new(-w, 0.0, -0.5);
+    let h = bowl.intersect(o, X, 1e-9, f64::INFINITY).unwrap();
+    assert!((h.t - 2.0 * w).abs() < 1e-9, "{}", h.t);
+    // Leaving the bottom upwards: out through the cut.
+    let bottom = DVec3::new(0.0, 0.0, -1.0);
+    assert!(bowl.intersect(bottom, Z, 1e-9, f64::INFINITY).is_none());
+    assert!(!bowl.occluded(bottom, Z, 1e-9, f64::INFINITY));
 }
 
 #[test]

@@ -9,25 +9,14 @@ mod common;
 
 use glam::{DAffine3, DMat3, DVec3};
 
+use common::analytic::{placed, tree_shape};
 use common::{scratch, write};
 
 use sturmray::geometry::{Box3, Crossings, Csg, Leaf, Node, Op, Part, Quadric, Shape, Surface};
-use sturmray::poly::solve::Solver;
 use sturmray::scene::Scene;
 
 const X: DVec3 = DVec3::X;
 const Z: DVec3 = DVec3::Z;
-
-fn placed(surface: Surface, at: DVec3, clip: Option<Box3>) -> Shape {
-    Shape::new(
-        surface,
-        DAffine3::from_translation(at),
-        clip,
-        0,
-        Solver::default(),
-    )
-    .unwrap()
-}
 
 fn sphere(radius: f64, at: DVec3) -> Shape {
     placed(Surface::Sphere { radius }, at, None)
@@ -49,15 +38,7 @@ fn tree(op: Op, leaves: Vec<Leaf>) -> Shape {
         inverse: false,
         children,
     };
-    let csg = Csg::new(root, leaves).unwrap();
-    Shape::new(
-        Surface::Csg(Box::new(csg)),
-        DAffine3::IDENTITY,
-        None,
-        0,
-        Solver::default(),
-    )
-    .unwrap()
+    tree_shape(Csg::new(root, leaves).unwrap())
 }
 
 /// The hit's t and unit normal.

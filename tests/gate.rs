@@ -5,25 +5,16 @@
 //! shape, outside the gate too; a sheet gates by its crossings alone; a CSG
 //! gate's inside is its tree's state; shadow rays are gated the same way.
 
+mod common;
+
 use glam::{DAffine3, DMat3, DVec3};
 
+use common::analytic::{placed, tree_shape};
 use sturmray::geometry::{Box3, Csg, Leaf, Node, Op, Part, Quadric, Shape, Surface};
-use sturmray::poly::solve::Solver;
 
 const X: DVec3 = DVec3::X;
 const Z: DVec3 = DVec3::Z;
 const FAR: f64 = f64::INFINITY;
-
-fn placed(surface: Surface, at: DVec3, clip: Option<Box3>) -> Shape {
-    Shape::new(
-        surface,
-        DAffine3::from_translation(at),
-        clip,
-        0,
-        Solver::default(),
-    )
-    .unwrap()
-}
 
 fn sphere(radius: f64, at: DVec3) -> Shape {
     placed(Surface::Sphere { radius }, at, None)
@@ -36,8 +27,7 @@ fn gated(shape: Shape, gate: Shape) -> Shape {
 }
 
 fn tree(root: Node, leaves: Vec<Leaf>) -> Shape {
-    let csg = Csg::new(root, leaves).unwrap();
-    placed(Surface::Csg(Box::new(csg)), DVec3::ZERO, None)
+    tree_shape(Csg::new(root, leaves).unwrap())
 }
 
 fn leaf(part: Part) -> Leaf {
@@ -112,6 +102,15 @@ fn the_gate_counts_along_the_whole_ray_but_not_behind_it() {
         FAR,
         Some(2.0),
     );
+    // A ray that starts at tmin = 2 from (−5, 0, 0) starts at (−3, 0, 0),
+    // inside the gate: the sphere's hit at t = 4 counts. From tmin = 3 it
+    // starts past the gate, and nothing does.
+    let o = DVec3::new(-5.0, 0.0, 0.0);
+    let t = behind.intersect(o, X, 2.0, FAR).map(|h| h.t);
+    assert!(t.is_some_and(|t| (t - 4.0).abs() < 1e-9), "{t:?}");
+    assert!(behind.occluded(o, X, 2.0, FAR));
+    assert!(behind.intersect(o, X, 3.0, FAR).is_none());
+    assert!(!behind.occluded(o, X, 3.0, FAR));
 }
 
 #[test]

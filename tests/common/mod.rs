@@ -1,6 +1,8 @@
 //! Helpers shared by the integration tests.
 #![allow(dead_code)] // each test crate uses a different subset
 
+pub mod analytic;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 

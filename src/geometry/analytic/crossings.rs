@@ -101,6 +101,8 @@ impl Shape {
     /// increasing, into `out`. With `solid`, the faces of the shape's box
     /// where F < 0 count too (see the module's doc); pass tmin = −∞ to have
     /// every crossing from where the line enters the box, where it is outside.
+    /// Returns whether a solid's line is inside at tmin (when tmin, not the
+    /// box, starts the interval; F's sign there, see `side`).
     pub fn crossings(
         &self,
         o: DVec3,
@@ -109,10 +111,10 @@ impl Shape {
         tmax: f64,
         solid: bool,
         out: &mut Crossings,
-    ) {
+    ) -> bool {
         out.len = 0;
         let Some(ray) = self.ray_polynomial(o, d, tmin, tmax) else {
-            return;
+            return false;
         };
         let to_t = |s: f64| (ray.t0 + s) / ray.length;
         let (entry, exit) = self.object_box.faces(ray.start - ray.t0 * ray.d, ray.d);
@@ -134,6 +136,7 @@ impl Shape {
         });
         let roots = &roots[..n];
         let mut inside = false;
+        let mut starts_inside = false;
         if solid {
             // Where F is 0 at the face (a cylinder's side meeting its box, a
             // cone's apex on its cap), its sign before the first crossing says
@@ -145,6 +148,8 @@ impl Shape {
             // Where tmin, not the box, starts the interval, the line is already there.
             if inside && ray.t0 > tmin * ray.length {
                 out.push(end(0.0, entry, true));
+            } else {
+                starts_inside = inside;
             }
         }
         for &(s, entering) in roots {
@@ -164,6 +169,7 @@ impl Shape {
         if inside && ray.t0 + ray.hi < tmax * ray.length {
             out.push(end(ray.hi, exit, false));
         }
+        starts_inside
     }
 
     /// Whether the object-space point p is inside (F < 0) or outside, or

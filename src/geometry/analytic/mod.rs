@@ -16,7 +16,9 @@ use crate::poly::univariate::{Poly, normalize_pow2};
 
 mod crossings;
 pub mod csg;
+mod gate;
 mod surface;
+mod unbounded;
 
 pub use crossings::{Crossing, Crossings};
 use surface::root_uncertainty;
@@ -100,6 +102,10 @@ pub struct Shape {
     /// when absent, so shapes without one hash as they always have.
     #[serde(skip_serializing_if = "Option::is_none")]
     gate: Option<Box<Shape>>,
+    /// Whether the box is not the surface's own but its context's (see
+    /// `clip_to`); left out of the scene hash when false, as `gate`.
+    #[serde(skip_serializing_if = "<&bool as std::ops::Not>::not")]
+    context_box: bool,
 }
 
 /// Q(s) = F(start + s·d) of one ray in object space (|d| = 1, s the distance
@@ -194,33 +200,8 @@ impl Shape {
             unit,
             solver,
             gate: None,
+            context_box: false,
         })
-    }
-
-    /// Gives the shape POV-Ray's `bounded_by` object: a ray is tested
-    /// against the shape only if it starts inside the gate or crosses the
-    /// gate's surface somewhere beyond its tmin, however far (past its tmax
-    /// too); then every hit of the shape counts, inside the gate or not. For
-    /// a gate that holds the shape this only saves time; for an unbounded
-    /// surface it decides what is seen. The shape's box stays its own: the
-    /// gate cuts rays, not space. Inside is the gate's own (F < 0 within its
-    /// box, or a tree's state); a sheet has none and gates by crossings only.
-    pub fn set_gate(&mut self, gate: Shape) {
-        self.gate = Some(Box::new(gate));
-    }
-
-    /// Whether this shape, as another's gate, lets the ray from o + tmin·d on
-    /// through (see `set_gate`).
-    fn lets_through(&self, o: DVec3, d: DVec3, tmin: f64) -> bool {
-        if let Surface::Csg(tree) = &self.surface {
-            return tree.inside_or_crossed(o, d, tmin);
-        }
-        let p = self.to_object.transform_point3(o + tmin * d);
-        let in_box = p.cmpge(self.object_box.min).all() && p.cmple(self.object_box.max).all();
-        // On the surface (F within its noise) counts as inside: a gate that
-        // opens once too often costs time, never a hit.
-        (in_box && self.side(p, DVec3::X) != Some(false))
-            || self.search(o, d, tmin, f64::INFINITY, true).is_some()
     }
 
     /// The material of the hit's `part` (see [`ShapeHit::part`]): a CSG

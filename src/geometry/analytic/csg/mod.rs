@@ -34,6 +34,9 @@ use glam::{DAffine3, DVec3};
 
 use super::crossings::face_width;
 use super::{Box3, Crossing, Crossings, Shape, ShapeHit};
+use bounds::{bound_leaves, narrow, node_bounds};
+
+mod bounds;
 use crate::poly::solve::Solver;
 
 /// How a node combines its children.
@@ -129,11 +132,30 @@ thread_local! {
 
 impl Csg {
     /// A tree over `leaves`. Its box: a union's is the union of its
-    /// children's, an intersection's the overlap of theirs, a difference's
-    /// its first child's; a half-space or an inverted child is unbounded, and
-    /// a tree that is unbounded as a whole is refused.
+    /// children's, an intersection's (and a clip's) the overlap of theirs, a
+    /// difference's its first child's; a half-space or an inverted child is
+    /// unbounded, and a tree that is unbounded as a whole is refused.
+    ///
+    /// A leaf with no box (`Shape::unclipped`) gets the box where its
+    /// context can show it: in an intersection or a clip, the overlap of its
+    /// bounded siblings' boxes; subtracted, its difference's first child's;
+    /// slightly padded, so the faces that close it never meet a sibling's
+    /// surface. With none to give, it is refused.
     pub fn new(root: Node, leaves: Vec<Leaf>) -> Result<Csg, String> {
-        let bounds = node_bounds(&root, &leaves).ok_or(
+        Csg::build(root, leaves, None)
+    }
+
+    /// A tree cut by the world box `world`: what may be unbounded as a whole
+    /// (POV-Ray's lone planes, or a union holding an unbounded quartic) is
+    /// bounded by it, and leaves with no box get it where nothing nearer
+    /// bounds them (see `new`). POV-Ray traces to 1e7 units at most.
+    pub fn within(root: Node, leaves: Vec<Leaf>, world: Box3) -> Result<Csg, String> {
+        Csg::build(root, leaves, Some(world))
+    }
+
+    fn build(root: Node, mut leaves: Vec<Leaf>, world: Option<Box3>) -> Result<Csg, String> {
+        bound_leaves(&root, &mut leaves, world)?;
+        let bounds = narrow(node_bounds(&root, &leaves), world).ok_or(
             "the CSG tree is unbounded (a half-space or an inverted object in a union, or first in a difference): intersect it with a bounded object",
         )?;
         if bounds.is_empty() {
@@ -150,9 +172,16 @@ impl Csg {
         self.bounds
     }
 
-    /// Every leaf's material.
+    /// The material of every leaf whose surface can be seen: a clip
+    /// object's never is, so what its material calls for (refraction, say)
+    /// is not planned for it.
     pub fn materials(&self) -> impl Iterator<Item = u32> + '_ {
-        self.leaves.iter().map(|l| l.material)
+        let mut seen = vec![false; self.leaves.len()];
+        mark_seen(&self.root, &mut seen);
+        self.leaves
+            .iter()
+            .zip(seen)
+            .filter_map(|(leaf, seen)| seen.then_some(leaf.material))
     }
 
     pub fn material(&self, part: u32) -> u32 {
@@ -178,7 +207,7 @@ impl Csg {
     pub fn intersect(&self, o: DVec3, d: DVec3, tmin: f64, tmax: f64) -> Option<ShapeHit> {
         EVENTS.with_borrow_mut(|events| {
             events.clear();
-            self.events(&self.root, o, d, tmax, events);
+            self.events(&self.root, o, d, tmin, tmax, events);
             let e = events
                 .iter()
                 .find(|e| !e.hidden && e.t > tmin && e.t < tmax)?;
@@ -196,7 +225,7 @@ impl Csg {
     pub fn inside_or_crossed(&self, o: DVec3, d: DVec3, tmin: f64) -> bool {
         EVENTS.with_borrow_mut(|events| {
             events.clear();
-            let start = self.events(&self.root, o, d, f64::INFINITY, events);
+            let start = self.events(&self.root, o, d, tmin, f64::INFINITY, events);
             let inside = events
                 .iter()
                 .take_while(|e| e.t <= tmin)
@@ -236,9 +265,20 @@ impl Csg {
 
     /// Appends the crossings of `node`'s surface along the line o + t·d, t <
     /// tmax, increasing, to `out`; returns whether the line starts inside.
-    fn events(&self, node: &Node, o: DVec3, d: DVec3, tmax: f64, out: &mut Vec<Event>) -> bool {
+    /// Those at t > tmin, where the ray starts, are right; a leaf may start
+    /// its crossings a little before tmin (see `Shape::crossings_from`), so
+    /// some before it may be missing.
+    fn events(
+        &self,
+        node: &Node,
+        o: DVec3,
+        d: DVec3,
+        tmin: f64,
+        tmax: f64,
+        out: &mut Vec<Event>,
+    ) -> bool {
         match node {
-            Node::Leaf(i) => self.leaf_events(*i, o, d, tmax, out),
+            Node::Leaf(i) => self.leaf_events(*i, o, d, tmin, tmax, out),
             Node::Op {
                 op,
                 inverse,
@@ -253,7 +293,7 @@ impl Csg {
                 };
                 for (k, child) in children.iter().enumerate() {
                     let from = out.len();
-                    let inside = self.events(child, o, d, tmax, out);
+                    let inside = self.events(child, o, d, tmin, tmax, out);
                     let clipping = *op == Op::Clip && k > 0;
                     for e in &mut out[from..] {
                         e.child = k as u32;
@@ -271,7 +311,15 @@ impl Csg {
         }
     }
 
-    fn leaf_events(&self, i: u32, o: DVec3, d: DVec3, tmax: f64, out: &mut Vec<Event>) -> bool {
+    fn leaf_events(
+        &self,
+        i: u32,
+        o: DVec3,
+        d: DVec3,
+        tmin: f64,
+        tmax: f64,
+        out: &mut Vec<Event>,
+    ) -> bool {
         let leaf = &self.leaves[i as usize];
         let inverse = leaf.inverse;
         let event = |c: &Crossing, kind| Event {
@@ -294,7 +342,8 @@ impl Csg {
             Part::Solid(s) | Part::Sheet(s) => {
                 let solid = matches!(leaf.part, Part::Solid(_));
                 let mut found = Crossings::default();
-                s.crossings(o, d, f64::NEG_INFINITY, tmax, solid, &mut found);
+                let from = s.crossings_from(d, tmin);
+                let starts = s.crossings(o, d, from, tmax, solid, &mut found);
                 for c in found.as_slice() {
                     let kind = match (solid, c.entering != inverse) {
                         (false, _) => Kind::Sheet { inside: false },
@@ -303,7 +352,7 @@ impl Csg {
                     };
                     out.push(event(c, kind));
                 }
-                solid && inverse
+                solid && (starts != inverse)
             }
             Part::Plane { normal, offset } => {
                 let (nd, no) = (normal.dot(d), normal.dot(o));
@@ -455,60 +504,26 @@ fn combine(state: &mut State, inverse: bool, out: &mut Vec<Event>, base: usize) 
     out.truncate(write);
 }
 
-fn is_sheet(e: &Event) -> bool {
-    matches!(e.kind, Kind::Sheet { .. })
-}
-
-/// A node's world box, None when unbounded.
-fn node_bounds(node: &Node, leaves: &[Leaf]) -> Option<Box3> {
+/// Marks the leaves under `node` whose surface can be seen: all but those
+/// under a clip's clip objects.
+fn mark_seen(node: &Node, seen: &mut [bool]) {
     match node {
-        Node::Leaf(i) => {
-            let leaf = &leaves[*i as usize];
-            if leaf.inverse {
-                return None;
-            }
-            match &leaf.part {
-                Part::Solid(s) | Part::Sheet(s) => {
-                    let b = s.bounds();
-                    Some(Box3 {
-                        min: b.min.as_dvec3(),
-                        max: b.max.as_dvec3(),
-                    })
-                }
-                Part::Plane { .. } => None,
-                Part::Disc {
-                    to_object, radius, ..
-                } => Some(super::world_box(
-                    &Box3 {
-                        min: DVec3::new(-radius, -radius, 0.0),
-                        max: DVec3::new(*radius, *radius, 0.0),
-                    },
-                    &to_object.inverse(),
-                )),
-            }
-        }
-        Node::Op {
-            op,
-            inverse,
-            children,
-        } => {
-            if *inverse {
-                return None;
-            }
-            let mut boxes = children.iter().map(|c| node_bounds(c, leaves));
-            match op {
-                Op::Union | Op::Merge => boxes.try_fold(None, |acc: Option<Box3>, b| {
-                    let b = b?;
-                    Some(Some(acc.map_or(b, |a| Box3 {
-                        min: a.min.min(b.min),
-                        max: a.max.max(b.max),
-                    })))
-                })?,
-                Op::Intersection | Op::Clip => boxes.flatten().reduce(|a, b| a.intersection(&b)),
-                Op::Difference => boxes.next().flatten(),
+        Node::Leaf(i) => seen[*i as usize] = true,
+        Node::Op { op, children, .. } => {
+            let shown = if *op == Op::Clip {
+                &children[..1]
+            } else {
+                children
+            };
+            for child in shown {
+                mark_seen(child, seen);
             }
         }
     }
+}
+
+fn is_sheet(e: &Event) -> bool {
+    matches!(e.kind, Kind::Sheet { .. })
 }
 
 fn describe(node: &Node, leaves: &[Leaf]) -> String {

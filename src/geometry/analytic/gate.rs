@@ -1,0 +1,36 @@
+//! POV-Ray's `bounded_by` as a gate on a shape: rays that neither start
+//! inside it nor cross its surface beyond their start never reach the
+//! shape. Checked first in `Shape::intersect` and `Shape::occluded`; a shape
+//! without a gate pays one branch for it.
+
+use glam::DVec3;
+
+use super::{Shape, Surface};
+
+impl Shape {
+    /// Gives the shape POV-Ray's `bounded_by` object: a ray is tested
+    /// against the shape only if it starts inside the gate or crosses the
+    /// gate's surface somewhere beyond its tmin, however far (past its tmax
+    /// too); then every hit of the shape counts, inside the gate or not. For
+    /// a gate that holds the shape this only saves time; for an unbounded
+    /// surface it decides what is seen. The shape's box stays its own: the
+    /// gate cuts rays, not space. Inside is the gate's own (F < 0 within its
+    /// box, or a tree's state); a sheet has none and gates by crossings only.
+    pub fn set_gate(&mut self, gate: Shape) {
+        self.gate = Some(Box::new(gate));
+    }
+
+    /// Whether this shape, as another's gate, lets the ray from o + tmin·d on
+    /// through (see `set_gate`).
+    pub(super) fn lets_through(&self, o: DVec3, d: DVec3, tmin: f64) -> bool {
+        if let Surface::Csg(tree) = &self.surface {
+            return tree.inside_or_crossed(o, d, tmin);
+        }
+        let p = self.to_object.transform_point3(o + tmin * d);
+        let in_box = p.cmpge(self.object_box.min).all() && p.cmple(self.object_box.max).all();
+        // On the surface (F within its noise) counts as inside: a gate that
+        // opens once too often costs time, never a hit.
+        (in_box && self.side(p, DVec3::X) != Some(false))
+            || self.search(o, d, tmin, f64::INFINITY, true).is_some()
+    }
+}

@@ -1,0 +1,81 @@
+//! Surfaces with no box of their own, as POV-Ray's quartics and planes
+//! come: built unbounded (`Shape::unclipped`), then cut to the box where
+//! their context can show them (`clip_to`, which `Csg::new` calls for the
+//! leaves of a tree) or to a world box. A box so given may be far larger
+//! than the surface's features (1e7 for a world box), so a tree walks such a
+//! leaf's crossings from just behind the ray, not from where the line
+//! enters the box (`crossings_from`; docs/analytic.md has the measured
+//! error against the box's size).
+
+use glam::{DAffine3, DVec3};
+
+use super::{Box3, Shape, Surface, world_bounds, world_box};
+use crate::math::{Bounds, Vec3};
+use crate::poly::solve::Solver;
+
+/// How far behind a ray's start (in object units) a tree walks the
+/// crossings of a leaf whose box is its context's (see
+/// `Shape::crossings_from`): far enough that the start is off the surface
+/// the ray leaves, so F's sign there is clear of its rounding noise.
+const CONTEXT_MARGIN: f64 = 1.0 / 1024.0;
+
+impl Shape {
+    /// A shape with no clip box, as POV-Ray's quartics and planes come: a
+    /// sphere, a torus or a tree is bounded on its own; a quadric or an
+    /// algebraic surface is unbounded (see `is_bounded`) until a tree
+    /// around it (`Csg::new`) or the caller (`clip_to`) gives it a box, and
+    /// must be before it is traced.
+    pub fn unclipped(
+        surface: Surface,
+        to_world: DAffine3,
+        material: u32,
+        solver: Solver,
+    ) -> Result<Shape, String> {
+        if !matches!(surface, Surface::Quadric(_) | Surface::Algebraic(_)) {
+            return Shape::new(surface, to_world, None, material, solver);
+        }
+        // Built on a unit box, then widened: the corners of an infinite box
+        // would map to NaN under a rotation.
+        let mut shape = Shape::new(surface, to_world, Some(Box3::cube(1.0)), material, solver)?;
+        shape.object_box = Box3::cube(f64::INFINITY);
+        shape.world_bounds = Bounds {
+            min: Vec3::splat(f32::NEG_INFINITY),
+            max: Vec3::splat(f32::INFINITY),
+        };
+        Ok(shape)
+    }
+
+    /// Whether the shape has a finite box (see `unclipped`).
+    pub fn is_bounded(&self) -> bool {
+        self.object_box.min.is_finite() && self.object_box.max.is_finite()
+    }
+
+    /// Cuts the shape to the world box `world` (through the box around its
+    /// corners in object space): for an unbounded surface, the box where its
+    /// context can show it, or the world's for one alone in a scene. The
+    /// crossings of a surface given its box so start near the ray, not where
+    /// the line enters the box (see `crossings_from`).
+    pub fn clip_to(&mut self, world: &Box3) -> Result<(), String> {
+        let cut = world_box(world, &self.to_object).intersection(&self.object_box);
+        if cut.is_empty() || !world.min.is_finite() || !world.max.is_finite() {
+            return Err("the box around the surface leaves nothing of it, or is not finite".into());
+        }
+        self.context_box |= !self.is_bounded();
+        self.object_box = cut;
+        self.world_bounds = world_bounds(&cut, &self.to_object.inverse());
+        Ok(())
+    }
+
+    /// Where, in the world ray's t, a tree starts the walk over this shape's
+    /// crossings for a ray that starts at tmin: at the line's entry into its
+    /// box (−∞ here), where the line is known to be outside; but for a box
+    /// given by the context (`clip_to`), which may be a world box 1e7 wide,
+    /// just behind tmin, so Q is formed near the ray and not where its
+    /// coefficients would dwarf the roots (see docs/analytic.md).
+    pub(super) fn crossings_from(&self, d: DVec3, tmin: f64) -> f64 {
+        if !self.context_box {
+            return f64::NEG_INFINITY;
+        }
+        tmin - CONTEXT_MARGIN / self.to_object.transform_vector3(d).length()
+    }
+}
