@@ -18,7 +18,7 @@ use super::object::{CsgOp, Kind, LightSource, Obj, clear};
 use super::parse::Parser;
 use super::texture::{Pigment, Texture, default_texture};
 use super::{Globals, Statements};
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::geometry::{Box3, Csg, Leaf, Mesh, Node, Op, Part, Shape, Surface};
 use crate::lights::Light;
 use crate::math::Vec3;
@@ -368,8 +368,15 @@ impl Builder<'_> {
             Shape::new(surface, to_world * frame, clip, material, solver)
                 .map_err(|e| this.parser.error_at(obj.loc, e))
         };
-        // The context in the object's own space (for unbounded surfaces).
-        let local_context = |frame: DAffine3| transform_box(&context, (to_world * frame).inverse());
+        // An unbounded surface, cut to its context: its crossings are then
+        // searched from near the ray, not from a box entry far away.
+        let unbounded = |this: &Self, surface: Surface| {
+            let mut s = Shape::unclipped(surface, to_world, material, solver)
+                .map_err(|e| this.parser.error_at(obj.loc, e))?;
+            s.clip_to(&context)
+                .map_err(|e| this.parser.error_at(obj.loc, e))?;
+            Ok::<Shape, Error>(s)
+        };
         Ok(match &obj.kind {
             Kind::Light(_) => None,
             Kind::Sphere { center, radius } => {
@@ -441,13 +448,13 @@ impl Builder<'_> {
                         false,
                     )
                 } else {
-                    let s = shape(self, linear(n, *distance), DAffine3::IDENTITY, Some(local_context(DAffine3::IDENTITY)))?;
+                    let s = unbounded(self, linear(n, *distance))?;
                     leaf(Part::Solid(s), false)
                 }
             }
             Kind::Quadric { a, b, c } => {
                 let surface = Surface::Quadric(crate::geometry::Quadric { a: *a, b: *b, c: *c });
-                let s = shape(self, surface, DAffine3::IDENTITY, Some(local_context(DAffine3::IDENTITY)))?;
+                let s = unbounded(self, surface)?;
                 leaf(Part::Solid(s), false)
             }
             Kind::Poly(poly) => {
@@ -455,7 +462,7 @@ impl Builder<'_> {
                     return Err(self.parser.error_at(obj.loc, "the polynomial's degree is above 35"));
                 }
                 let surface = Surface::Algebraic(Box::new(poly.clone()));
-                let s = shape(self, surface, DAffine3::IDENTITY, Some(local_context(DAffine3::IDENTITY)))?;
+                let s = unbounded(self, surface)?;
                 leaf(Part::Solid(s), false)
             }
             Kind::Mesh(_) => {
