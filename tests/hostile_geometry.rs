@@ -181,6 +181,7 @@ fn square_scene(half: f32) -> Scene {
         light_picker: Default::default(),
         warnings: Vec::new(),
         sources: Vec::new(),
+        import: None,
     }
 }
 

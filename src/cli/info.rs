@@ -43,7 +43,13 @@ fn describe(scene: &Scene, accel: &Accel) -> String {
     if let Some(import) = &scene.import {
         let list = |m: &std::collections::BTreeMap<String, usize>| {
             m.iter()
-                .map(|(k, n)| if *n == 1 { k.clone() } else { format!("{k} ×{n}") })
+                .map(|(k, n)| {
+                    if *n == 1 {
+                        k.clone()
+                    } else {
+                        format!("{k} ×{n}")
+                    }
+                })
                 .collect::<Vec<_>>()
                 .join(", ")
         };

@@ -13,6 +13,7 @@ use std::path::Path;
 
 use glam::{DAffine3, DMat4, DVec3};
 
+use super::solids::linear;
 use check::Check;
 pub(super) use check::physical_memory;
 use schema::{
@@ -20,7 +21,6 @@ use schema::{
     RenderFile, ScaleFile, SceneFile, ShapeFile, ShapeKind, SpecularFile, TransformFile,
 };
 use shapes::{Body, Built};
-use super::solids::linear;
 use tree::Parent;
 
 use super::obj::MAX_COORDINATE;

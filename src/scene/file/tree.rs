@@ -5,11 +5,11 @@
 
 use glam::DAffine3;
 
+use super::super::solids::linear;
 use super::Objects;
 use super::schema::{Object, ShapeFile};
 use super::shapes::{Body, Built};
 use crate::error::Result;
-use super::super::solids::linear;
 use crate::geometry::{Leaf, Node, Op, Part, Shape};
 use crate::suggest;
 

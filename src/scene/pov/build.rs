@@ -15,7 +15,7 @@ use std::path::Path;
 use glam::{DAffine3, DVec3};
 
 use super::object::{CsgOp, Kind, LightSource, Obj, clear};
-use super::parse::Parser;
+use super::parse::{Loc, Parser};
 use super::texture::{Pigment, Texture, default_texture};
 use super::{Globals, Statements};
 use crate::error::{Error, Result};
@@ -24,7 +24,7 @@ use crate::lights::Light;
 use crate::math::Vec3;
 use crate::poly::solve::Solver;
 use crate::scene::solids::{axis_frame, linear, round};
-use crate::scene::{Camera, ImagePlane, Integrator, RenderSettings, Scene};
+use crate::scene::{Camera, ImagePlane, Integrator, PhotonSettings, RenderSettings, Scene};
 use crate::shading::{Material, MaterialKind};
 
 /// Half the side of the world box that cuts what is unbounded.
@@ -36,7 +36,7 @@ const MAX_NESTING: usize = 32;
 /// A tree being built: leaves with their part, or operations.
 enum Built {
     Leaf {
-        part: Part,
+        part: Box<Part>,
         /// A solid whose box's faces are surface even alone (a box, a
         /// capped cylinder): alone it needs a tree.
         closed: bool,
@@ -111,10 +111,13 @@ pub(super) fn scene(
     }
     scene.import = Some(crate::scene::Import {
         read: parser.read.clone(),
-        skipped: parser.skipped.iter().fold(Default::default(), |mut m: std::collections::BTreeMap<String, usize>, k| {
-            *m.entry(k.clone()).or_default() += 1;
-            m
-        }),
+        skipped: parser.skipped.iter().fold(
+            Default::default(),
+            |mut m: std::collections::BTreeMap<String, usize>, k| {
+                *m.entry(k.clone()).or_default() += 1;
+                m
+            },
+        ),
     });
     Ok(scene)
 }
@@ -124,13 +127,18 @@ pub(super) fn scene(
 /// camera ray is the first), branches ending below `adc_bailout`, and no
 /// photon pass (POV-Ray traces photons only when a scene asks).
 fn settings(g: &Globals) -> RenderSettings {
-    let mut render = RenderSettings::default();
-    render.spp = 1;
-    render.integrator = Integrator::Whitted;
-    render.max_depth = g.max_trace_level.saturating_sub(1);
-    render.min_weight = g.adc_bailout as f32;
-    render.photons.count = 0;
-    render
+    let defaults = RenderSettings::default();
+    RenderSettings {
+        spp: 1,
+        integrator: Integrator::Whitted,
+        max_depth: g.max_trace_level.saturating_sub(1),
+        min_weight: g.adc_bailout as f32,
+        photons: PhotonSettings {
+            count: 0,
+            ..defaults.photons
+        },
+        ..defaults
+    }
 }
 
 impl Builder<'_> {
@@ -155,8 +163,10 @@ impl Builder<'_> {
             }
             Kind::Mesh(triangles) => {
                 if !obj.clipped_by.is_empty() {
-                    self.parser
-                        .warn(obj.loc, "a clipped mesh is drawn whole (clipped_by applies to analytic shapes)");
+                    self.parser.warn(
+                        obj.loc,
+                        "a clipped mesh is drawn whole (clipped_by applies to analytic shapes)",
+                    );
                 }
                 return self.mesh(triangles, to_world, texture, obj.ior);
             }
@@ -170,29 +180,30 @@ impl Builder<'_> {
         let Some(built) = self.node(obj, parent, texture, world, 0)? else {
             return Ok(());
         };
-        let mut shape = match built {
+        // `inverse` on an object alone changes nothing POV-Ray draws.
+        let built = match built {
             Built::Leaf {
-                part: Part::Solid(shape) | Part::Sheet(shape),
-                closed: false,
-                inverse: _,
-                material: _,
-            } => shape,
-            built => {
-                let mut leaves = Vec::new();
-                let root = tree(built, &mut leaves);
-                let material = leaves.first().map_or(0, |l| l.material);
-                let tree = Csg::new(root, leaves).map_err(|e| self.parser.error_at(obj.loc, e))?;
-                Shape::new(Surface::Csg(Box::new(tree)), DAffine3::IDENTITY, None, material, self.solver)
-                    .map_err(|e| self.parser.error_at(obj.loc, e))?
-            }
+                part,
+                closed,
+                material,
+                ..
+            } => Built::Leaf {
+                part,
+                closed,
+                inverse: false,
+                material,
+            },
+            op => op,
         };
-        if let Some(bound) = obj.bounded_by.first() {
-            if let Some(gate) = self.gate(bound, to_world)? {
-                shape.set_gate(gate);
-            }
+        let mut shape = self.shape(built, obj.loc)?;
+        if let Some(bound) = obj.bounded_by.first()
+            && let Some(gate) = self.gate(bound, to_world)?
+        {
+            shape.set_gate(gate);
         }
         if obj.no_shadow {
-            self.parser.skip_warning(obj.loc, "no_shadow", "the object casts shadows");
+            self.parser
+                .skip_warning(obj.loc, "no_shadow", "the object casts shadows");
         }
         self.scene.shapes.push(shape);
         Ok(())
@@ -203,21 +214,42 @@ impl Builder<'_> {
         let Some(built) = self.node(bound, to_world, None, Box3::cube(WORLD), 0)? else {
             return Ok(None);
         };
-        Ok(Some(match built {
+        Ok(Some(self.shape(built, bound.loc)?))
+    }
+
+    /// The scene shape of a node: a surface alone as it is, anything else
+    /// (a closed solid, whose box's faces are surface too, or an operation)
+    /// as a tree.
+    fn shape(&mut self, built: Built, loc: Loc) -> Result<Shape> {
+        let built = match built {
             Built::Leaf {
-                part: Part::Solid(shape),
+                part,
                 closed: false,
                 inverse: false,
-                ..
-            } => shape,
-            built => {
-                let mut leaves = Vec::new();
-                let root = tree(built, &mut leaves);
-                let tree = Csg::new(root, leaves).map_err(|e| self.parser.error_at(bound.loc, e))?;
-                Shape::new(Surface::Csg(Box::new(tree)), DAffine3::IDENTITY, None, 0, self.solver)
-                    .map_err(|e| self.parser.error_at(bound.loc, e))?
-            }
-        }))
+                material,
+            } => match *part {
+                Part::Solid(shape) | Part::Sheet(shape) => return Ok(shape),
+                part => Built::Leaf {
+                    part: Box::new(part),
+                    closed: false,
+                    inverse: false,
+                    material,
+                },
+            },
+            built => built,
+        };
+        let mut leaves = Vec::new();
+        let root = tree(built, &mut leaves);
+        let material = leaves.first().map_or(0, |l| l.material);
+        let tree = Csg::new(root, leaves).map_err(|e| self.parser.error_at(loc, e))?;
+        Shape::new(
+            Surface::Csg(Box::new(tree)),
+            DAffine3::IDENTITY,
+            None,
+            material,
+            self.solver,
+        )
+        .map_err(|e| self.parser.error_at(loc, e))
     }
 
     /// Lights inside a CSG tree, which light the scene from where they are.
@@ -248,7 +280,13 @@ impl Builder<'_> {
             return;
         };
         let (a, b) = (to_world.transform_vector3(a), to_world.transform_vector3(b));
-        let step = |i: u32, n: u32| if n > 1 { f64::from(i) / f64::from(n - 1) - 0.5 } else { 0.0 };
+        let step = |i: u32, n: u32| {
+            if n > 1 {
+                f64::from(i) / f64::from(n - 1) - 0.5
+            } else {
+                0.0
+            }
+        };
         let share = colour / f64::from(n1 * n2);
         for i in 0..n1 {
             for j in 0..n2 {
@@ -291,7 +329,10 @@ impl Builder<'_> {
         let material = Material {
             name: format!("pov {}", self.scene.materials.len()),
             kind: MaterialKind::Classic,
-            albedo: DVec3::new(c[0], c[1], c[2]).max(DVec3::ZERO).as_vec3().min(Vec3::splat(crate::scene::MAX_COLOUR)),
+            albedo: DVec3::new(c[0], c[1], c[2])
+                .max(DVec3::ZERO)
+                .as_vec3()
+                .min(Vec3::splat(crate::scene::MAX_COLOUR)),
             specular: Vec3::ZERO,
             shininess: 50.0,
             roughness: finish.roughness,
@@ -323,7 +364,10 @@ impl Builder<'_> {
         depth: usize,
     ) -> Result<Option<Built>> {
         if depth > MAX_NESTING {
-            return Err(self.parser.error_at(obj.loc, format!("CSG nests deeper than {MAX_NESTING} levels")));
+            return Err(self.parser.error_at(
+                obj.loc,
+                format!("CSG nests deeper than {MAX_NESTING} levels"),
+            ));
         }
         // Nothing of it shows outside its own box either.
         let context = context.intersection(&world_box(obj, parent));
@@ -357,7 +401,7 @@ impl Builder<'_> {
         let material = self.material(texture, obj.ior);
         let leaf = |part: Part, closed: bool| {
             Some(Built::Leaf {
-                part,
+                part: Box::new(part),
                 closed,
                 inverse: obj.inverse,
                 material,
@@ -380,13 +424,26 @@ impl Builder<'_> {
         Ok(match &obj.kind {
             Kind::Light(_) => None,
             Kind::Sphere { center, radius } => {
-                let s = shape(self, Surface::Sphere { radius: *radius }, DAffine3::from_translation(*center), None)?;
+                let s = shape(
+                    self,
+                    Surface::Sphere { radius: *radius },
+                    DAffine3::from_translation(*center),
+                    None,
+                )?;
                 leaf(Part::Solid(s), false)
             }
             Kind::Torus { major, minor } => {
                 // POV-Ray's torus turns about y; sturmray's about z.
                 let frame = DAffine3::from_rotation_x(-std::f64::consts::FRAC_PI_2);
-                let s = shape(self, Surface::Torus { major: *major, minor: *minor }, frame, None)?;
+                let s = shape(
+                    self,
+                    Surface::Torus {
+                        major: *major,
+                        minor: *minor,
+                    },
+                    frame,
+                    None,
+                )?;
                 leaf(Part::Solid(s), false)
             }
             Kind::Box { a, b } => {
@@ -395,7 +452,10 @@ impl Builder<'_> {
                     max: a.max(*b),
                 };
                 if clip.min.cmpge(clip.max).any() {
-                    self.parser.warn(obj.loc, "a flat box (two corners share a coordinate) is left out");
+                    self.parser.warn(
+                        obj.loc,
+                        "a flat box (two corners share a coordinate) is left out",
+                    );
                     return Ok(None);
                 }
                 let inside = crate::geometry::Surface::Quadric(crate::geometry::Quadric {
@@ -453,23 +513,34 @@ impl Builder<'_> {
                 }
             }
             Kind::Quadric { a, b, c } => {
-                let surface = Surface::Quadric(crate::geometry::Quadric { a: *a, b: *b, c: *c });
+                let surface = Surface::Quadric(crate::geometry::Quadric {
+                    a: *a,
+                    b: *b,
+                    c: *c,
+                });
                 let s = unbounded(self, surface)?;
                 leaf(Part::Solid(s), false)
             }
             Kind::Poly(poly) => {
                 if poly.degree() > crate::poly::MAX_DEGREE {
-                    return Err(self.parser.error_at(obj.loc, "the polynomial's degree is above 35"));
+                    return Err(self
+                        .parser
+                        .error_at(obj.loc, "the polynomial's degree is above 35"));
                 }
                 let surface = Surface::Algebraic(Box::new(poly.clone()));
                 let s = unbounded(self, surface)?;
                 leaf(Part::Solid(s), false)
             }
             Kind::Mesh(_) => {
-                self.parser.warn(obj.loc, "a mesh inside CSG is left out: it has no inside here");
+                self.parser.warn(
+                    obj.loc,
+                    "a mesh inside CSG is left out: it has no inside here",
+                );
                 None
             }
-            Kind::Csg { op, children } => self.operation(obj, *op, children, to_world, texture, context, depth)?,
+            Kind::Csg { op, children } => {
+                self.operation(obj, *op, children, to_world, texture, context, depth)?
+            }
         })
     }
 
@@ -487,8 +558,16 @@ impl Builder<'_> {
         context: Box3,
         depth: usize,
     ) -> Result<Option<Built>> {
-        let is_clear = |c: &Obj| c.texture.as_ref().or(texture).is_some_and(|t| clear(&t.pigment));
-        let solids: Vec<&Obj> = children.iter().filter(|c| !matches!(c.kind, Kind::Light(_))).collect();
+        let is_clear = |c: &Obj| {
+            c.texture
+                .as_ref()
+                .or(texture)
+                .is_some_and(|t| clear(&t.pigment))
+        };
+        let solids: Vec<&Obj> = children
+            .iter()
+            .filter(|c| !matches!(c.kind, Kind::Light(_)))
+            .collect();
         if solids.is_empty() {
             return Ok(None);
         }
@@ -617,7 +696,7 @@ fn tree(built: Built, leaves: &mut Vec<Leaf>) -> Node {
             ..
         } => {
             leaves.push(Leaf {
-                part,
+                part: *part,
                 inverse,
                 material,
             });
@@ -661,7 +740,9 @@ fn world_box(obj: &Obj, parent: DAffine3) -> Box3 {
             min: DVec3::new(-(major + minor), -minor, -(major + minor)),
             max: DVec3::new(major + minor, *minor, major + minor),
         },
-        Kind::Round { base, cap, r0, r1, .. } => {
+        Kind::Round {
+            base, cap, r0, r1, ..
+        } => {
             let r = r0.max(*r1);
             Box3 {
                 min: base.min(*cap) - r,
@@ -734,7 +815,9 @@ fn half_space(normal: DVec3, distance: f64) -> Option<Box3> {
 /// axis with aᵢ > 0, |xᵢ + bᵢ/2aᵢ| ≤ √(R/aᵢ), R = Σ bⱼ²/4aⱼ − c.
 fn quadric_box(a: &glam::DMat3, b: DVec3, c: f64) -> Option<Box3> {
     let d = DVec3::new(a.x_axis.x, a.y_axis.y, a.z_axis.z);
-    let off = [a.x_axis.y, a.x_axis.z, a.y_axis.z, a.y_axis.x, a.z_axis.x, a.z_axis.y];
+    let off = [
+        a.x_axis.y, a.x_axis.z, a.y_axis.z, a.y_axis.x, a.z_axis.x, a.z_axis.y,
+    ];
     if off.iter().any(|v| *v != 0.0) || d.min_element() < 0.0 || d.max_element() <= 0.0 {
         return None;
     }
@@ -777,7 +860,10 @@ fn transform_box(b: &Box3, m: DAffine3) -> Box3 {
             out.max[k] += p.max(q);
         }
     }
-    let finite = (out.max - out.min).to_array().into_iter().filter(|v| v.is_finite());
+    let finite = (out.max - out.min)
+        .to_array()
+        .into_iter()
+        .filter(|v| v.is_finite());
     let pad = 1e-6 * finite.fold(0.0, f64::max).max(1e-300);
     Box3 {
         min: out.min - pad,

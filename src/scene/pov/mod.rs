@@ -149,7 +149,9 @@ fn statements(p: &mut Parser) -> Result<Statements> {
                 } else {
                     return Err(p.error_at(
                         loc,
-                        format!("expected an object, camera, light_source or setting, found `{word}`"),
+                        format!(
+                            "expected an object, camera, light_source or setting, found `{word}`"
+                        ),
                     ));
                 }
             }

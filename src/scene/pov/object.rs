@@ -149,8 +149,9 @@ impl Parser {
             "object" => {
                 let inner_loc = self.here();
                 match self.peek()? {
-                    Some(Tok::Word(w)) if super::value::OBJECT_KEYWORDS.contains(&w.as_str())
-                        || UNSUPPORTED.contains(&w.as_str()) =>
+                    Some(Tok::Word(w))
+                        if super::value::OBJECT_KEYWORDS.contains(&w.as_str())
+                            || UNSUPPORTED.contains(&w.as_str()) =>
                     {
                         match self.object_statement()? {
                             Some(o) => o,
@@ -242,7 +243,9 @@ impl Parser {
                     return Err(self.error_at(loc, "the radii must be >= 0, one of them > 0"));
                 }
                 if (cap - base).length() == 0.0 {
-                    return Err(self.error_at(loc, "the cap is at the base: the axis has no length"));
+                    return Err(
+                        self.error_at(loc, "the cap is at the base: the axis has no length")
+                    );
                 }
                 Kind::Round {
                     base,
@@ -311,7 +314,9 @@ impl Parser {
                         let n = self.float()?;
                         self.eat(',')?;
                         if !(n.fract() == 0.0 && (2.0..=35.0).contains(&n)) {
-                            return Err(self.error_at(loc, "a poly's order is a whole number from 2 to 35"));
+                            return Err(
+                                self.error_at(loc, "a poly's order is a whole number from 2 to 35")
+                            );
                         }
                         n as u32
                     }
@@ -322,7 +327,10 @@ impl Parser {
                 if v.len() != n {
                     return Err(self.error_at(
                         coeff_loc,
-                        format!("a {keyword} of order {degree} takes {n} coefficients, found {}", v.len()),
+                        format!(
+                            "a {keyword} of order {degree} takes {n} coefficients, found {}",
+                            v.len()
+                        ),
                     ));
                 }
                 Kind::Poly(poly_terms(degree, &v))
@@ -337,7 +345,11 @@ impl Parser {
                 let mut children = Vec::new();
                 while let Some(w) = self.peek_word()? {
                     if !(super::value::OBJECT_KEYWORDS.contains(&w.as_str())
-                        || UNSUPPORTED.contains(&w.as_str()) && !matches!(w.as_str(), "normal" | "material" | "photons" | "radiosity"))
+                        || UNSUPPORTED.contains(&w.as_str())
+                            && !matches!(
+                                w.as_str(),
+                                "normal" | "material" | "photons" | "radiosity"
+                            ))
                     {
                         break;
                     }
@@ -420,7 +432,9 @@ impl Parser {
                 "pigment" => {
                     let mut p = self.pigment_block()?;
                     p.transform(obj.local());
-                    obj.texture.get_or_insert_with(|| self.new_texture()).pigment = p;
+                    obj.texture
+                        .get_or_insert_with(|| self.new_texture())
+                        .pigment = p;
                 }
                 "finish" => {
                     let base = obj.texture.as_ref().map(|t| t.finish);
@@ -463,9 +477,17 @@ impl Parser {
                     self.expect('{')?;
                     let mut list = Vec::new();
                     if self.eat_word("clipped_by")? {
-                        list = obj.clipped_by.iter().map(|c| placed(c, obj.transform)).collect();
+                        list = obj
+                            .clipped_by
+                            .iter()
+                            .map(|c| placed(c, obj.transform))
+                            .collect();
                     } else if self.eat_word("bounded_by")? {
-                        list = obj.bounded_by.iter().map(|c| placed(c, obj.transform)).collect();
+                        list = obj
+                            .bounded_by
+                            .iter()
+                            .map(|c| placed(c, obj.transform))
+                            .collect();
                     } else {
                         while self.peek()? != Some(Tok::Punct('}')) {
                             if let Some(o) = self.object_statement()? {
@@ -560,7 +582,11 @@ impl Parser {
                 "fade_power" | "fade_distance" => {
                     let v = self.float()?;
                     if word == "fade_power" && v != 0.0 {
-                        self.skip_warning(iloc, "fade_power", "the light does not fade with distance");
+                        self.skip_warning(
+                            iloc,
+                            "fade_power",
+                            "the light does not fade with distance",
+                        );
                     }
                 }
                 "spotlight" | "cylinder" | "parallel" | "point_at" | "radius" | "falloff"
@@ -682,7 +708,9 @@ impl Parser {
                         if w == "face_indices" {
                             let idx = [v.x, v.y, v.z];
                             if idx.iter().any(|&i| i < 0.0 || i.fract() != 0.0) {
-                                return Err(self.error_at(floc, "face indices are whole numbers >= 0"));
+                                return Err(
+                                    self.error_at(floc, "face indices are whole numbers >= 0")
+                                );
                             }
                             faces.push((idx.map(|i| i as usize), texture));
                         }
@@ -696,14 +724,23 @@ impl Parser {
         }
         let mut triangles = Vec::with_capacity(faces.len());
         for (idx, texture) in faces {
-            let Some(p) = idx.iter().map(|&i| vertices.get(i).copied()).collect::<Option<Vec<_>>>()
+            let Some(p) = idx
+                .iter()
+                .map(|&i| vertices.get(i).copied())
+                .collect::<Option<Vec<_>>>()
             else {
-                return Err(self.error_at(loc, format!(
-                    "a face refers to a vertex beyond the {} in vertex_vectors",
-                    vertices.len()
-                )));
+                return Err(self.error_at(
+                    loc,
+                    format!(
+                        "a face refers to a vertex beyond the {} in vertex_vectors",
+                        vertices.len()
+                    ),
+                ));
             };
-            triangles.push(([p[0], p[1], p[2]], texture.and_then(|t| textures.get(t).cloned())));
+            triangles.push((
+                [p[0], p[1], p[2]],
+                texture.and_then(|t| textures.get(t).cloned()),
+            ));
         }
         if triangles.is_empty() {
             return Err(self.error_at(loc, "a mesh2 needs at least one face"));

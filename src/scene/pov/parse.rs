@@ -359,7 +359,11 @@ impl Parser {
             "include" => {
                 let file = match self.next()? {
                     Tok::Str(s) => s,
-                    _ => return Err(self.error_at(loc, "expected a file name in quotes after #include")),
+                    _ => {
+                        return Err(
+                            self.error_at(loc, "expected a file name in quotes after #include")
+                        );
+                    }
                 };
                 let path = self.resolve(&file).ok_or_else(|| {
                     self.error_at(
@@ -424,7 +428,11 @@ impl Parser {
             }
             "default" => self.default_block(loc),
             "fopen" | "fclose" | "read" | "write" => {
-                self.skip_warning(loc, &format!("#{name}"), "file input and output are skipped");
+                self.skip_warning(
+                    loc,
+                    &format!("#{name}"),
+                    "file input and output are skipped",
+                );
                 match name {
                     "fopen" => {
                         self.next()?;
@@ -458,7 +466,9 @@ impl Parser {
         }
         match self.frames.last_mut() {
             Some(frame) => frame.open_ifs += 1,
-            None => return Err(self.error_at(loc, "the scene ends inside an `#if` (a missing `#end`)")),
+            None => {
+                return Err(self.error_at(loc, "the scene ends inside an `#if` (a missing `#end`)"));
+            }
         }
         Ok(())
     }

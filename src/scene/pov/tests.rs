@@ -159,7 +159,12 @@ fn poly_coefficients_are_in_povrays_monomial_order() {
         let s = x * x + y * y + z * z + 40.0 - 12.0;
         s * s - 160.0 * (x * x + z * z)
     };
-    for p in [[1.0, 2.0, 3.0], [-0.5, 0.25, 7.0], [6.0, 0.0, 0.0], [0.0, -3.0, 1.0]] {
+    for p in [
+        [1.0, 2.0, 3.0],
+        [-0.5, 0.25, 7.0],
+        [6.0, 0.0, 0.0],
+        [0.0, -3.0, 1.0],
+    ] {
         assert!((poly.eval(p) - torus(p)).abs() < 1e-9, "{p:?}");
     }
     // A point on the tube's outer equator is on the surface.
@@ -188,7 +193,11 @@ fn the_camera_resolves_as_povray_does() {
         ..spec.clone()
     };
     let c = side.resolve().unwrap();
-    assert!((c.right - DVec3::new(0.0, 0.0, -4.0 / 3.0)).length() < 1e-12, "{:?}", c.right);
+    assert!(
+        (c.right - DVec3::new(0.0, 0.0, -4.0 / 3.0)).length() < 1e-12,
+        "{:?}",
+        c.right
+    );
     // A right-handed camera (right = −x) stays right-handed.
     let mirrored = CameraSpec {
         right: DVec3::new(-4.0 / 3.0, 0.0, 0.0),
@@ -253,9 +262,18 @@ fn what_is_outside_the_subset_is_skipped_with_a_warning_naming_the_line() {
     .unwrap();
     assert_eq!(scene.shapes.len(), 1);
     let warnings = scene.warnings.join("\n");
-    assert!(warnings.contains("t.pov:2:1: `isosurface` is not supported"), "{warnings}");
-    assert!(warnings.contains("t.pov:3:15: `normal` is not supported"), "{warnings}");
-    assert!(warnings.contains("t.pov:4:1: `fog` is not supported"), "{warnings}");
+    assert!(
+        warnings.contains("t.pov:2:1: `isosurface` is not supported"),
+        "{warnings}"
+    );
+    assert!(
+        warnings.contains("t.pov:3:15: `normal` is not supported"),
+        "{warnings}"
+    );
+    assert!(
+        warnings.contains("t.pov:4:1: `fog` is not supported"),
+        "{warnings}"
+    );
     let skipped = &scene.import.as_ref().unwrap().skipped;
     assert_eq!(skipped.len(), 3, "{skipped:?}");
 }
@@ -267,27 +285,47 @@ fn declarations_warn_only_where_they_are_used() {
          sphere {{ 0, 1 }}"
     ))
     .unwrap();
-    assert!(quiet.warnings.iter().all(|w| !w.contains("granite")), "{:?}", quiet.warnings);
+    assert!(
+        quiet.warnings.iter().all(|w| !w.contains("granite")),
+        "{:?}",
+        quiet.warnings
+    );
     let used = load(&format!(
         "{VIEW}#declare Used = texture {{ pigment {{ granite }} }}\n\
          sphere {{ 0, 1 texture {{ Used }} }}"
     ))
     .unwrap();
-    assert!(used.warnings.iter().any(|w| w.contains("`granite`")), "{:?}", used.warnings);
+    assert!(
+        used.warnings.iter().any(|w| w.contains("`granite`")),
+        "{:?}",
+        used.warnings
+    );
 }
 
 #[test]
 fn syntax_errors_name_the_line_and_column() {
     let e = load(&format!("{VIEW}sphere {{ <0, 0, 0>, 1\n  box {{ 1 }}")).unwrap_err();
     let text = e.to_string();
-    assert!(text.contains("t.pov:3:3: expected a modifier of this object or `}`, found the object `box`"), "{text}");
+    assert!(
+        text.contains(
+            "t.pov:3:3: expected a modifier of this object or `}`, found the object `box`"
+        ),
+        "{text}"
+    );
     assert!(e.is_bad_input());
     let e = load(&format!("{VIEW}sphere {{ 0, -1 }}")).unwrap_err();
-    assert!(e.to_string().contains("t.pov:2:13: the radius must be a number > 0"), "{e}");
+    assert!(
+        e.to_string()
+            .contains("t.pov:2:13: the radius must be a number > 0"),
+        "{e}"
+    );
     let e = load(&format!("{VIEW}sphere {{ 0, Radius }}")).unwrap_err();
     assert!(e.to_string().contains("unknown name `Radius`"), "{e}");
     let e = load("quartic { <1, 2, 3> }").unwrap_err();
-    assert!(e.to_string().contains("takes 35 coefficients, found 3"), "{e}");
+    assert!(
+        e.to_string().contains("takes 35 coefficients, found 3"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -296,9 +334,18 @@ fn includes_are_found_beside_the_file_then_in_the_given_folders() {
     let extra = tempfile::tempdir().unwrap();
     std::fs::write(extra.path().join("mine.inc"), "#declare R = 0.25;").unwrap();
     let path = dir.path().join("s.pov");
-    std::fs::write(&path, format!("#include \"mine.inc\"\n{VIEW}sphere {{ 0, R }}")).unwrap();
+    std::fs::write(
+        &path,
+        format!("#include \"mine.inc\"\n{VIEW}sphere {{ 0, R }}"),
+    )
+    .unwrap();
     let missing = Scene::load_with(&path, &LoadOptions::default()).unwrap_err();
-    assert!(missing.to_string().contains("s.pov:1:1: cannot find the include file \"mine.inc\""), "{missing}");
+    assert!(
+        missing
+            .to_string()
+            .contains("s.pov:1:1: cannot find the include file \"mine.inc\""),
+        "{missing}"
+    );
     let options = LoadOptions {
         pov_include: vec![extra.path().to_owned()],
         ..LoadOptions::default()
@@ -309,7 +356,10 @@ fn includes_are_found_beside_the_file_then_in_the_given_folders() {
     // A file that includes itself stops at the nesting limit.
     std::fs::write(&path, "#include \"s.pov\"").unwrap();
     let e = Scene::load_with(&path, &LoadOptions::default()).unwrap_err();
-    assert!(e.to_string().contains("includes nest deeper than 32"), "{e}");
+    assert!(
+        e.to_string().contains("includes nest deeper than 32"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -326,8 +376,12 @@ fn a_clear_part_of_an_intersection_becomes_an_invisible_cut() {
     // (the cut face, clear, is not there), at y = −1 … the far wall: t = 10 + 1.
     let shape = &scene.shapes[0];
     let hit = shape
-        .intersect(DVec3::new(0.0, 10.0, 0.0), DVec3::new(0.0, -1.0, 0.0), 0.0, f64::INFINITY)
+        .intersect(
+            DVec3::new(0.0, 10.0, 0.0),
+            DVec3::new(0.0, -1.0, 0.0),
+            0.0,
+            f64::INFINITY,
+        )
         .unwrap();
     assert!((hit.t - 11.0).abs() < 1e-9, "{}", hit.t);
 }
-

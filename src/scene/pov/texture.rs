@@ -192,8 +192,19 @@ impl Parser {
     fn starts_colour(&self, w: &str) -> bool {
         matches!(
             w,
-            "color" | "colour" | "rgb" | "rgbf" | "rgbt" | "rgbft" | "srgb" | "srgbf" | "srgbt"
-                | "srgbft" | "red" | "green" | "blue"
+            "color"
+                | "colour"
+                | "rgb"
+                | "rgbf"
+                | "rgbt"
+                | "rgbft"
+                | "srgb"
+                | "srgbf"
+                | "srgbt"
+                | "srgbft"
+                | "red"
+                | "green"
+                | "blue"
         ) || matches!(self.symbol(w), Some(Value::Vector(_) | Value::Float(_)))
     }
 
@@ -335,7 +346,10 @@ impl Parser {
         Ok(match v {
             Value::Float(f) => f,
             Value::Vector(c) => {
-                self.warn(loc, format!("a coloured `{name}` is read as the mean of its colour"));
+                self.warn(
+                    loc,
+                    format!("a coloured `{name}` is read as the mean of its colour"),
+                );
                 c.iter().take(3).sum::<f64>() / 3.0
             }
             _ => return Err(self.error_at(loc, format!("expected a number after `{name}`"))),
@@ -390,8 +404,17 @@ impl Parser {
                 matches!(self.symbol(&w), Some(Value::Float(_)))
                     || matches!(
                         w.as_str(),
-                        "pi" | "sqrt" | "sin" | "cos" | "abs" | "pow" | "on" | "off" | "true"
-                            | "false" | "yes" | "no"
+                        "pi" | "sqrt"
+                            | "sin"
+                            | "cos"
+                            | "abs"
+                            | "pow"
+                            | "on"
+                            | "off"
+                            | "true"
+                            | "false"
+                            | "yes"
+                            | "no"
                     )
             }
             _ => false,
@@ -452,7 +475,10 @@ impl Parser {
     /// If `word` is a transform keyword (already peeked or taken), takes it
     /// and its value and returns the transform.
     pub fn transform_item(&mut self, word: &str) -> Result<Option<DAffine3>> {
-        if !matches!(word, "translate" | "rotate" | "scale" | "matrix" | "transform") {
+        if !matches!(
+            word,
+            "translate" | "rotate" | "scale" | "matrix" | "transform"
+        ) {
             return Ok(None);
         }
         if self.peek_word()?.as_deref() == Some(word) {

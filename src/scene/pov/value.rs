@@ -9,8 +9,8 @@ use super::lex::Tok;
 use super::object::Obj;
 use super::parse::Parser;
 use super::texture::{Pigment, Texture};
-use crate::shading::Finish;
 use crate::error::Result;
+use crate::shading::Finish;
 use crate::suggest;
 
 /// What a name can be declared as.
@@ -94,7 +94,9 @@ pub const UNSUPPORTED: &[&str] = &[
     "ovus",
 ];
 
-const COLOUR_WORDS: &[&str] = &["rgb", "rgbf", "rgbt", "rgbft", "srgb", "srgbf", "srgbt", "srgbft"];
+const COLOUR_WORDS: &[&str] = &[
+    "rgb", "rgbf", "rgbt", "rgbft", "srgb", "srgbf", "srgbt", "srgbft",
+];
 
 impl Parser {
     /// The right-hand side of `#declare NAME =`.
@@ -115,7 +117,11 @@ impl Parser {
                     // Layers over the first: POV-Ray's layered texture.
                     while self.peek_word()?.as_deref() == Some("texture") {
                         let at = self.here();
-                        self.skip_warning(at, "texture", "a layered texture: only its first layer is drawn");
+                        self.skip_warning(
+                            at,
+                            "texture",
+                            "a layered texture: only its first layer is drawn",
+                        );
                         self.next()?;
                         self.texture_block()?;
                     }
@@ -348,7 +354,10 @@ impl Parser {
             Tok::Word(w) => self.word_value(&w, loc),
             other => Err(self.error_at(
                 loc,
-                format!("expected a number or a vector, found {}", super::lex::describe(&other)),
+                format!(
+                    "expected a number or a vector, found {}",
+                    super::lex::describe(&other)
+                ),
             )),
         }
     }
@@ -405,7 +414,9 @@ impl Parser {
                 self.expect('(')?;
                 let name = self.word()?;
                 self.expect(')')?;
-                Ok(Value::Float(f64::from(u8::from(self.symbol(&name).is_some()))))
+                Ok(Value::Float(f64::from(u8::from(
+                    self.symbol(&name).is_some(),
+                ))))
             }
             _ => {
                 if let Some(v) = self.function(w, loc)? {
@@ -650,7 +661,9 @@ pub fn rotation(r: glam::DVec3) -> DAffine3 {
 }
 
 /// String functions: a declaration made with one is a string, outside the subset.
-const STRING_FUNCTIONS: &[&str] = &["concat", "str", "chr", "substr", "strupr", "strlwr", "vstr", "datetime"];
+const STRING_FUNCTIONS: &[&str] = &[
+    "concat", "str", "chr", "substr", "strupr", "strlwr", "vstr", "datetime",
+];
 
 fn truth(v: &Value) -> bool {
     match v {
