@@ -10,8 +10,10 @@
 //! given by its image plane, so every pixel's ray is the one POV-Ray traces
 //! and the image is not mirrored.
 
+mod boxes;
 mod build;
 mod camera;
+mod csg;
 mod lex;
 mod object;
 mod parse;

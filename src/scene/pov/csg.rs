@@ -1,0 +1,348 @@
+//! The CSG trees of a POV-Ray scene: each object a node (a leaf with its
+//! part, or an operation), placed by its parents, cut to its context (the
+//! world box where it can show), and clear parts turned into invisible cuts.
+
+use glam::{DAffine3, DVec3};
+
+use super::boxes::world_box;
+use super::build::{Builder, Built, MAX_NESTING};
+use super::object::{CsgOp, Kind, Obj, clear};
+use super::texture::Texture;
+use crate::error::{Error, Result};
+use crate::geometry::{Box3, Leaf, Node, Op, Part, Shape, Surface};
+use crate::scene::solids::{axis_frame, linear, round};
+
+impl Builder<'_> {
+    pub(super) fn node(
+        &mut self,
+        obj: &Obj,
+        parent: DAffine3,
+        inherited: Option<&Texture>,
+        context: Box3,
+        depth: usize,
+    ) -> Result<Option<Built>> {
+        if depth > MAX_NESTING {
+            return Err(self.parser.error_at(
+                obj.loc,
+                format!("CSG nests deeper than {MAX_NESTING} levels"),
+            ));
+        }
+        // Nothing of it shows outside its own box either.
+        let context = context.intersection(&world_box(obj, parent));
+        if context.is_empty() {
+            // Cut away by what it is intersected with: nothing of it shows.
+            return Ok(None);
+        }
+        let to_world = parent * obj.transform;
+        let texture = obj.texture.as_ref().or(inherited);
+        // A clipped object: as a solid, the object and its clips; seen, only the object.
+        if !obj.clipped_by.is_empty() {
+            let mut inner = obj.clone();
+            inner.clipped_by.clear();
+            inner.inverse = false;
+            let mut children = Vec::new();
+            let Some(first) = self.node(&inner, parent, inherited, context, depth + 1)? else {
+                return Ok(None);
+            };
+            children.push(first);
+            for c in &obj.clipped_by {
+                if let Some(n) = self.node(c, to_world, texture, context, depth + 1)? {
+                    children.push(n);
+                }
+            }
+            return Ok(Some(Built::Op {
+                op: Op::Clip,
+                inverse: obj.inverse,
+                children,
+            }));
+        }
+        let material = self.material(texture, obj.ior);
+        let leaf = |part: Part, closed: bool| {
+            Some(Built::Leaf {
+                part: Box::new(part),
+                closed,
+                inverse: obj.inverse,
+                material,
+            })
+        };
+        let solver = self.solver;
+        let shape = |this: &Self, surface: Surface, frame: DAffine3, clip: Option<Box3>| {
+            Shape::new(surface, to_world * frame, clip, material, solver)
+                .map_err(|e| this.parser.error_at(obj.loc, e))
+        };
+        // An unbounded surface, cut to its context: its crossings are then
+        // searched from near the ray, not from a box entry far away.
+        let unbounded = |this: &Self, surface: Surface| {
+            let mut s = Shape::unclipped(surface, to_world, material, solver)
+                .map_err(|e| this.parser.error_at(obj.loc, e))?;
+            s.clip_to(&context)
+                .map_err(|e| this.parser.error_at(obj.loc, e))?;
+            Ok::<Shape, Error>(s)
+        };
+        Ok(match &obj.kind {
+            Kind::Light(_) => None,
+            Kind::Sphere { center, radius } => {
+                let s = shape(
+                    self,
+                    Surface::Sphere { radius: *radius },
+                    DAffine3::from_translation(*center),
+                    None,
+                )?;
+                leaf(Part::Solid(s), false)
+            }
+            Kind::Torus { major, minor } => {
+                // POV-Ray's torus turns about y; sturmray's about z.
+                let frame = DAffine3::from_rotation_x(-std::f64::consts::FRAC_PI_2);
+                let s = shape(
+                    self,
+                    Surface::Torus {
+                        major: *major,
+                        minor: *minor,
+                    },
+                    frame,
+                    None,
+                )?;
+                leaf(Part::Solid(s), false)
+            }
+            Kind::Box { a, b } => {
+                let clip = Box3 {
+                    min: a.min(*b),
+                    max: a.max(*b),
+                };
+                if clip.min.cmpge(clip.max).any() {
+                    self.parser.warn(
+                        obj.loc,
+                        "a flat box (two corners share a coordinate) is left out",
+                    );
+                    return Ok(None);
+                }
+                let inside = crate::geometry::Surface::Quadric(crate::geometry::Quadric {
+                    a: glam::DMat3::ZERO,
+                    b: DVec3::ZERO,
+                    c: -1.0,
+                });
+                let s = shape(self, inside, DAffine3::IDENTITY, Some(clip))?;
+                leaf(Part::Solid(s), true)
+            }
+            Kind::Round {
+                base,
+                cap,
+                r0,
+                r1,
+                open,
+            } => {
+                let (surface, clip) = round(*r0, *r1, (*cap - *base).length());
+                let s = shape(self, surface, axis_frame(*base, *cap - *base), Some(clip))?;
+                if *open {
+                    leaf(Part::Sheet(s), false)
+                } else {
+                    leaf(Part::Solid(s), true)
+                }
+            }
+            Kind::Disc {
+                center,
+                normal,
+                radius,
+                hole,
+            } => leaf(
+                Part::Disc {
+                    to_object: (to_world * axis_frame(*center, *normal)).inverse(),
+                    radius: *radius,
+                    hole: *hole,
+                },
+                true,
+            ),
+            Kind::Plane { normal, distance } => {
+                let n = normal.normalize();
+                if depth > 0 {
+                    // n·p < d in object space is n'·q < n'·M(p0) in the world.
+                    let world = to_world.inverse().matrix3.transpose() * n;
+                    let p0 = to_world.transform_point3(*distance * n);
+                    leaf(
+                        Part::Plane {
+                            normal: world,
+                            offset: world.dot(p0),
+                        },
+                        false,
+                    )
+                } else {
+                    let s = unbounded(self, linear(n, *distance))?;
+                    leaf(Part::Solid(s), false)
+                }
+            }
+            Kind::Quadric { a, b, c } => {
+                let surface = Surface::Quadric(crate::geometry::Quadric {
+                    a: *a,
+                    b: *b,
+                    c: *c,
+                });
+                let s = unbounded(self, surface)?;
+                leaf(Part::Solid(s), false)
+            }
+            Kind::Poly(poly) => {
+                if poly.degree() > crate::poly::MAX_DEGREE {
+                    return Err(self
+                        .parser
+                        .error_at(obj.loc, "the polynomial's degree is above 35"));
+                }
+                let surface = Surface::Algebraic(Box::new(poly.clone()));
+                let s = unbounded(self, surface)?;
+                leaf(Part::Solid(s), false)
+            }
+            Kind::Mesh(_) => {
+                self.parser.warn(
+                    obj.loc,
+                    "a mesh inside CSG is left out: it has no inside here",
+                );
+                None
+            }
+            Kind::Csg { op, children } => {
+                self.operation(obj, *op, children, to_world, texture, context, depth)?
+            }
+        })
+    }
+
+    /// A CSG operation's node. Children that let all light through are
+    /// invisible cuts: an intersection with them clips, a difference clips
+    /// by their outside, a union or merge leaves them out.
+    #[allow(clippy::too_many_arguments)]
+    fn operation(
+        &mut self,
+        obj: &Obj,
+        op: CsgOp,
+        children: &[Obj],
+        to_world: DAffine3,
+        texture: Option<&Texture>,
+        context: Box3,
+        depth: usize,
+    ) -> Result<Option<Built>> {
+        let is_clear = |c: &Obj| {
+            c.texture
+                .as_ref()
+                .or(texture)
+                .is_some_and(|t| clear(&t.pigment))
+        };
+        let solids: Vec<&Obj> = children
+            .iter()
+            .filter(|c| !matches!(c.kind, Kind::Light(_)))
+            .collect();
+        if solids.is_empty() {
+            return Ok(None);
+        }
+        // What bounds the operation: where its children can show.
+        let inner = match op {
+            CsgOp::Intersection => solids
+                .iter()
+                .map(|c| world_box(c, to_world))
+                .fold(context, |b, c| b.intersection(&c)),
+            CsgOp::Difference => world_box(solids[0], to_world).intersection(&context),
+            CsgOp::Union | CsgOp::Merge => context,
+        };
+        let mut shown = Vec::new();
+        let mut cuts = Vec::new();
+        for (i, child) in solids.iter().enumerate() {
+            let Some(node) = self.node(child, to_world, texture, inner, depth + 1)? else {
+                // An empty part empties an intersection, and the first part
+                // of a difference is all there is.
+                if op == CsgOp::Intersection || (op == CsgOp::Difference && i == 0) {
+                    return Ok(None);
+                }
+                continue;
+            };
+            if is_clear(child) && (op != CsgOp::Difference || i > 0) {
+                match op {
+                    CsgOp::Intersection => cuts.push(node),
+                    CsgOp::Difference => cuts.push(flip(node)),
+                    // A clear part of a union shows nothing.
+                    CsgOp::Union | CsgOp::Merge => {}
+                }
+            } else {
+                shown.push(node);
+            }
+        }
+        if shown.is_empty() {
+            return Ok(None);
+        }
+        let op = match op {
+            CsgOp::Union => Op::Union,
+            CsgOp::Intersection => Op::Intersection,
+            CsgOp::Difference => Op::Difference,
+            CsgOp::Merge => Op::Merge,
+        };
+        let visible = if shown.len() == 1 && op != Op::Difference {
+            shown.pop().expect("one child")
+        } else {
+            Built::Op {
+                op,
+                inverse: false,
+                children: shown,
+            }
+        };
+        let node = if cuts.is_empty() {
+            visible
+        } else {
+            let mut children = vec![visible];
+            children.extend(cuts);
+            Built::Op {
+                op: Op::Clip,
+                inverse: false,
+                children,
+            }
+        };
+        Ok(Some(if obj.inverse { flip(node) } else { node }))
+    }
+}
+
+/// `node` with its inside flipped.
+fn flip(node: Built) -> Built {
+    match node {
+        Built::Leaf {
+            part,
+            closed,
+            inverse,
+            material,
+        } => Built::Leaf {
+            part,
+            closed,
+            inverse: !inverse,
+            material,
+        },
+        Built::Op {
+            op,
+            inverse,
+            children,
+        } => Built::Op {
+            op,
+            inverse: !inverse,
+            children,
+        },
+    }
+}
+
+/// The geometry tree of `built`, its leaves appended to `leaves`.
+pub(super) fn tree(built: Built, leaves: &mut Vec<Leaf>) -> Node {
+    match built {
+        Built::Leaf {
+            part,
+            inverse,
+            material,
+            ..
+        } => {
+            leaves.push(Leaf {
+                part: *part,
+                inverse,
+                material,
+            });
+            Node::Leaf(leaves.len() as u32 - 1)
+        }
+        Built::Op {
+            op,
+            inverse,
+            children,
+        } => Node::Op {
+            op,
+            inverse,
+            children: children.into_iter().map(|c| tree(c, leaves)).collect(),
+        },
+    }
+}
