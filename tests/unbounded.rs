@@ -213,8 +213,10 @@ fn a_lone_plane_a_million_away_is_hit_where_it_lies() {
     .unwrap();
     plane.clip_to(&world).unwrap();
     let d = DVec3::new(0.6, 0.0, 0.8);
-    // t = 1e6 / 0.8, exact in f64; f32-free here, so a few ulps of 1.25e6.
-    assert_hit(&plane, DVec3::ZERO, d, 1.25e6, Z, 1e-9 * 1.25e6);
+    // t = 1e6 / 0.8. A surface's root is bisected to the solver's tolerance
+    // times its distance (1e-12 relative): that is the bound, at 1e6 too.
+    let tolerance = Solver::default().tolerance * 1.25e6;
+    assert_hit(&plane, DVec3::ZERO, d, 1.25e6, Z, tolerance);
     // The same half-space as a tree's leaf, with a sphere near the camera.
     let half = Leaf {
         part: Part::Plane {
@@ -232,7 +234,8 @@ fn a_lone_plane_a_million_away_is_hit_where_it_lies() {
         DVec3::new(0.0, 0.6, 0.8),
         1.25e6,
         -Z,
-        1e-9 * 1.25e6,
+        // A tree's half-space is solved in closed form: a few roundings.
+        8.0 * f64::EPSILON * 1.25e6,
     );
 }
 

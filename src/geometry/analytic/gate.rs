@@ -16,6 +16,8 @@ impl Shape {
     /// surface it decides what is seen. The shape's box stays its own: the
     /// gate cuts rays, not space. Inside is the gate's own (F < 0 within its
     /// box, or a tree's state); a sheet has none and gates by crossings only.
+    /// A tree is gated as a whole: the gate of a shape used as a tree's leaf
+    /// is not consulted (a leaf gives its crossings along the whole line).
     pub fn set_gate(&mut self, gate: Shape) {
         self.gate = Some(Box::new(gate));
     }
