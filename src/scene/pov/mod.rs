@@ -13,10 +13,13 @@
 mod boxes;
 mod build;
 mod camera;
+mod colour;
 mod csg;
+mod functions;
 mod lex;
 mod object;
 mod parse;
+mod parts;
 mod texture;
 mod value;
 

@@ -72,7 +72,8 @@ pub fn default_texture() -> Texture {
 pub const DEFAULT: &str = " default";
 
 impl Parser {
-    fn defaults(&self) -> Texture {
+    /// A texture as `#default` left it (POV-Ray's own defaults before).
+    pub(super) fn defaults(&self) -> Texture {
         match self.symbol(DEFAULT) {
             Some(Value::Texture(t)) => (**t).clone(),
             _ => default_texture(),

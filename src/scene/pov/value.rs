@@ -94,7 +94,7 @@ pub const UNSUPPORTED: &[&str] = &[
     "ovus",
 ];
 
-const COLOUR_WORDS: &[&str] = &[
+pub(super) const COLOUR_WORDS: &[&str] = &[
     "rgb", "rgbf", "rgbt", "rgbft", "srgb", "srgbf", "srgbt", "srgbft",
 ];
 
@@ -261,7 +261,7 @@ impl Parser {
         }
     }
 
-    fn sum(&mut self) -> Result<Value> {
+    pub(super) fn sum(&mut self) -> Result<Value> {
         let mut a = self.product()?;
         loop {
             let loc = self.here();
@@ -429,101 +429,8 @@ impl Parser {
         }
     }
 
-    /// A call of a built-in function `name`, if it is one.
-    fn function(&mut self, name: &str, loc: super::parse::Loc) -> Result<Option<Value>> {
-        let arity = match name {
-            "abs" | "acos" | "asin" | "atan" | "ceil" | "cos" | "cosh" | "degrees" | "exp"
-            | "floor" | "int" | "ln" | "log" | "radians" | "sin" | "sinh" | "sqrt" | "tan"
-            | "tanh" | "vlength" | "vnormalize" | "sqr" => 1,
-            "atan2" | "div" | "mod" | "pow" | "vcross" | "vdot" | "max" | "min" | "vrotate" => 2,
-            "select" => 3,
-            _ => return Ok(None),
-        };
-        self.expect('(')?;
-        let mut args = vec![self.expression(false)?];
-        while self.eat(',')? {
-            args.push(self.expression(false)?);
-        }
-        self.expect(')')?;
-        let variadic = matches!(name, "max" | "min" | "select");
-        if args.len() != arity && !(variadic && args.len() >= arity.min(2)) {
-            return Err(self.error_at(
-                loc,
-                format!("`{name}` takes {arity} argument(s), found {}", args.len()),
-            ));
-        }
-        let vec3 = |p: &Parser, v: &Value| -> Result<glam::DVec3> {
-            match v {
-                Value::Vector(c) if c.len() >= 3 => Ok(glam::DVec3::new(c[0], c[1], c[2])),
-                Value::Float(f) => Ok(glam::DVec3::splat(*f)),
-                _ => Err(p.error_at(loc, format!("`{name}` takes vectors"))),
-            }
-        };
-        let out = |v: glam::DVec3| Value::Vector(v.to_array().to_vec());
-        let f = |i: usize| self.scalar(&args[i], loc);
-        Ok(Some(match name {
-            "vlength" => Value::Float(vec3(self, &args[0])?.length()),
-            "vnormalize" => out(vec3(self, &args[0])?.normalize_or_zero()),
-            "vcross" => out(vec3(self, &args[0])?.cross(vec3(self, &args[1])?)),
-            "vdot" => Value::Float(vec3(self, &args[0])?.dot(vec3(self, &args[1])?)),
-            "vrotate" => {
-                let r = vec3(self, &args[1])? * (std::f64::consts::PI / 180.0);
-                out(rotation(r).transform_vector3(vec3(self, &args[0])?))
-            }
-            "select" => {
-                let c = f(0)?;
-                let pick = if c < 0.0 {
-                    1
-                } else if c == 0.0 || args.len() == 3 {
-                    2
-                } else {
-                    3
-                };
-                args[pick.min(args.len() - 1)].clone()
-            }
-            "max" | "min" => {
-                let mut m = f(0)?;
-                for i in 1..args.len() {
-                    let v = f(i)?;
-                    m = if name == "max" { m.max(v) } else { m.min(v) };
-                }
-                Value::Float(m)
-            }
-            _ => {
-                let a = f(0)?;
-                let b = if arity == 2 { f(1)? } else { 0.0 };
-                Value::Float(match name {
-                    "abs" => a.abs(),
-                    "acos" => a.acos(),
-                    "asin" => a.asin(),
-                    "atan" => a.atan(),
-                    "ceil" => a.ceil(),
-                    "cos" => a.cos(),
-                    "cosh" => a.cosh(),
-                    "degrees" => a.to_degrees(),
-                    "exp" => a.exp(),
-                    "floor" => a.floor(),
-                    "int" => a.trunc(),
-                    "ln" => a.ln(),
-                    "log" => a.log10(),
-                    "radians" => a.to_radians(),
-                    "sin" => a.sin(),
-                    "sinh" => a.sinh(),
-                    "sqrt" => a.sqrt(),
-                    "sqr" => a * a,
-                    "tan" => a.tan(),
-                    "tanh" => a.tanh(),
-                    "atan2" => a.atan2(b),
-                    "div" => (a / b).trunc(),
-                    "mod" => a % b,
-                    _ => a.powf(b),
-                })
-            }
-        }))
-    }
-
     /// A number from a value that must be one.
-    fn scalar(&self, v: &Value, loc: super::parse::Loc) -> Result<f64> {
+    pub(super) fn scalar(&self, v: &Value, loc: super::parse::Loc) -> Result<f64> {
         match v {
             Value::Float(f) => Ok(*f),
             _ => Err(self.error_at(loc, "expected a number, found a vector")),
@@ -555,103 +462,6 @@ impl Parser {
             }
             _ => return Err(self.error_at(loc, "arithmetic on something that is not a number")),
         })
-    }
-
-    /// A colour: after `color`/`colour` (already taken, `first` None) or
-    /// starting with the colour word `first`; then any `red`, `green`,
-    /// `blue`, `filter`, `transmit` that change one component.
-    pub fn colour_rest(&mut self, first: Option<(String, super::parse::Loc)>) -> Result<Value> {
-        let mut c = [0.0f64; 5];
-        let mut word = first;
-        if word.is_none()
-            && let Some(w) = self.peek_word()?
-            && (COLOUR_WORDS.contains(&w.as_str())
-                || matches!(w.as_str(), "red" | "green" | "blue" | "filter" | "transmit"))
-        {
-            let loc = self.here();
-            self.next()?;
-            word = Some((w, loc));
-        }
-        match word {
-            None => {
-                let loc = self.here();
-                let v = self.sum()?;
-                c = self.as_colour(&v, loc)?;
-            }
-            Some((w, loc)) => {
-                let w = if w.starts_with("srgb") {
-                    self.warn(loc, format!("`{w}` is read as linear `{}`", &w[1..]));
-                    w[1..].to_owned()
-                } else {
-                    w
-                };
-                self.colour_word(&w, &mut c, loc)?;
-            }
-        }
-        while let Some(w) = self.peek_word()? {
-            if !(COLOUR_WORDS.contains(&w.as_str())
-                || matches!(w.as_str(), "red" | "green" | "blue" | "filter" | "transmit"))
-            {
-                break;
-            }
-            let loc = self.here();
-            self.next()?;
-            self.colour_word(&w, &mut c, loc)?;
-        }
-        Ok(Value::Vector(c.to_vec()))
-    }
-
-    fn colour_word(&mut self, w: &str, c: &mut [f64; 5], loc: super::parse::Loc) -> Result<()> {
-        let component = |w: &str| match w {
-            "red" => 0,
-            "green" => 1,
-            "blue" => 2,
-            "filter" => 3,
-            _ => 4,
-        };
-        if matches!(w, "red" | "green" | "blue" | "filter" | "transmit") {
-            c[component(w)] = self.float()?;
-            return Ok(());
-        }
-        let n = match w {
-            "rgb" => 3,
-            "rgbf" | "rgbt" => 4,
-            _ => 5,
-        };
-        let vloc = self.here();
-        let v = self.sum()?;
-        let values: Vec<f64> = match v {
-            Value::Float(f) => vec![f; n],
-            Value::Vector(v) if v.len() >= n => v[..n].to_vec(),
-            _ => {
-                return Err(self.error_at(vloc, format!("`{w}` takes a vector of {n} numbers")));
-            }
-        };
-        let _ = loc;
-        *c = [0.0; 5];
-        c[..3].copy_from_slice(&values[..3]);
-        match w {
-            "rgbf" => c[3] = values[3],
-            "rgbt" => c[4] = values[3],
-            "rgbft" => {
-                c[3] = values[3];
-                c[4] = values[4];
-            }
-            _ => {}
-        }
-        Ok(())
-    }
-
-    /// A value as a colour: 3 numbers are rgb, 4 rgbf, 5 rgbft; a number
-    /// is grey.
-    pub fn as_colour(&self, v: &Value, loc: super::parse::Loc) -> Result<[f64; 5]> {
-        let mut c = [0.0; 5];
-        match v {
-            Value::Float(f) => c[..3].copy_from_slice(&[*f; 3]),
-            Value::Vector(v) if v.len() >= 3 => c[..v.len()].copy_from_slice(v),
-            _ => return Err(self.error_at(loc, "expected a colour")),
-        }
-        Ok(c)
     }
 }
 

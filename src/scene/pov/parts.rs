@@ -1,0 +1,231 @@
+//! Light sources and meshes of POV-Ray's language: `light_source` (a point,
+//! or an `area_light` grid), `mesh` (`triangle`, `smooth_triangle`) and
+//! `mesh2` (vertex and face lists), as the object reader's parts.
+
+use glam::{DAffine3, DVec3};
+
+use super::lex::Tok;
+use super::object::{Kind, LightSource};
+use super::parse::{Loc, Parser};
+use super::texture::Texture;
+use super::value::Value;
+use crate::error::Result;
+
+impl Parser {
+    /// `light_source { position, colour, … }` after its `{`.
+    pub(super) fn light_source(&mut self, loc: Loc) -> Result<LightSource> {
+        let position = self.vector()?;
+        self.eat(',')?;
+        let cloc = self.here();
+        let c = self.colour_rest(None)?;
+        let c = self.as_colour(&c, cloc)?;
+        let mut light = LightSource {
+            position,
+            colour: DVec3::new(c[0], c[1], c[2]),
+            area: None,
+            shadowless: false,
+        };
+        let mut transform = DAffine3::IDENTITY;
+        while !self.eat('}')? {
+            let iloc = self.here();
+            let word = self.word()?;
+            if let Some(t) = self.transform_item(&word)? {
+                transform = t * transform;
+                continue;
+            }
+            match word.as_str() {
+                "area_light" => {
+                    let a = self.vector()?;
+                    self.eat(',')?;
+                    let b = self.vector()?;
+                    self.eat(',')?;
+                    let n1 = self.float()?;
+                    self.eat(',')?;
+                    let n2 = self.float()?;
+                    let count = |n: f64| n.clamp(1.0, 64.0).round() as u32;
+                    light.area = Some((a, b, count(n1), count(n2)));
+                }
+                "adaptive" | "area_illumination" => {
+                    self.float()?;
+                }
+                "jitter" | "circular" | "orient" | "media_attenuation" | "media_interaction" => {
+                    if self.starts_number()? {
+                        self.float()?;
+                    }
+                }
+                "shadowless" => light.shadowless = true,
+                "color" | "colour" => {
+                    let cloc = self.here();
+                    let c = self.colour_rest(None)?;
+                    let c = self.as_colour(&c, cloc)?;
+                    light.colour = DVec3::new(c[0], c[1], c[2]);
+                }
+                "fade_power" | "fade_distance" => {
+                    let v = self.float()?;
+                    if word == "fade_power" && v != 0.0 {
+                        self.skip_warning(
+                            iloc,
+                            "fade_power",
+                            "the light does not fade with distance",
+                        );
+                    }
+                }
+                "spotlight" | "cylinder" | "parallel" | "point_at" | "radius" | "falloff"
+                | "tightness" | "looks_like" | "projected_through" => {
+                    self.skip_warning(iloc, &word, "the light is drawn as a plain point light");
+                    if self.peek()? == Some(Tok::Punct('{')) {
+                        self.skip_block()?;
+                    } else if self.starts_number()? || self.peek()? == Some(Tok::Punct('<')) {
+                        self.expression(false)?;
+                    }
+                }
+                other => self.unknown_item(iloc, other, "light_source")?,
+            }
+        }
+        let _ = loc;
+        light.position = transform.transform_point3(light.position);
+        if let Some((a, b, n1, n2)) = light.area {
+            light.area = Some((
+                transform.transform_vector3(a),
+                transform.transform_vector3(b),
+                n1,
+                n2,
+            ));
+        }
+        Ok(light)
+    }
+
+    /// `mesh { triangle { a, b, c [texture] } smooth_triangle { … } … }`.
+    pub(super) fn mesh(&mut self, loc: Loc) -> Result<Kind> {
+        let mut triangles = Vec::new();
+        while let Some(w) = self.peek_word()? {
+            if !matches!(w.as_str(), "triangle" | "smooth_triangle") {
+                break;
+            }
+            self.next()?;
+            self.expect('{')?;
+            let mut p = [DVec3::ZERO; 3];
+            for (i, corner) in p.iter_mut().enumerate() {
+                if i > 0 {
+                    self.eat(',')?;
+                }
+                *corner = self.vector()?;
+                if w == "smooth_triangle" {
+                    self.eat(',')?;
+                    self.vector()?;
+                }
+            }
+            let mut texture = None;
+            while !self.eat('}')? {
+                let tloc = self.here();
+                match self.word()?.as_str() {
+                    "texture" => texture = Some(self.texture_block()?),
+                    other => self.unknown_item(tloc, other, "triangle")?,
+                }
+            }
+            triangles.push((p, texture));
+        }
+        if triangles.is_empty() {
+            return Err(self.error_at(loc, "a mesh needs at least one triangle"));
+        }
+        Ok(Kind::Mesh(triangles))
+    }
+
+    /// `mesh2 { vertex_vectors { n, … } face_indices { n, … } … }`.
+    pub(super) fn mesh2(&mut self, loc: Loc) -> Result<Kind> {
+        let mut vertices: Vec<DVec3> = Vec::new();
+        let mut faces: Vec<([usize; 3], Option<usize>)> = Vec::new();
+        let mut textures: Vec<Texture> = Vec::new();
+        while let Some(w) = self.peek_word()? {
+            let section_loc = self.here();
+            match w.as_str() {
+                "vertex_vectors" | "normal_vectors" | "uv_vectors" => {
+                    self.next()?;
+                    self.expect('{')?;
+                    let n = self.float()? as usize;
+                    let mut list = Vec::with_capacity(n.min(1 << 20));
+                    for _ in 0..n {
+                        self.eat(',')?;
+                        let v = self.expression(false)?;
+                        if let Value::Vector(c) = v {
+                            list.push(DVec3::new(c[0], c[1], c.get(2).copied().unwrap_or(0.0)));
+                        }
+                    }
+                    self.eat(',')?;
+                    self.expect('}')?;
+                    if w == "vertex_vectors" {
+                        vertices = list;
+                    }
+                }
+                "texture_list" => {
+                    self.next()?;
+                    self.expect('{')?;
+                    let n = self.float()? as usize;
+                    for _ in 0..n {
+                        self.eat(',')?;
+                        if self.eat_word("texture")? {
+                            textures.push(self.texture_block()?);
+                        }
+                    }
+                    self.expect('}')?;
+                }
+                "face_indices" | "normal_indices" | "uv_indices" => {
+                    self.next()?;
+                    self.expect('{')?;
+                    let n = self.float()? as usize;
+                    for _ in 0..n {
+                        self.eat(',')?;
+                        let floc = self.here();
+                        let v = self.vector()?;
+                        let mut texture = None;
+                        while self.eat(',')? {
+                            if self.starts_number()? {
+                                let t = self.float()?;
+                                texture.get_or_insert(t as usize);
+                            } else {
+                                break;
+                            }
+                        }
+                        if w == "face_indices" {
+                            let idx = [v.x, v.y, v.z];
+                            if idx.iter().any(|&i| i < 0.0 || i.fract() != 0.0) {
+                                return Err(
+                                    self.error_at(floc, "face indices are whole numbers >= 0")
+                                );
+                            }
+                            faces.push((idx.map(|i| i as usize), texture));
+                        }
+                    }
+                    self.eat(',')?;
+                    self.expect('}')?;
+                }
+                _ => break,
+            }
+            let _ = section_loc;
+        }
+        let mut triangles = Vec::with_capacity(faces.len());
+        for (idx, texture) in faces {
+            let Some(p) = idx
+                .iter()
+                .map(|&i| vertices.get(i).copied())
+                .collect::<Option<Vec<_>>>()
+            else {
+                return Err(self.error_at(
+                    loc,
+                    format!(
+                        "a face refers to a vertex beyond the {} in vertex_vectors",
+                        vertices.len()
+                    ),
+                ));
+            };
+            triangles.push((
+                [p[0], p[1], p[2]],
+                texture.and_then(|t| textures.get(t).cloned()),
+            ));
+        }
+        if triangles.is_empty() {
+            return Err(self.error_at(loc, "a mesh2 needs at least one face"));
+        }
+        Ok(Kind::Mesh(triangles))
+    }
+}
