@@ -26,6 +26,7 @@ import struct
 import subprocess
 import sys
 import zlib
+from fractions import Fraction
 from pathlib import Path
 
 import numpy as np
@@ -307,22 +308,39 @@ def test_pipeline_with_povray_standing_in_for_sturmray(povray, tmp_path):
     assert np.array_equal(picture[:, :WIDTH], picture[:, WIDTH + 8 :])
 
 
-def pov_supported(binary: Path, folder: Path) -> bool:
-    """False while sturmray refuses .pov files (the reader of issue 20 §4)."""
-    scene = folder / "probe.pov"
-    scene.write_text("sphere { 0, 1 }\n")
-    proc = subprocess.run(
-        [str(binary), "info", str(scene)], capture_output=True, text=True, timeout=60
+def test_sturm_count_by_hand():
+    F = Fraction
+    # (t - 1)(t - 2)(t + 3) = t^3 - 7t + 6: two roots above 0.
+    assert compare.sturm_count([F(6), F(-7), F(0), F(1)]) == 2
+    assert compare.sturm_count([F(1), F(0), F(1)]) == 0  # t^2 + 1
+    assert compare.sturm_count([F(1), F(-2), F(1)]) == 1  # (t - 1)^2: one, double
+    assert compare.sturm_count([F(0), F(1)]) == 0  # t: its root is the origin, not after it
+    # (t - 1e-9)(t + 1): a root just after the origin is one.
+    assert compare.sturm_count([F(-1, 10**9), F(1) - F(1, 10**9), F(1)]) == 1
+
+
+def test_exact_surfaces_by_hand():
+    # The unit sphere x^2 + y^2 + z^2 - 1 from z = -11, angle 90 on 100 x 100:
+    # pixel i's ray leaves the axis by tan = 2 (i + 0.5 - 50) / 100 and meets the
+    # sphere while sin <= 1/11 (tan <= 0.0913): pixels 45..54 of the middle row.
+    sphere = compare.ExactSurfaces(
+        (0.0, 0.0, -11.0),
+        90.0,
+        {(2, 0, 0): 1, (0, 2, 0): 1, (0, 0, 2): 1, (0, 0, 0): -1},
+        ((np.eye(3), (0.0, 0.0, 0.0)),),
+        "a test",
     )
-    return not (
-        proc.returncode == 2
-        and ("not read yet" in proc.stderr or "ending in .toml or .obj" in proc.stderr)
+    row = sphere.hits(100, 100, [(i, 50) for i in range(100)])
+    assert [i for i in range(100) if row[i, 50]] == list(range(45, 55))
+    # Placed: scaled by 2 and moved to x = 3, it covers other pixels.
+    moved = compare.ExactSurfaces(
+        (0.0, 0.0, -11.0), 90.0, sphere.terms, ((2 * np.eye(3), (3.0, 0.0, 0.0)),), ""
     )
+    hits = moved.hits(100, 100, [(50, 50), (63, 50)])
+    assert not hits[50, 50] and hits[63, 50]
 
 
 def test_samples_match_povray(povray, sturmray_bin, tmp_path):
-    if not pov_supported(sturmray_bin, tmp_path):
-        pytest.xfail("sturmray does not read .pov scenes yet (issue 20 §4)")
     results = compare.run(renderers(sturmray_bin), compare.sample_scenes(), tmp_path, jobs=4)
     failed = [r for r in results if not r.passed]
     assert not failed, "\n" + compare.markdown_table(results)
