@@ -137,6 +137,10 @@ impl Parser {
     /// An object statement (`sphere { … }`, `object { … }`, …); None for a
     /// shape outside the subset, skipped with a warning.
     pub fn object_statement(&mut self) -> Result<Option<Obj>> {
+        self.nested(Parser::object_inner)
+    }
+
+    fn object_inner(&mut self) -> Result<Option<Obj>> {
         let loc = self.here();
         let keyword = self.word()?;
         if UNSUPPORTED.contains(&keyword.as_str()) {

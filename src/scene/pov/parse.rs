@@ -58,7 +58,13 @@ pub struct Parser {
     /// declared number): a directive after it ends the expression instead of
     /// running inside it.
     hold: bool,
+    /// How deep expressions and objects nest at this point of the read.
+    nesting: usize,
 }
+
+/// Expressions and objects nest at most this deep: far beyond any scene a
+/// person writes, far below what the reader's recursion can take.
+const MAX_NESTING: usize = 256;
 
 impl Parser {
     /// A parser at the start of the scene file `path`, which `#include`
@@ -80,6 +86,7 @@ impl Parser {
             size,
             last: Loc::default(),
             hold: false,
+            nesting: 0,
         };
         parser.open(path)?;
         Ok(parser)
@@ -570,6 +577,18 @@ impl Parser {
     /// Declares `name` as `value` (the reader's own, such as `#default`'s).
     pub fn set(&mut self, name: &str, value: Value) {
         self.symbols.insert(name.to_owned(), value);
+    }
+
+    /// Reads one level deeper with `read` (a parenthesis, a vector, an
+    /// object inside an object): past [`MAX_NESTING`] levels, an error.
+    pub fn nested<T>(&mut self, read: impl FnOnce(&mut Parser) -> Result<T>) -> Result<T> {
+        if self.nesting >= MAX_NESTING {
+            return Err(self.error(format!("this nests deeper than {MAX_NESTING} levels")));
+        }
+        self.nesting += 1;
+        let v = read(self);
+        self.nesting -= 1;
+        v
     }
 
     /// Where the last token taken was.

@@ -385,3 +385,132 @@ fn a_clear_part_of_an_intersection_becomes_an_invisible_cut() {
         .unwrap();
     assert!((hit.t - 11.0).abs() < 1e-9, "{}", hit.t);
 }
+
+#[test]
+fn hostile_nesting_is_refused_not_a_stack_overflow() {
+    let deep = |open: &str, close: &str, n: usize| format!("{}{}", open.repeat(n), close.repeat(n));
+    for text in [
+        format!(
+            "#declare A = {};",
+            deep("(", ")", 100_000).replacen(")", "1)", 1)
+        ),
+        format!("#declare A = {}1;", "-".repeat(100_000)),
+        format!("#declare A = {};", deep("<", ">", 100_000)),
+        deep("union { ", "}", 100_000),
+        format!("#declare A = 1 {};", "? 1 : 1 ".repeat(100_000)),
+    ] {
+        let e = load(&text).unwrap_err();
+        assert!(
+            e.to_string().contains("nests deeper than 256 levels"),
+            "{e}"
+        );
+    }
+    // 100 parentheses are read (each is two levels: an expression in a term).
+    let ok = format!(
+        "#declare A = {}1{};\n{VIEW}sphere {{ 0, A }}",
+        "(".repeat(100),
+        ")".repeat(100)
+    );
+    assert!(load(&ok).is_ok());
+}
+
+/// Pieces of POV-Ray's language, for scenes made at random.
+const PIECES: &[&str] = &[
+    "sphere",
+    "box",
+    "quartic",
+    "poly",
+    "union",
+    "intersection",
+    "difference",
+    "merge",
+    "object",
+    "camera",
+    "light_source",
+    "plane",
+    "torus",
+    "cone",
+    "cylinder",
+    "disc",
+    "mesh",
+    "mesh2",
+    "triangle",
+    "texture",
+    "pigment",
+    "finish",
+    "checker",
+    "rgb",
+    "color",
+    "red",
+    "scale",
+    "rotate",
+    "translate",
+    "matrix",
+    "clipped_by",
+    "bounded_by",
+    "inverse",
+    "open",
+    "#declare",
+    "#local",
+    "#if",
+    "#else",
+    "#end",
+    "#macro",
+    "#while",
+    "#include",
+    "#version",
+    "#default",
+    "A",
+    "x",
+    "y",
+    "pi",
+    "sqrt",
+    "(",
+    ")",
+    "{",
+    "}",
+    "<",
+    ">",
+    ",",
+    ";",
+    "=",
+    "+",
+    "-",
+    "*",
+    "/",
+    "?",
+    ":",
+    "0",
+    "1",
+    "2.5",
+    "-1",
+    "1e300",
+    "\"s\"",
+    "/*",
+    "*/",
+    "//",
+    "look_at",
+    "location",
+    "angle",
+    "global_settings",
+    "max_trace_level",
+    "background",
+    "vertex_vectors",
+    "face_indices",
+    "area_light",
+    "quadric",
+    "interior",
+    "ior",
+    "\n",
+];
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(400))]
+
+    /// Whatever the text, reading it ends in a scene or an error: never a panic.
+    #[test]
+    fn random_scenes_never_panic(picks in proptest::collection::vec(0..PIECES.len(), 0..60)) {
+        let text: Vec<&str> = picks.iter().map(|&i| PIECES[i]).collect();
+        let _ = load(&text.join(" "));
+    }
+}

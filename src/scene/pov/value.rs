@@ -210,6 +210,10 @@ impl Parser {
 
     /// An expression; `in_vector` leaves `<` and `>` to the vector's brackets.
     pub fn expression(&mut self, in_vector: bool) -> Result<Value> {
+        self.nested(|p| p.conditional(in_vector))
+    }
+
+    fn conditional(&mut self, in_vector: bool) -> Result<Value> {
         let cond = self.or(in_vector)?;
         if self.eat('?')? {
             let a = self.expression(in_vector)?;
@@ -294,6 +298,10 @@ impl Parser {
     }
 
     fn unary(&mut self) -> Result<Value> {
+        self.nested(Parser::unary_inner)
+    }
+
+    fn unary_inner(&mut self) -> Result<Value> {
         let loc = self.here();
         if self.eat('-')? {
             let v = self.unary()?;
