@@ -230,6 +230,34 @@ mod tests {
     }
 
     #[test]
+    fn a_checker_gives_the_albedo_of_every_kind_at_the_point() {
+        use crate::shading::{Bsdf, Checker, Lambert, Metal, Mirror};
+        let (a, b) = (Vec3::new(0.9, 0.1, 0.1), Vec3::new(0.1, 0.1, 0.9));
+        let mut m = Material::diffuse("c", Vec3::splat(0.5));
+        let (even, odd) = (Vec3::splat(0.5), Vec3::new(1.5, 0.5, 0.5));
+        // Without a checker, `albedo` everywhere.
+        assert_eq!((m.albedo_at(even), m.albedo_at(odd)), (m.albedo, m.albedo));
+        m.checker = Some(Checker {
+            colours: [a, b],
+            to_pattern: glam::DAffine3::IDENTITY,
+        });
+        assert_eq!((m.albedo_at(even), m.albedo_at(odd)), (a, b));
+        assert_eq!(Bsdf::at(&m, odd), Bsdf::Lambert(Lambert { albedo: b }));
+        // The local model at the point: Lambert's albedo/π.
+        assert_eq!(
+            m.local_brdf(m.albedo_at(odd), Vec3::Z, Vec3::Z, Vec3::Z),
+            b / PI
+        );
+        m.kind = MaterialKind::Mirror;
+        assert_eq!(Bsdf::at(&m, even), Bsdf::Mirror(Mirror { reflectance: a }));
+        m.kind = MaterialKind::Metal;
+        let Bsdf::Metal(Metal { f0, .. }) = Bsdf::at(&m, odd) else {
+            panic!("a metal's BSDF");
+        };
+        assert_eq!(f0, b);
+    }
+
+    #[test]
     fn lambert_integrates_to_albedo() {
         // ∫ f cosθ dω over the hemisphere = albedo for a Lambertian surface; check by
         // a midpoint rule in θ (f is constant in φ).
