@@ -71,7 +71,7 @@ impl PathTracer<'_> {
             let it = self.scene.interaction(&ray, &hit);
             let material = &self.scene.materials[it.material as usize];
             if depth == 0 {
-                first = Some((hit.t, it.n, material.albedo));
+                first = Some((hit.t, it.n, material.albedo_at(it.p)));
             }
             let mut add = Vec3::ZERO;
             // Emitters shine from their front side only.
@@ -88,7 +88,7 @@ impl PathTracer<'_> {
                     add += beta * material.emission * weight;
                 }
             }
-            let bsdf = Bsdf::from_material(material);
+            let bsdf = Bsdf::at(material, it.p);
             // The BSDF tells inside from outside by the surface's own normal.
             let frame = Frame::from_normal(if it.front { it.n } else { -it.n });
             let wo = -ray.dir;

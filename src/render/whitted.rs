@@ -53,7 +53,7 @@ impl Whitted<'_> {
             weight: 1.0,
             depth: hit.t,
             normal: it.n,
-            albedo: self.scene.materials[it.material as usize].albedo,
+            albedo: self.scene.materials[it.material as usize].albedo_at(it.p),
         }
     }
 
@@ -100,7 +100,7 @@ impl Whitted<'_> {
         match material.kind {
             MaterialKind::Mirror => {
                 if self.plan.reflection {
-                    let r = material.reflectance();
+                    let r = material.reflectance(material.albedo_at(it.p));
                     let dir = fresnel::reflect(ray.dir, it.n);
                     radiance +=
                         r * self.spawn(it, dir, depth, weight * r, RayKind::Reflection, walk);
@@ -129,11 +129,13 @@ impl Whitted<'_> {
             | MaterialKind::Plastic
             | MaterialKind::Metal
             | MaterialKind::Emissive => {
+                let albedo = material.albedo_at(it.p);
+                let brdf = |wi| material.local_brdf(albedo, it.n, wo, wi);
                 if self.plan.shadow {
-                    radiance += self.direct(it, material, wo, depth, weight, walk);
+                    radiance += self.direct(it, brdf, depth, weight, walk);
                 }
                 if let Some(map) = self.caustics {
-                    radiance += map.caustic(it.p, it.n, |wi| material.local_brdf(it.n, wo, wi));
+                    radiance += map.caustic(it.p, it.n, brdf);
                 }
                 self.force(ray, it, depth, weight, [true, true], walk);
             }
@@ -183,9 +185,11 @@ impl Whitted<'_> {
     ) -> Vec3 {
         let finish = &material.finish;
         let wo = -ray.dir;
-        let mut radiance = finish.ambient_colour(material.albedo);
+        let albedo = material.albedo_at(it.p);
+        let mut radiance = finish.ambient_colour(albedo);
         if self.plan.shadow {
-            radiance += self.direct(it, material, wo, depth, weight, walk);
+            let brdf = |wi| material.local_brdf(albedo, it.n, wo, wi);
+            radiance += self.direct(it, brdf, depth, weight, walk);
         }
         let outward = if it.front { it.n } else { -it.n };
         let mut reflected = finish.reflectance(wo.dot(outward), material.ior);
@@ -198,7 +202,7 @@ impl Whitted<'_> {
         } else {
             None
         };
-        let r = finish.tint(material.albedo) * reflected;
+        let r = finish.tint(albedo) * reflected;
         if self.plan.reflection && reflected > 0.0 {
             let dir = fresnel::reflect(ray.dir, it.n);
             radiance += r * self.spawn(it, dir, depth, weight * r, RayKind::Reflection, walk);
@@ -240,12 +244,13 @@ impl Whitted<'_> {
     }
 
     /// Local shading from every point and directional light and one area light
-    /// picked by power, each tested with a shadow ray.
+    /// picked by power, each tested with a shadow ray; `brdf` is the
+    /// material's local reflection model at the hit, a function of the
+    /// direction towards the light.
     fn direct(
         &self,
         it: &Interaction,
-        material: &Material,
-        wo: Vec3,
+        brdf: impl Fn(Vec3) -> Vec3,
         depth: u32,
         weight: Vec3,
         walk: &mut Walk<'_>,
@@ -270,7 +275,7 @@ impl Whitted<'_> {
             let contribution = if blocked {
                 Vec3::ZERO
             } else {
-                material.local_brdf(it.n, wo, incident.wi) * incident.irradiance * (cos / picked)
+                brdf(incident.wi) * incident.irradiance * (cos / picked)
             };
             walk.tally.open(|| Node {
                 depth,

@@ -3,7 +3,7 @@
 use std::f32::consts::PI;
 
 use crate::math::Vec3;
-use crate::shading::Finish;
+use crate::shading::{Checker, Finish};
 
 /// What a surface does with light. The local shading of the foundation
 /// renderer uses albedo, specular and emission; the specular kinds gain their
@@ -45,6 +45,11 @@ pub struct Material {
     /// which the scene hash skips so their hashes are unchanged.
     #[serde(skip_serializing_if = "Finish::is_default")]
     pub finish: Finish,
+    /// A checker the albedo follows instead of `albedo` (POV-Ray's `pigment
+    /// { checker … }`); left out of the scene hash when absent, so scenes
+    /// without one hash as before.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub checker: Option<Checker>,
 }
 
 impl Material {
@@ -64,6 +69,7 @@ impl Material {
             ior: 1.5,
             emission: Vec3::ZERO,
             finish: Finish::default(),
+            checker: None,
         }
     }
 
@@ -113,6 +119,7 @@ impl Material {
             ior: m.optical_density.filter(|&n| n > 1.0).unwrap_or(1.5),
             emission,
             finish: Finish::default(),
+            checker: None,
         }
     }
 
@@ -121,27 +128,39 @@ impl Material {
         self.kind == MaterialKind::Emissive && self.emission.max_element() > 0.0
     }
 
-    /// What a mirror reflects: its specular colour (MTL's Ks) if it has one, else its albedo.
-    pub fn reflectance(&self) -> Vec3 {
+    /// The albedo at world point `p`: the checker's colour there if the
+    /// material has one, else `albedo`. Every use of the albedo at a hit goes
+    /// through here; without a checker it costs one branch.
+    pub fn albedo_at(&self, p: Vec3) -> Vec3 {
+        match &self.checker {
+            Some(checker) => checker.colour_at(p),
+            None => self.albedo,
+        }
+    }
+
+    /// What a mirror reflects: its specular colour (MTL's Ks) if it has one,
+    /// else its albedo at the hit, `albedo` (from [`Material::albedo_at`]).
+    pub fn reflectance(&self, albedo: Vec3) -> Vec3 {
         if self.specular.max_element() > 0.0 {
             self.specular
         } else {
-            self.albedo
+            albedo
         }
     }
 
     /// The local reflection model (cosine not included): Lambert plus, for
     /// plastic, a normalised Blinn-Phong lobe, for unit vectors n, wo (towards
     /// the viewer) and wi (towards the light); a classic material's is
-    /// POV-Ray's ([`Finish::local_brdf`]).
-    pub fn local_brdf(&self, n: Vec3, wo: Vec3, wi: Vec3) -> Vec3 {
-        let diffuse = self.albedo / PI;
+    /// POV-Ray's ([`Finish::local_brdf`]). `albedo` is the material's at the
+    /// hit ([`Material::albedo_at`]).
+    pub fn local_brdf(&self, albedo: Vec3, n: Vec3, wo: Vec3, wi: Vec3) -> Vec3 {
+        let diffuse = albedo / PI;
         match self.kind {
             MaterialKind::Plastic => {}
-            MaterialKind::Classic => return self.finish.local_brdf(self.albedo, n, wo, wi),
+            MaterialKind::Classic => return self.finish.local_brdf(albedo, n, wo, wi),
             MaterialKind::Metal => {
                 let frame = crate::math::Frame::from_normal(n);
-                return crate::shading::Bsdf::from_material(self).eval(&frame, wo, wi);
+                return crate::shading::Bsdf::with_albedo(self, albedo).eval(&frame, wo, wi);
             }
             _ => return diffuse,
         }
@@ -211,6 +230,34 @@ mod tests {
     }
 
     #[test]
+    fn a_checker_gives_the_albedo_of_every_kind_at_the_point() {
+        use crate::shading::{Bsdf, Checker, Lambert, Metal, Mirror};
+        let (a, b) = (Vec3::new(0.9, 0.1, 0.1), Vec3::new(0.1, 0.1, 0.9));
+        let mut m = Material::diffuse("c", Vec3::splat(0.5));
+        let (even, odd) = (Vec3::splat(0.5), Vec3::new(1.5, 0.5, 0.5));
+        // Without a checker, `albedo` everywhere.
+        assert_eq!((m.albedo_at(even), m.albedo_at(odd)), (m.albedo, m.albedo));
+        m.checker = Some(Checker {
+            colours: [a, b],
+            to_pattern: glam::DAffine3::IDENTITY,
+        });
+        assert_eq!((m.albedo_at(even), m.albedo_at(odd)), (a, b));
+        assert_eq!(Bsdf::at(&m, odd), Bsdf::Lambert(Lambert { albedo: b }));
+        // The local model at the point: Lambert's albedo/π.
+        assert_eq!(
+            m.local_brdf(m.albedo_at(odd), Vec3::Z, Vec3::Z, Vec3::Z),
+            b / PI
+        );
+        m.kind = MaterialKind::Mirror;
+        assert_eq!(Bsdf::at(&m, even), Bsdf::Mirror(Mirror { reflectance: a }));
+        m.kind = MaterialKind::Metal;
+        let Bsdf::Metal(Metal { f0, .. }) = Bsdf::at(&m, odd) else {
+            panic!("a metal's BSDF");
+        };
+        assert_eq!(f0, b);
+    }
+
+    #[test]
     fn lambert_integrates_to_albedo() {
         // ∫ f cosθ dω over the hemisphere = albedo for a Lambertian surface; check by
         // a midpoint rule in θ (f is constant in φ).
@@ -221,7 +268,7 @@ mod tests {
         for i in 0..steps {
             let theta = (i as f32 + 0.5) / steps as f32 * PI / 2.0;
             let wi = Vec3::new(theta.sin(), 0.0, theta.cos());
-            let f = m.local_brdf(n, n, wi).x;
+            let f = m.local_brdf(m.albedo, n, n, wi).x;
             sum += f * theta.cos() * theta.sin() * 2.0 * PI * (PI / 2.0 / steps as f32);
         }
         assert!((sum - 0.5).abs() < 1e-3, "{sum}");
@@ -237,7 +284,9 @@ mod tests {
         let wo = Vec3::new(0.6, 0.0, 0.8);
         let mirror = Vec3::new(-0.6, 0.0, 0.8);
         let off = Vec3::new(-0.8, 0.0, 0.6);
-        assert!(m.local_brdf(n, wo, mirror).x > m.local_brdf(n, wo, off).x + 0.1);
-        assert!(m.local_brdf(n, wo, off).x >= 0.5 / PI);
+        assert!(
+            m.local_brdf(m.albedo, n, wo, mirror).x > m.local_brdf(m.albedo, n, wo, off).x + 0.1
+        );
+        assert!(m.local_brdf(m.albedo, n, wo, off).x >= 0.5 / PI);
     }
 }

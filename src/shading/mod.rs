@@ -4,6 +4,7 @@ mod bsdf;
 mod finish;
 pub mod fresnel;
 mod material;
+mod pattern;
 
 pub use bsdf::{
     Bsdf, BsdfSample, COS_EPS, Classic, Dielectric, Lambert, Lobe, MIN_ALPHA, Metal, Mirror,
@@ -11,3 +12,4 @@ pub use bsdf::{
 };
 pub use finish::Finish;
 pub use material::{Material, MaterialKind};
+pub use pattern::Checker;

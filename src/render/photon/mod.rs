@@ -190,7 +190,7 @@ impl Tracer<'_> {
                 return None;
             }
             let it = self.scene.interaction(&ray, &hit);
-            let bsdf = Bsdf::from_material(&self.scene.materials[it.material as usize]);
+            let bsdf = Bsdf::at(&self.scene.materials[it.material as usize], it.p);
             let wo = -ray.dir;
             if receives(&bsdf) {
                 // Straight from the light (depth 0) is direct light: not a caustic.

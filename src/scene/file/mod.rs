@@ -17,8 +17,9 @@ use super::solids::linear;
 use check::Check;
 pub(super) use check::physical_memory;
 use schema::{
-    CameraFile, IntegratorFile, LightFile, MaterialFile, MeshFile, MetallicFile, Object,
-    RenderFile, ScaleFile, SceneFile, ShapeFile, ShapeKind, SpecularFile, TransformFile,
+    AlbedoFile, CameraFile, CheckerFile, IntegratorFile, LightFile, MaterialFile, MeshFile,
+    MetallicFile, Object, RenderFile, ScaleFile, SceneFile, ShapeFile, ShapeKind, SpecularFile,
+    TransformFile,
 };
 use shapes::{Body, Built};
 use tree::Parent;
@@ -33,7 +34,7 @@ use crate::geometry::{Box3, Csg, Mesh, Shape, Surface};
 use crate::lights::Light;
 use crate::math::Vec3;
 use crate::poly::solve::{Method, Solver};
-use crate::shading::{Finish, Material, MaterialKind};
+use crate::shading::{Checker, Finish, Material, MaterialKind};
 use crate::suggest;
 
 pub(super) fn load(path: &Path) -> Result<Scene> {
@@ -236,16 +237,45 @@ fn material(check: &Check, name: &str, m: &MaterialFile) -> Result<Material> {
             Finish::default(),
         )
     };
+    let (albedo, checker) = match &m.albedo {
+        Some(AlbedoFile::Checker(c)) => (Vec3::splat(0.7), Some(checker(check, name, c)?)),
+        Some(AlbedoFile::Colour(v)) => (colour("albedo", Some(*v), 0.7)?, None),
+        None => (Vec3::splat(0.7), None),
+    };
     Ok(Material {
         name: name.to_owned(),
         kind,
-        albedo: colour("albedo", m.albedo, 0.7)?,
+        albedo,
+        checker,
         specular,
         shininess,
         roughness,
         ior,
         emission: colour("radiance", m.radiance, 0.0)?,
         finish,
+    })
+}
+
+/// `albedo = { checker = [A, B], scale = s }`: both colours checked, the
+/// scale > 0 and finite.
+fn checker(check: &Check, name: &str, c: &CheckerFile) -> Result<Checker> {
+    let key = |field: &str| format!("materials.{name}.albedo.{field}");
+    let colours = [
+        check.colour(&key("checker"), c.checker[0])?,
+        check.colour(&key("checker"), c.checker[1])?,
+    ];
+    let scale = c.scale.unwrap_or(1.0);
+    check.positive(&key("scale"), scale)?;
+    // A subnormal scale is > 0 but its inverse, the pattern's transform, is not finite.
+    if !scale.recip().is_finite() {
+        return Err(check.error(
+            &key("scale"),
+            format!("expected a number > 0 whose inverse is finite, found {scale:e}"),
+        ));
+    }
+    Ok(Checker {
+        colours,
+        to_pattern: DAffine3::from_scale(DVec3::splat(scale.recip())),
     })
 }
 

@@ -99,7 +99,7 @@ pub(super) enum IntegratorFile {
 pub(super) struct MaterialFile {
     #[serde(rename = "type")]
     pub kind: MaterialKind,
-    pub albedo: Option<[f32; 3]>,
+    pub albedo: Option<AlbedoFile>,
     /// A colour (plastic's Ks), or a classic material's highlight strength.
     pub specular: Option<SpecularFile>,
     pub shininess: Option<f32>,
@@ -125,6 +125,26 @@ pub(super) struct MaterialFile {
 pub(super) enum SpecularFile {
     Colour([f32; 3]),
     Amount(f32),
+}
+
+/// `albedo`: a colour, or POV-Ray's checker of two colours.
+#[derive(Deserialize)]
+#[serde(
+    untagged,
+    expecting = "a colour [r, g, b] or { checker = [[r, g, b], [r, g, b]], scale = s }"
+)]
+pub(super) enum AlbedoFile {
+    Colour([f32; 3]),
+    Checker(CheckerFile),
+}
+
+/// `albedo = { checker = [A, B], scale = s }`: cubes of side s (default 1)
+/// in world space, A at the origin's cube.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct CheckerFile {
+    pub checker: [[f32; 3]; 2],
+    pub scale: Option<f64>,
 }
 
 /// `metallic = true` (all of it, as POV-Ray's bare `metallic`) or an amount.

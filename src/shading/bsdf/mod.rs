@@ -148,26 +148,37 @@ pub enum Bsdf {
 }
 
 impl Bsdf {
-    /// The scattering function of a material. Emissive surfaces reflect as
+    /// The scattering function of a material at world point `p`, where its
+    /// albedo may follow a pattern.
+    pub fn at(m: &Material, p: Vec3) -> Bsdf {
+        Bsdf::with_albedo(m, m.albedo_at(p))
+    }
+
+    /// The scattering function of a material away from any pattern: for the
+    /// plan's questions about its lobes, which the albedo does not change.
+    pub fn from_material(m: &Material) -> Bsdf {
+        Bsdf::with_albedo(m, m.albedo)
+    }
+
+    /// The scattering function of a material whose albedo at the hit is
+    /// `albedo` ([`Material::albedo_at`]). Emissive surfaces reflect as
     /// Lambert with their albedo; their emission belongs to the lights. A
     /// mirror reflects its specular colour (MTL Ks) if it has one, else its
     /// albedo. Glass is untinted; an ior that is not a positive finite
     /// number becomes 1.5 so a bad value cannot produce NaN.
-    pub fn from_material(m: &Material) -> Bsdf {
+    pub fn with_albedo(m: &Material, albedo: Vec3) -> Bsdf {
         match m.kind {
-            MaterialKind::Diffuse | MaterialKind::Emissive => {
-                Bsdf::Lambert(Lambert { albedo: m.albedo })
-            }
+            MaterialKind::Diffuse | MaterialKind::Emissive => Bsdf::Lambert(Lambert { albedo }),
             MaterialKind::Plastic => Bsdf::Plastic(Plastic {
-                albedo: m.albedo,
+                albedo,
                 specular: m.specular,
                 roughness: shininess_to_alpha(m.shininess),
             }),
             MaterialKind::Mirror => Bsdf::Mirror(Mirror {
-                reflectance: m.reflectance(),
+                reflectance: m.reflectance(albedo),
             }),
             MaterialKind::Metal => Bsdf::Metal(Metal {
-                f0: m.albedo,
+                f0: albedo,
                 roughness: (m.roughness * m.roughness).clamp(MIN_ALPHA, 1.0),
             }),
             MaterialKind::Dielectric => Bsdf::Dielectric(Dielectric {
@@ -179,7 +190,7 @@ impl Bsdf {
                 tint: Vec3::ONE,
             }),
             MaterialKind::Classic => Bsdf::Classic(Classic {
-                albedo: m.albedo,
+                albedo,
                 finish: m.finish,
                 ior: m.ior,
             }),
