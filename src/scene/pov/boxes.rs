@@ -136,8 +136,8 @@ fn quadric_box(a: &glam::DMat3, b: DVec3, c: f64) -> Option<Box3> {
 }
 
 /// The box of `b` moved by `m`, by interval arithmetic so that infinite
-/// sides stay infinite only along the axes they reach; finite boxes are
-/// padded by a millionth of their size so that no surface lies on a face.
+/// sides stay infinite only along the axes they reach, padded so that no
+/// surface lies on a face.
 fn transform_box(b: &Box3, m: DAffine3) -> Box3 {
     let mut out = Box3 {
         min: m.translation,
@@ -154,13 +154,16 @@ fn transform_box(b: &Box3, m: DAffine3) -> Box3 {
             out.max[k] += p.max(q);
         }
     }
-    let finite = (out.max - out.min)
-        .to_array()
-        .into_iter()
-        .filter(|v| v.is_finite());
-    let pad = 1e-6 * finite.fold(0.0, f64::max).max(1e-300);
-    Box3 {
-        min: out.min - pad,
-        max: out.max + pad,
+    // Each finite face moves out by a millionth of its distance from the
+    // origin and of the box's size: a surface on a face (a half-space's plane)
+    // lies strictly inside.
+    let finite = |v: f64| if v.is_finite() { v.abs() } else { 0.0 };
+    let size = (0..3)
+        .map(|k| finite(out.max[k] - out.min[k]))
+        .fold(0.0, f64::max);
+    for k in 0..3 {
+        out.min[k] -= 1e-6 * (1.0 + finite(out.min[k]) + size);
+        out.max[k] += 1e-6 * (1.0 + finite(out.max[k]) + size);
     }
+    out
 }

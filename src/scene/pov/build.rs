@@ -25,7 +25,7 @@ use crate::lights::Light;
 use crate::math::Vec3;
 use crate::poly::solve::Solver;
 use crate::scene::{Camera, ImagePlane, Integrator, PhotonSettings, RenderSettings, Scene};
-use crate::shading::{Material, MaterialKind};
+use crate::shading::{Checker, Material, MaterialKind};
 
 /// Half the side of the world box that cuts what is unbounded.
 pub const WORLD: f64 = 1e7;
@@ -125,6 +125,18 @@ pub(super) fn scene(
     Ok(scene)
 }
 
+/// The texture `obj` is drawn with, in its own space: its own, or the one
+/// it inherits from its parent (given in the parent's space).
+pub(super) fn own_texture(obj: &Obj, inherited: Option<&Texture>) -> Option<Texture> {
+    obj.texture.clone().or_else(|| {
+        inherited.map(|t| {
+            let mut t = t.clone();
+            t.transform(obj.transform.inverse());
+            t
+        })
+    })
+}
+
 /// POV-Ray's render settings: one ray per pixel through its centre (no
 /// anti-aliasing), the Whitted ray tree to `max_trace_level` levels (the
 /// camera ray is the first), branches ending below `adc_bailout`, and no
@@ -147,9 +159,10 @@ fn settings(g: &Globals) -> RenderSettings {
 impl Builder<'_> {
     /// A top-level object (or a child of a top-level union, which is the
     /// same as its children side by side) placed by `parent`.
-    fn top(&mut self, obj: &Obj, parent: DAffine3, texture: Option<&Texture>) -> Result<()> {
+    fn top(&mut self, obj: &Obj, parent: DAffine3, inherited: Option<&Texture>) -> Result<()> {
         let to_world = parent * obj.transform;
-        let texture = obj.texture.as_ref().or(texture);
+        let own = own_texture(obj, inherited);
+        let texture = own.as_ref();
         match &obj.kind {
             Kind::Light(light) => {
                 self.light(light, parent);
@@ -180,7 +193,7 @@ impl Builder<'_> {
         }
         self.csg_lights(obj, parent);
         let world = Box3::cube(WORLD);
-        let Some(built) = self.node(obj, parent, texture, world, 0)? else {
+        let Some(built) = self.node(obj, parent, inherited, world, 0)? else {
             return Ok(());
         };
         // `inverse` on an object alone changes nothing POV-Ray draws.
@@ -303,15 +316,29 @@ impl Builder<'_> {
 
     /// The scene's material for `texture` (POV-Ray's default where there is
     /// none) with an interior's `ior`.
-    pub(super) fn material(&mut self, texture: Option<&Texture>, ior: Option<f64>) -> u32 {
+    pub(super) fn material(
+        &mut self,
+        texture: Option<&Texture>,
+        ior: Option<f64>,
+        to_world: DAffine3,
+    ) -> u32 {
         let fallback = default_texture();
         let texture = texture.unwrap_or(&fallback);
-        let c = match &texture.pigment {
-            Pigment::Colour(c) => *c,
-            Pigment::Checker { colours, .. } => {
-                let [a, b] = colours;
-                std::array::from_fn(|i| 0.5 * (a[i] + b[i]))
-            }
+        let rgb = |c: &[f64; 5]| {
+            let v = DVec3::new(c[0], c[1], c[2]).as_vec3();
+            v.clamp(Vec3::ZERO, Vec3::splat(crate::scene::MAX_COLOUR))
+        };
+        let (c, checker) = match &texture.pigment {
+            Pigment::Colour(c) => (*c, None),
+            // Filter and transmit are the first colour's (POV-Ray's are per
+            // cube; the subset's checkered floors are opaque).
+            Pigment::Checker { colours, to_owner } => (
+                colours[0],
+                Some(Checker {
+                    colours: [rgb(&colours[0]), rgb(&colours[1])],
+                    to_pattern: (to_world * *to_owner).inverse(),
+                }),
+            ),
         };
         let mut finish = texture.finish;
         finish.transmit = (c[3] + c[4]).clamp(0.0, 1.0) as f32;
@@ -332,16 +359,14 @@ impl Builder<'_> {
         let material = Material {
             name: format!("pov {}", self.scene.materials.len()),
             kind: MaterialKind::Classic,
-            albedo: DVec3::new(c[0], c[1], c[2])
-                .max(DVec3::ZERO)
-                .as_vec3()
-                .min(Vec3::splat(crate::scene::MAX_COLOUR)),
+            albedo: rgb(&c),
             specular: Vec3::ZERO,
             shininess: 50.0,
             roughness: finish.roughness,
             ior: ior.unwrap_or(1.0).clamp(1e-3, 100.0) as f32,
             emission: Vec3::ZERO,
             finish,
+            checker,
         };
         let same = |m: &Material| Material {
             name: String::new(),
@@ -371,7 +396,7 @@ impl Builder<'_> {
             ..Mesh::default()
         };
         for (corners, own) in triangles {
-            let material = self.material(own.as_ref().or(texture), ior);
+            let material = self.material(own.as_ref().or(texture), ior, to_world);
             let first = mesh.positions.len() as u32;
             for p in corners {
                 mesh.positions.push(to_world.transform_point3(*p).as_vec3());

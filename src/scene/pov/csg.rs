@@ -5,7 +5,7 @@
 use glam::{DAffine3, DVec3};
 
 use super::boxes::world_box;
-use super::build::{Builder, Built, MAX_NESTING};
+use super::build::{Builder, Built, MAX_NESTING, own_texture};
 use super::object::{CsgOp, Kind, Obj, clear};
 use super::texture::Texture;
 use crate::error::{Error, Result};
@@ -34,7 +34,8 @@ impl Builder<'_> {
             return Ok(None);
         }
         let to_world = parent * obj.transform;
-        let texture = obj.texture.as_ref().or(inherited);
+        let own = own_texture(obj, inherited);
+        let texture = own.as_ref();
         // A clipped object: as a solid, the object and its clips; seen, only the object.
         if !obj.clipped_by.is_empty() {
             let mut inner = obj.clone();
@@ -56,7 +57,7 @@ impl Builder<'_> {
                 children,
             }));
         }
-        let material = self.material(texture, obj.ior);
+        let material = self.material(texture, obj.ior, to_world);
         let leaf = |part: Part, closed: bool| {
             Some(Built::Leaf {
                 part: Box::new(part),

@@ -514,3 +514,21 @@ proptest::proptest! {
         let _ = load(&text.join(" "));
     }
 }
+
+#[test]
+fn a_plane_alone_is_cut_by_the_world_box_and_hit() {
+    let scene = load(&format!("{VIEW}plane {{ y, -1 }}")).unwrap();
+    let shape = &scene.shapes[0];
+    let d = DVec3::new(0.0, -4.0, 3.0) / 5.0;
+    let hit = shape
+        .intersect(DVec3::new(0.0, 3.0, -6.0), d, 0.0, f64::INFINITY)
+        .unwrap();
+    assert!((hit.t - 5.0).abs() < 1e-9, "{}", hit.t);
+    // Far away too: 10⁶ units out.
+    let far = DVec3::new(0.0, -1.0, 1e6 / 4.0).normalize();
+    let hit = shape
+        .intersect(DVec3::new(0.0, 3.0, -6.0), far, 0.0, f64::INFINITY)
+        .unwrap();
+    let p = DVec3::new(0.0, 3.0, -6.0) + hit.t * far;
+    assert!((p.y + 1.0).abs() < 1e-6, "{p}");
+}
