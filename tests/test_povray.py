@@ -317,6 +317,12 @@ def test_sturm_count_by_hand():
     assert compare.sturm_count([F(0), F(1)]) == 0  # t: its root is the origin, not after it
     # (t - 1e-9)(t + 1): a root just after the origin is one.
     assert compare.sturm_count([F(-1, 10**9), F(1) - F(1, 10**9), F(1)]) == 1
+    # Over (lo, hi]: the root at lo is left out, the one at hi counted.
+    cubic = [F(6), F(-7), F(0), F(1)]
+    assert compare.sturm_count(cubic, F(0), F(3, 2)) == 1
+    assert compare.sturm_count(cubic, F(1), F(2)) == 1
+    assert compare.sturm_count(cubic, F(-4), F(1)) == 2
+    assert compare.sturm_count(cubic, F(2), F(10)) == 0
 
 
 def test_exact_surfaces_by_hand():
@@ -331,13 +337,22 @@ def test_exact_surfaces_by_hand():
         "a test",
     )
     row = sphere.hits(100, 100, [(i, 50) for i in range(100)])
-    assert [i for i in range(100) if row[i, 50]] == list(range(45, 55))
+    assert [i for i in range(100) if row[i, 50] is True] == list(range(45, 55))
+    assert all(row[i, 50] is False for i in range(100) if not 45 <= i < 55)
+    # Clipped to a ball of radius 0.5 inside it, the sphere shows nowhere;
+    # clipped to a ball of radius 2 around it, everywhere it did.
+    for radius, seen in ((0.5, []), (2.0, list(range(45, 55)))):
+        clipped = compare.ExactSurfaces(
+            sphere.location, 90.0, sphere.terms, sphere.placements, "", ((0, 0, 0), radius)
+        )
+        row = clipped.hits(100, 100, [(i, 50) for i in range(100)])
+        assert [i for i in range(100) if row[i, 50] is True] == seen
     # Placed: scaled by 2 and moved to x = 3, it covers other pixels.
     moved = compare.ExactSurfaces(
         (0.0, 0.0, -11.0), 90.0, sphere.terms, ((2 * np.eye(3), (3.0, 0.0, 0.0)),), ""
     )
     hits = moved.hits(100, 100, [(50, 50), (63, 50)])
-    assert not hits[50, 50] and hits[63, 50]
+    assert hits[50, 50] is False and hits[63, 50] is True
 
 
 def test_samples_match_povray(povray, sturmray_bin, tmp_path):
