@@ -15,6 +15,14 @@ pub const SLOTS: usize = MAX_DEGREE + 1;
 /// sets one up per query).
 pub const SMALL_SLOTS: usize = 17;
 
+/// Slots of the quartic instantiation: degree <= 4, what spheres, quadrics,
+/// tori and POV-Ray's quartics give. At 17 slots a degree-4 query spent
+/// more on zeroing and copying its 5 KB chain than on the arithmetic (23%
+/// of the instructions of POV-Ray's torus.pov, `valgrind --tool=callgrind`);
+/// at 5 slots the chain is 0.4 KB. The arithmetic is the same, so the
+/// roots are the same bits.
+pub const QUARTIC_SLOTS: usize = 5;
+
 /// A polynomial of degree at most [`MAX_DEGREE`]: what callers build.
 pub type Poly = PolyN<SLOTS>;
 

@@ -154,12 +154,24 @@ impl Surface {
 /// How far a root moves when the polynomial's value is perturbed by `noise`, from
 /// its Taylor coefficients c at the root: min over k ≥ 1 of (noise / |c_k|)^(1/k).
 pub(super) fn root_uncertainty(c: &[f64], noise: f64) -> f64 {
-    c.iter()
-        .enumerate()
-        .skip(1)
-        .filter(|(_, ck)| **ck != 0.0)
-        .map(|(k, ck)| (noise / ck.abs()).powf(1.0 / k as f64))
-        .fold(f64::INFINITY, f64::min)
+    let mut least = f64::INFINITY;
+    for (k, ck) in c.iter().enumerate().skip(1) {
+        if *ck == 0.0 {
+            continue;
+        }
+        let ratio = noise / ck.abs();
+        // pow is most of this function's cost, and at a simple root the
+        // first term is the least: a k-th root that cannot come out below
+        // the least so far (ratio above least^k, with a margin far above the
+        // roundings of powi and pow) is not taken. The minimum, and so every
+        // bit of the result, is unchanged. pow(x, 1) is x exactly.
+        if k == 1 {
+            least = least.min(ratio);
+        } else if !(ratio > least.powi(k as i32) * (1.0 + 1e-9)) {
+            least = least.min(ratio.powf(1.0 / k as f64));
+        }
+    }
+    least
 }
 
 impl Surface {
