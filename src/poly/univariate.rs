@@ -205,7 +205,10 @@ impl<const S: usize> PolyN<S> {
     /// coefficient: along a sphere of radius 1e8 the t^2 coefficient is 1 and
     /// the constant 1e16, yet both matter equally. Lengths below 1 count as 1
     /// (then the comparison is the plain coefficients', which keeps more).
-    pub fn trimmed(&self, rel: f64, len: f64) -> Self {
+    /// Takes `self` by value and trims it in place: a ray's Q goes straight
+    /// from `Surface::along` through here, and a copy of the full-size
+    /// storage per call showed as memmove in the profile.
+    pub fn trimmed(mut self, rel: f64, len: f64) -> Self {
         // 1/len^j, computed by repeated multiplication: at most 1, so it
         // underflows harmlessly instead of overflowing at high degree.
         let shrink = 1.0 / len.max(1.0);
@@ -222,7 +225,10 @@ impl<const S: usize> PolyN<S> {
             }
             degree -= 1;
         }
-        Self::from_array(self.coeffs, degree)
+        self.coeffs[degree + 1..].fill(0.0);
+        self.degree = degree;
+        self.trim_zeros();
+        self
     }
 
     /// NaN coefficients are ignored, as `f64::max` would; written as a plain

@@ -117,7 +117,8 @@ impl Surface {
             Surface::Algebraic(f) => {
                 let mut coeffs = [0.0; MAX_DEGREE + 1];
                 let n = f.substitute_ray(start.to_array(), d.to_array(), &mut coeffs);
-                Poly::new(&coeffs[..n])
+                // Slots from n on are still zero: built in place, not copied.
+                Poly::from_array(coeffs, n - 1)
             }
             // No F: the constant 1, nowhere zero (a tree is searched by `Csg`).
             Surface::Csg(_) => Poly::new(&[1.0]),
