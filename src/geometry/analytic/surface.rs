@@ -165,10 +165,11 @@ pub(super) fn root_uncertainty(c: &[f64], noise: f64) -> f64 {
         // first term is the least: a k-th root that cannot come out below
         // the least so far (ratio above least^k, with a margin far above the
         // roundings of powi and pow) is not taken. The minimum, and so every
-        // bit of the result, is unchanged. pow(x, 1) is x exactly.
+        // bit of the result, is unchanged (a NaN ratio, skipped too, never
+        // was the minimum). pow(x, 1) is x exactly.
         if k == 1 {
             least = least.min(ratio);
-        } else if !(ratio > least.powi(k as i32) * (1.0 + 1e-9)) {
+        } else if ratio <= least.powi(k as i32) * (1.0 + 1e-9) {
             least = least.min(ratio.powf(1.0 / k as f64));
         }
     }
@@ -219,4 +220,40 @@ fn torus_gradient(major: f64, minor: f64, p: DVec3) -> DVec3 {
         r.y - 8.0 * major * major * p.y,
         r.z,
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::root_uncertainty;
+    use proptest::prelude::*;
+
+    /// The plain formula, every k-th root taken.
+    fn every_root(c: &[f64], noise: f64) -> f64 {
+        c.iter()
+            .enumerate()
+            .skip(1)
+            .filter(|(_, ck)| **ck != 0.0)
+            .map(|(k, ck)| (noise / ck.abs()).powf(1.0 / k as f64))
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    proptest! {
+        /// Skipping the k-th roots that cannot be the least changes no bit:
+        /// Taylor coefficients over 60 orders of magnitude, zeros among them,
+        /// so that each k in turn gives the least.
+        #[test]
+        fn skipped_roots_leave_the_same_bits(
+            c in proptest::collection::vec((-30i32..30, -1.0f64..1.0, any::<bool>()), 2..8),
+            noise in 1e-20f64..1e-5,
+        ) {
+            let c: Vec<f64> = c
+                .into_iter()
+                .map(|(e, m, zero)| if zero { 0.0 } else { m * 10f64.powi(e) })
+                .collect();
+            prop_assert_eq!(
+                root_uncertainty(&c, noise).to_bits(),
+                every_root(&c, noise).to_bits()
+            );
+        }
+    }
 }
