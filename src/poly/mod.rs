@@ -5,7 +5,8 @@
 /// The highest degree sturmray handles anywhere: it sizes the fixed Sturm
 /// storage (no allocation per ray) and bounds the expression parser. 35 is
 /// POV-Ray's limit for `poly`, so its scenes fit; polynomials of degree 16
-/// or less are solved in smaller storage (`univariate::SMALL_SLOTS`).
+/// or less are solved in smaller storage (`univariate::SMALL_SLOTS`, and
+/// `QUARTIC_SLOTS` for degree 4 or less).
 pub const MAX_DEGREE: usize = 35;
 
 pub mod closed;

@@ -395,9 +395,12 @@ impl Shape {
     /// where the ray crosses are accepted (see `polish`): touching and
     /// phantom roots are stepped past, at most `MAX_TOUCHES` of them.
     fn each_crossing(&self, ray: &RayPoly, mut visit: impl FnMut(f64, bool) -> bool) {
+        // By reference: a copy of the ray's Q (full-size storage) per walk
+        // showed in the profile.
         let RayPoly {
             q, hi, start, d, ..
-        } = *ray;
+        } = ray;
+        let (hi, start, d) = (*hi, *start, *d);
         let quadratic = self.quadratic();
         let mut from = 0.0;
         let mut touches = 0;
@@ -405,11 +408,11 @@ impl Shape {
             let Some(s) = (if quadratic {
                 nearest_quadratic(q.coeffs(), from, hi)
             } else {
-                self.solver.nearest(&q, from, hi)
+                self.solver.nearest(q, from, hi)
             }) else {
                 return;
             };
-            match self.polish(&q, start, d, s, from) {
+            match self.polish(q, start, d, s, from) {
                 Ok((s, entering)) => {
                     if !visit(s, entering) {
                         return;

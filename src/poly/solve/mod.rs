@@ -35,7 +35,7 @@ pub use method::{Method, Solver};
 
 use crate::poly::MAX_DEGREE;
 use crate::poly::exact::{Isolation, Relative};
-use crate::poly::univariate::{Poly, PolyN, SMALL_SLOTS, normalize_pow2};
+use crate::poly::univariate::{Poly, PolyN, QUARTIC_SLOTS, SMALL_SLOTS, normalize_pow2};
 
 use condition::{Search, is_interval, opposite};
 use direct::DirectRoots;
@@ -68,21 +68,21 @@ fn note_unseparated() {
     UNSEPARATED.with(|c| c.set(c.get() + 1));
 }
 
-/// Runs `$call` with `$q` bound to the query's polynomial in the small
-/// instantiation ([`SMALL_SLOTS`]) when its degree fits, else to the input
-/// itself: a query sets up a Sturm chain whose size is quadratic in the slot
-/// count, and most rays meet degree 4 or less.
+/// Runs `$call` with `$q` bound to the query's polynomial in the smallest
+/// instantiation its degree fits ([`QUARTIC_SLOTS`], then [`SMALL_SLOTS`]),
+/// else to the input itself: a query sets up a Sturm chain whose size is
+/// quadratic in the slot count, and most rays meet degree 4 or less.
 macro_rules! by_degree {
     ($p:expr, |$q:ident| $call:expr) => {
-        match $p.resized::<SMALL_SLOTS>() {
-            Some(small) => {
-                let $q = &small;
-                $call
-            }
-            None => {
-                let $q = $p;
-                $call
-            }
+        if let Some(quartic) = $p.resized::<QUARTIC_SLOTS>() {
+            let $q = &quartic;
+            $call
+        } else if let Some(small) = $p.resized::<SMALL_SLOTS>() {
+            let $q = &small;
+            $call
+        } else {
+            let $q = $p;
+            $call
         }
     };
 }

@@ -883,3 +883,47 @@ fn degenerate_chains_count_as_unseparated() {
     let _ = Solver::default().nearest(&p, 0.0, 4.0);
     assert_eq!(unseparated_count(), before + 1);
 }
+
+/// One query in the quartic (5-slot) and the small (17-slot) instantiation:
+/// nearest root, any root, all roots, as bits.
+fn quartic_and_small(s: &Solver, p: &Poly, a: f64, b: f64) -> [(Option<u64>, bool, Vec<u64>); 2] {
+    fn run<const S: usize>(
+        s: &Solver,
+        p: &PolyN<S>,
+        a: f64,
+        b: f64,
+    ) -> (Option<u64>, bool, Vec<u64>) {
+        let mut out = [0.0; MAX_DEGREE];
+        let n = s.unproven_roots_in(p, a, b, &mut out);
+        (
+            s.nearest_of(p, a, b).map(f64::to_bits),
+            s.any_of(p, a, b),
+            out[..n].iter().map(|t| t.to_bits()).collect(),
+        )
+    }
+    let quartic = p.resized::<QUARTIC_SLOTS>().expect("degree 4 or less");
+    let small = p.resized::<SMALL_SLOTS>().expect("degree 16 or less");
+    [run(s, &quartic, a, b), run(s, &small, a, b)]
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(256))]
+
+    /// Degree 4 or less runs in 5 slots (`by_degree!`) with the operations
+    /// of the 17-slot instantiation, so images stay the same bits: random
+    /// coefficients, and products of integer roots (double, triple and
+    /// quadruple roots take the reduced chain).
+    #[test]
+    fn quartic_slots_answer_as_small_slots(
+        coeffs in proptest::collection::vec(-10.0f64..10.0, 2..=5),
+        roots in proptest::collection::vec(-3i32..=3, 1..=4),
+        m in 0usize..Method::ALL.len(),
+    ) {
+        let s = solver(Method::ALL[m]);
+        let roots: Vec<f64> = roots.into_iter().map(f64::from).collect();
+        for p in [Poly::new(&coeffs), from_roots(1.5, &roots)] {
+            let [quartic, small] = quartic_and_small(&s, &p, -4.0, 4.0);
+            prop_assert_eq!(quartic, small, "{:?}", p);
+        }
+    }
+}

@@ -10,7 +10,9 @@
 use std::fmt;
 
 use crate::poly::MAX_DEGREE;
-use crate::poly::univariate::{nonzero, normalize_pow2, scale_pow2_normal};
+use crate::poly::univariate::{
+    QUARTIC_SLOTS, SMALL_SLOTS, nonzero, normalize_pow2, scale_pow2_normal,
+};
 
 /// Exponents per axis: 0..=MAX_DEGREE.
 const SIDE: usize = MAX_DEGREE + 1;
@@ -209,14 +211,25 @@ impl Trivariate {
     /// The expansion is exact algebra, nested like Horner's rule over the
     /// sorted terms: F = Σ_a X^a Σ_b Y^b Σ_c f_abc Z^c with X = o_x + t d_x
     /// and so on, each inner sum built by repeated multiplication with a
-    /// linear factor. That needs three accumulators of MAX_DEGREE + 1
-    /// coefficients on the stack, no power tables to fill, and work that
+    /// linear factor. That needs three accumulators of degree + 1 (rounded
+    /// up to the solver's slot counts) coefficients on the stack, no power tables to fill, and work that
     /// follows the terms actually present. (A variant with per-axis tables
     /// of binomial powers and convolutions measured no faster.)
     ///
     /// # Panics
     /// If `out` is shorter than degree + 1.
     pub fn substitute_ray(&self, o: [f64; 3], d: [f64; 3], out: &mut [f64]) -> usize {
+        // Accumulators as small as the degree allows: zeroing three of
+        // MAX_DEGREE + 1 slots cost a quartic more than some of its
+        // arithmetic. The operations, and so the bits, are the same.
+        match self.degree {
+            0..QUARTIC_SLOTS => self.substitute_in::<QUARTIC_SLOTS>(o, d, out),
+            QUARTIC_SLOTS..SMALL_SLOTS => self.substitute_in::<SMALL_SLOTS>(o, d, out),
+            _ => self.substitute_in::<SIDE>(o, d, out),
+        }
+    }
+
+    fn substitute_in<const N: usize>(&self, o: [f64; 3], d: [f64; 3], out: &mut [f64]) -> usize {
         let n = self.degree + 1;
         assert!(
             out.len() >= n,
@@ -224,7 +237,7 @@ impl Trivariate {
             out.len()
         );
         let terms = self.terms.as_slice();
-        let (mut q, mut t, mut s) = (Acc::new(), Acc::new(), Acc::new());
+        let (mut q, mut t, mut s) = (Acc::<N>::new(), Acc::<N>::new(), Acc::<N>::new());
         let mut i = 0;
         // Each group starts at its first exponent, so the first step
         // multiplies an empty accumulator by a zeroth power.
@@ -442,16 +455,16 @@ fn powers(v: f64, n: usize) -> [f64; SIDE] {
 /// A univariate polynomial in t on the stack: the accumulators of
 /// `substitute_ray`. `len` counts the coefficients in use; an empty one
 /// (len 0) stays empty when multiplied, which lets the Horner loop treat a
-/// group's first term like any other.
-struct Acc {
-    c: [f64; SIDE],
+/// group's first term like any other. `N` slots hold degree N - 1.
+struct Acc<const N: usize> {
+    c: [f64; N],
     len: usize,
 }
 
-impl Acc {
-    fn new() -> Acc {
+impl<const N: usize> Acc<N> {
+    fn new() -> Self {
         Acc {
-            c: [0.0; SIDE],
+            c: [0.0; N],
             len: 0,
         }
     }
@@ -467,7 +480,7 @@ impl Acc {
     }
 
     #[inline]
-    fn add(&mut self, other: &Acc) {
+    fn add(&mut self, other: &Self) {
         for k in 0..other.len {
             self.c[k] = if k < self.len {
                 self.c[k] + other.c[k]

@@ -421,3 +421,29 @@ proptest! {
         prop_assert!((g.eval(p) - f.eval(q)).abs() <= 1e-12 * scale);
     }
 }
+
+proptest! {
+    /// `substitute_ray` sizes its accumulators by the degree; the smaller
+    /// ones must give the bits of the full-size ones.
+    #[test]
+    fn substitution_is_the_same_in_any_accumulator_size(
+        coeffs in proptest::collection::vec(-100.0f64..100.0, 35),
+        o in proptest::array::uniform3(-10.0f64..10.0),
+        d in proptest::array::uniform3(-1.0f64..1.0),
+    ) {
+        // Every term of degree 4 or less: 35 of them.
+        let mut exps = Vec::new();
+        for i in 0..=4u8 {
+            for j in 0..=4 - i {
+                for k in 0..=4 - i - j {
+                    exps.push([i, j, k]);
+                }
+            }
+        }
+        let f = Trivariate::from_terms(exps.into_iter().zip(coeffs));
+        let (mut quartic, mut full) = ([0.0; SIDE], [0.0; SIDE]);
+        let n = f.substitute_in::<QUARTIC_SLOTS>(o, d, &mut quartic);
+        prop_assert_eq!(n, f.substitute_in::<SIDE>(o, d, &mut full));
+        prop_assert_eq!(quartic.map(f64::to_bits), full.map(f64::to_bits));
+    }
+}
