@@ -10,6 +10,7 @@
 //! (POV-Ray's `Clear`) become invisible cuts (`Op::Clip`): that is what
 //! POV-Ray draws, a cut face that neither shows nor shadows.
 
+use std::collections::BTreeMap;
 use std::path::Path;
 
 use glam::{DAffine3, DVec3};
@@ -112,15 +113,15 @@ pub(super) fn scene(
             scene.sources.push(file.clone());
         }
     }
+    let tally = |log: &[String]| {
+        log.iter().fold(BTreeMap::new(), |mut m, k| {
+            *m.entry(k.clone()).or_default() += 1;
+            m
+        })
+    };
     scene.import = Some(crate::scene::Import {
-        read: parser.read.clone(),
-        skipped: parser.skipped.iter().fold(
-            Default::default(),
-            |mut m: std::collections::BTreeMap<String, usize>, k| {
-                *m.entry(k.clone()).or_default() += 1;
-                m
-            },
-        ),
+        read: tally(&parser.read),
+        skipped: tally(&parser.skipped),
     });
     Ok(scene)
 }

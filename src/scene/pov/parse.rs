@@ -5,7 +5,7 @@
 //! whole, balanced by its `#end`, with a warning where it would have acted:
 //! a macro is named when it is called, not where an include defines it.
 
-use std::collections::{BTreeMap, HashMap};
+use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::rc::Rc;
 
@@ -19,6 +19,15 @@ pub const SYSTEM_INCLUDE: &str = "/usr/share/povray-3.7/include";
 /// Includes nest at most this deep (POV-Ray's own limit is 32 too): a file
 /// that includes itself is refused instead of exhausting the stack.
 const MAX_INCLUDE_DEPTH: usize = 32;
+
+/// What reading a declared value met, told where the name is used: an
+/// include declares much that a scene never uses.
+#[derive(Clone, Debug, Default)]
+struct Deferred {
+    warnings: Vec<String>,
+    skipped: Vec<String>,
+    read: Vec<String>,
+}
 
 /// Where a token is: its file (an index into `Parser::files`) and position.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -43,11 +52,11 @@ pub struct Parser {
     /// The warnings (and skipped keywords) met while reading a declared
     /// value, given only where the name is used: an include file declares
     /// much that a scene never uses.
-    deferred: HashMap<String, (Vec<String>, Vec<String>)>,
+    deferred: HashMap<String, Deferred>,
     include_dirs: Vec<PathBuf>,
     pub warnings: Vec<String>,
-    /// What was read, by kind, for `sturmray info`.
-    pub read: BTreeMap<String, usize>,
+    /// What was read, by kind, in order, for `sturmray info`.
+    pub read: Vec<String>,
     /// What was skipped, by keyword, in order.
     pub skipped: Vec<String>,
     /// `image_width`, `image_height`.
@@ -81,7 +90,7 @@ impl Parser {
             deferred: HashMap::new(),
             include_dirs: dirs,
             warnings: Vec::new(),
-            read: BTreeMap::new(),
+            read: Vec::new(),
             skipped: Vec::new(),
             size,
             last: Loc::default(),
@@ -167,7 +176,7 @@ impl Parser {
 
     /// Counts one `kind` read, for `info`.
     pub fn count(&mut self, kind: &str) {
-        *self.read.entry(kind.to_owned()).or_default() += 1;
+        self.read.push(kind.to_owned());
     }
 
     /// The raw token at the top of the stream, without running directives.
@@ -223,15 +232,16 @@ impl Parser {
             Some(tok) => {
                 self.advance();
                 if let Tok::Word(w) = &tok
-                    && let Some((warnings, skipped)) = self.deferred.get(w)
+                    && let Some(d) = self.deferred.get(w)
                 {
-                    let (warnings, skipped) = (warnings.clone(), skipped.clone());
-                    for w in warnings {
+                    let d = d.clone();
+                    for w in d.warnings {
                         if !self.warnings.contains(&w) {
                             self.warnings.push(w);
                         }
                     }
-                    self.skipped.extend(skipped);
+                    self.skipped.extend(d.skipped);
+                    self.read.extend(d.read);
                 }
                 Ok(tok)
             }
@@ -512,20 +522,40 @@ impl Parser {
 
     /// `#declare NAME = value [;]`.
     fn declare(&mut self, loc: Loc) -> Result<()> {
-        let name = self.word()?;
+        let mut name = self.word()?;
+        // `#declare deprecated [once] "why" NAME = …`: the note is given
+        // where the name is used, as the value's own warnings are.
+        let mut deprecated = None;
+        if name == "deprecated" && !matches!(self.peek()?, Some(Tok::Punct('='))) {
+            self.eat_word("once")?;
+            deprecated = match self.next()? {
+                Tok::Str(why) => Some(why),
+                _ => {
+                    return Err(
+                        self.error_at(self.last, "expected the deprecation's message in quotes")
+                    );
+                }
+            };
+            name = self.word()?;
+        }
         if self.peek()? == Some(Tok::Punct('[')) {
             self.skip_warning(loc, "array", "an array element is not declared");
             while !matches!(self.next()?, Tok::Punct(';')) {}
             return Ok(());
         }
         self.expect('=')?;
-        let (warnings, skipped) = (self.warnings.len(), self.skipped.len());
+        let marks = (self.warnings.len(), self.skipped.len(), self.read.len());
         let value = self.value()?;
-        let deferred = (
-            self.warnings.split_off(warnings),
-            self.skipped.split_off(skipped),
-        );
-        if deferred.0.is_empty() && deferred.1.is_empty() {
+        let mut deferred = Deferred {
+            warnings: self.warnings.split_off(marks.0),
+            skipped: self.skipped.split_off(marks.1),
+            read: self.read.split_off(marks.2),
+        };
+        if let Some(why) = deprecated {
+            let note = format!("{}: `{name}` is deprecated: {why}", self.place(loc));
+            deferred.warnings.push(note);
+        }
+        if deferred.warnings.is_empty() && deferred.skipped.is_empty() && deferred.read.is_empty() {
             self.deferred.remove(&name);
         } else {
             self.deferred.insert(name.clone(), deferred);

@@ -303,6 +303,27 @@ fn declarations_warn_only_where_they_are_used() {
 }
 
 #[test]
+fn a_declaration_can_use_the_one_before_it() {
+    // Each declaration is made before the next directive runs: a texture
+    // looks ahead for layers, and must not run `#declare B` before A exists.
+    let scene = load(&format!(
+        "#declare A = texture {{ pigment {{ rgb <0.2, 0.4, 0.6> }} }}\n\
+         #declare B = texture {{ A scale 2 }}\n\
+         #declare C = 1 #declare D = C + 1;\n\
+         {VIEW}sphere {{ 0, D texture {{ B }} }}"
+    ))
+    .unwrap();
+    assert!(
+        scene.warnings.iter().all(|w| !w.contains("not supported")),
+        "{:?}",
+        scene.warnings
+    );
+    let m = &scene.materials[scene.shapes[0].material as usize];
+    assert_eq!(m.albedo.to_array(), [0.2, 0.4, 0.6]);
+    assert!((scene.shapes[0].bounds().max.x - 2.0).abs() < 1e-3);
+}
+
+#[test]
 fn syntax_errors_name_the_line_and_column() {
     let e = load(&format!("{VIEW}sphere {{ <0, 0, 0>, 1\n  box {{ 1 }}")).unwrap_err();
     let text = e.to_string();

@@ -115,7 +115,8 @@ impl Parser {
                     self.next()?;
                     let texture = self.texture_block()?;
                     // Layers over the first: POV-Ray's layered texture.
-                    while self.peek_word()?.as_deref() == Some("texture") {
+                    // Held: the directive after the declaration may use its name.
+                    while self.held(|p| p.peek_word())?.as_deref() == Some("texture") {
                         let at = self.here();
                         self.skip_warning(
                             at,
