@@ -346,8 +346,12 @@ impl Parser {
     fn skip_to_end(&mut self, at_else: bool, opened: Loc) -> Result<Option<String>> {
         let mut depth = 0usize;
         loop {
-            let frame = self.frames.last_mut().expect("a file is open");
-            let Some(token) = frame.tokens.get(frame.pos).cloned() else {
+            // The file the directive is in may have ended already.
+            let token = self
+                .frames
+                .last()
+                .and_then(|frame| frame.tokens.get(frame.pos).cloned());
+            let Some(token) = token else {
                 return Err(self.error_at(opened, "this directive is never closed by `#end`"));
             };
             self.advance();
@@ -509,13 +513,12 @@ impl Parser {
     }
 
     fn close_if(&mut self, loc: Loc, name: &str) -> Result<()> {
-        let frame = self.frames.last_mut().expect("a file is open");
-        if frame.open_ifs == 0 {
+        let Some(frame) = self.frames.last_mut().filter(|f| f.open_ifs > 0) else {
             return Err(self.error_at(
                 loc,
                 format!("`#{name}` without an `#if` (or #ifdef, #ifndef) before it in this file"),
             ));
-        }
+        };
         frame.open_ifs -= 1;
         Ok(())
     }

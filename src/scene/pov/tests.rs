@@ -526,7 +526,7 @@ const PIECES: &[&str] = &[
 ];
 
 proptest::proptest! {
-    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(400))]
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(2000))]
 
     /// Whatever the text, reading it ends in a scene or an error: never a panic.
     #[test]
@@ -552,4 +552,46 @@ fn a_plane_alone_is_cut_by_the_world_box_and_hit() {
         .unwrap();
     let p = DVec3::new(0.0, 3.0, -6.0) + hit.t * far;
     assert!((p.y + 1.0).abs() < 1e-6, "{p}");
+}
+
+/// A scene using much of the subset, for mutations.
+const RICH: &str = "#version 3.7;\n#declare R = 0.5;\n#declare T = texture { pigment { checker rgb 1 rgb 0 scale 0.5 } finish { phong 0.5 reflection { 0.1 0.5 fresnel } } }\n\
+camera { location <0, 2, -6> look_at <0, 0, 0> angle 50 right x*image_width/image_height }\n\
+light_source { <10, 10, -10> color rgb 1 area_light x, y, 2, 2 }\n\
+#if (R > 0) plane { y, -1 texture { T } } #else sphere { 0, 1 } #end\n\
+intersection { quartic { <1,0,0,0,2,0,0,2,0,-104,0,0,0,0,0,0,0,0,0,0,1,0,0,2,0,56,0,0,0,0,1,0,-104,0,784> } sphere { 0, 10 pigment { rgbf 1 } } bounded_by { sphere { 0, 11 } } scale 0.1 }\n\
+difference { box { -1, 1 } cylinder { -2*x, 2*x, R open } clipped_by { plane { z, 0.5 } } rotate <10, 20, 30> translate 2*x }\n\
+mesh2 { vertex_vectors { 3, <0,0,0>, <1,0,0>, <0,1,0> } face_indices { 1, <0,1,2> } }\n";
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(1000))]
+
+    /// A real scene with tokens cut out, doubled or swapped: a scene or an
+    /// error, never a panic.
+    #[test]
+    fn mutated_scenes_never_panic(
+        cuts in proptest::collection::vec((0usize..200, 0usize..3), 1..6),
+    ) {
+        let mut words: Vec<&str> = RICH.split_inclusive([' ', ',', '{', '}', '<', '>', '\n']).collect();
+        for (at, how) in cuts {
+            let i = at % words.len();
+            match how {
+                0 => { words.remove(i); }
+                1 => { let w = words[i]; words.insert(i, w); }
+                _ => { let j = (i * 7 + 3) % words.len(); words.swap(i, j); }
+            }
+            if words.is_empty() {
+                break;
+            }
+        }
+        let _ = load(&words.concat());
+    }
+}
+
+#[test]
+fn the_rich_scene_reads() {
+    let scene = load(RICH).unwrap();
+    assert_eq!(scene.shapes.len(), 3);
+    assert_eq!(scene.meshes.len(), 1);
+    assert_eq!(scene.lights.len(), 4);
 }
