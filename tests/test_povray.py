@@ -370,6 +370,7 @@ light_source { <10, 20, -10> color White }
 plane { y, -1 pigment { checker color NavyBlue color rgb <0.9, 0.8, 0.2> scale 1.5 }
         finish { ambient 0.2 diffuse 0.8 } }
 torus { 1.5, 0.4 pigment { checker Red White scale 0.3 } rotate 30*x translate y*0.5 }
+sphere { <-2.6, 0, 0.5>, 0.5 pigment { rgb <0.2, 0.9, 0.3> } no_shadow }
 background { color rgb 0.1 }
 """
 
@@ -378,7 +379,7 @@ def test_a_checkered_floor_matches_povray(povray, sturmray_bin, tmp_path):
     # POV-Ray's classic checkered floor (the samples' own are commented out):
     # a plane alone, cut by the world box, and a checker that moves with its
     # object (scaled pigment, rotated and moved torus), lit by an unfading
-    # light with shadows. Pixels differ only where a cube's edge crosses a
+    # light with shadows, and a sphere with `no_shadow`. Pixels differ only where a cube's edge crosses a
     # pixel centre in the distance, where the f32 hit point of one renderer
     # and the f64 of the other fall on either side.
     scene = tmp_path / "checkered.pov"

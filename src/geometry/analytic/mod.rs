@@ -106,6 +106,10 @@ pub struct Shape {
     /// `clip_to`); left out of the scene hash when false, as `gate`.
     #[serde(skip_serializing_if = "<&bool as std::ops::Not>::not")]
     context_box: bool,
+    /// POV-Ray's `no_shadow`: seen, but never between a point and a light
+    /// (see `set_no_shadow`); left out of the scene hash when false.
+    #[serde(skip_serializing_if = "<&bool as std::ops::Not>::not")]
+    no_shadow: bool,
 }
 
 /// Q(s) = F(start + s·d) of one ray in object space (|d| = 1, s the distance
@@ -201,6 +205,7 @@ impl Shape {
             solver,
             gate: None,
             context_box: false,
+            no_shadow: false,
         })
     }
 
@@ -316,6 +321,9 @@ impl Shape {
 
     /// Whether the world ray o + t·d crosses the surface for some t in (tmin, tmax).
     pub fn occluded(&self, o: DVec3, d: DVec3, tmin: f64, tmax: f64) -> bool {
+        if self.no_shadow {
+            return false;
+        }
         if let Some(gate) = &self.gate
             && !gate.lets_through(o, d, tmin)
         {
@@ -325,6 +333,12 @@ impl Shape {
             return tree.intersect(o, d, tmin, tmax).is_some();
         }
         self.search(o, d, tmin, tmax, true).is_some()
+    }
+
+    /// POV-Ray's `no_shadow`: the shape is seen but casts no shadow (no
+    /// occlusion query finds it: shadow rays and light sampling pass it).
+    pub fn set_no_shadow(&mut self) {
+        self.no_shadow = true;
     }
 
     /// Swaps the root finder, for studies that compare them on one scene.

@@ -174,7 +174,13 @@ impl Builder<'_> {
                 children,
             } if obj.bounded_by.is_empty() && obj.clipped_by.is_empty() => {
                 for child in children {
-                    self.top(child, to_world, texture)?;
+                    if obj.no_shadow && !child.no_shadow {
+                        let mut child = child.clone();
+                        child.no_shadow = true;
+                        self.top(&child, to_world, texture)?;
+                    } else {
+                        self.top(child, to_world, texture)?;
+                    }
                 }
                 return Ok(());
             }
@@ -184,6 +190,10 @@ impl Builder<'_> {
                         obj.loc,
                         "a clipped mesh is drawn whole (clipped_by applies to analytic shapes)",
                     );
+                }
+                if obj.no_shadow {
+                    self.parser
+                        .skip_warning(obj.loc, "no_shadow", "a mesh casts shadows");
                 }
                 return self.mesh(triangles, to_world, texture, obj.ior);
             }
@@ -219,8 +229,7 @@ impl Builder<'_> {
             shape.set_gate(gate);
         }
         if obj.no_shadow {
-            self.parser
-                .skip_warning(obj.loc, "no_shadow", "the object casts shadows");
+            shape.set_no_shadow();
         }
         self.scene.shapes.push(shape);
         Ok(())

@@ -52,6 +52,9 @@ struct Statements {
 
 /// `global_settings` as far as the subset reads it.
 struct Globals {
+    /// Whether `assumed_gamma` was given (POV-Ray 3.7 changes its colour
+    /// handling without it).
+    gamma: bool,
     max_trace_level: u32,
     adc_bailout: f64,
     ambient_light: DVec3,
@@ -60,6 +63,7 @@ struct Globals {
 impl Default for Globals {
     fn default() -> Globals {
         Globals {
+            gamma: false,
             max_trace_level: 5,
             adc_bailout: 1.0 / 255.0,
             ambient_light: DVec3::ONE,
@@ -162,6 +166,13 @@ fn statements(p: &mut Parser) -> Result<Statements> {
             }
         }
     }
+    if !s.globals.gamma {
+        p.warn(
+            parse::Loc::default(),
+            "no `assumed_gamma` in global_settings: POV-Ray 3.7 then treats colours by its \
+             older gamma rules; sturmray reads them as linear, as with `assumed_gamma 1.0`",
+        );
+    }
     Ok(s)
 }
 
@@ -173,6 +184,7 @@ fn globals(p: &mut Parser, g: &mut Globals) -> Result<()> {
         let word = p.word()?;
         match word.as_str() {
             "assumed_gamma" => {
+                g.gamma = true;
                 let gamma = p.float()?;
                 if gamma != 1.0 {
                     p.warn(

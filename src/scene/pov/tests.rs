@@ -324,6 +324,23 @@ fn a_declaration_can_use_the_one_before_it() {
 }
 
 #[test]
+fn no_shadow_objects_are_seen_but_cast_no_shadow() {
+    let scene = load(&format!(
+        "{VIEW}union {{ sphere {{ 0, 1 }} sphere {{ 3*x, 1 }} no_shadow }}\nsphere {{ -3*x, 1 }}"
+    ))
+    .unwrap();
+    let (o, down) = (DVec3::new(0.0, 10.0, 0.0), DVec3::new(0.0, -1.0, 0.0));
+    for (i, x) in [(0, 0.0), (1, 3.0)] {
+        let shape = &scene.shapes[i];
+        let o = o + DVec3::new(x, 0.0, 0.0);
+        assert!(shape.intersect(o, down, 0.0, f64::INFINITY).is_some());
+        assert!(!shape.occluded(o, down, 0.0, f64::INFINITY));
+    }
+    let o = o + DVec3::new(-3.0, 0.0, 0.0);
+    assert!(scene.shapes[2].occluded(o, down, 0.0, f64::INFINITY));
+}
+
+#[test]
 fn syntax_errors_name_the_line_and_column() {
     let e = load(&format!("{VIEW}sphere {{ <0, 0, 0>, 1\n  box {{ 1 }}")).unwrap_err();
     let text = e.to_string();
