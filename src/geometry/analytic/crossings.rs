@@ -13,6 +13,7 @@ use glam::DVec3;
 
 use super::{Box3, Shape};
 use crate::poly::MAX_DEGREE;
+use crate::poly::univariate::{QUARTIC_SLOTS, SLOTS};
 
 /// One crossing of a line o + t·d, in the line's own parameter t.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -175,7 +176,15 @@ impl Shape {
     /// Whether the object-space point p is inside (F < 0) or outside, or
     /// None where F is within its rounding noise of 0.
     pub(super) fn side(&self, p: DVec3, d: DVec3) -> Option<bool> {
-        let q = self.surface.along(p, d);
+        if self.surface.quartic() {
+            self.side_in::<QUARTIC_SLOTS>(p, d)
+        } else {
+            self.side_in::<SLOTS>(p, d)
+        }
+    }
+
+    fn side_in<const S: usize>(&self, p: DVec3, d: DVec3) -> Option<bool> {
+        let q = self.surface.along_in::<S>(p, d);
         let noise = f64::EPSILON * (4 * q.coeffs().len()) as f64 * self.surface.magnitude(p);
         let f = q.eval(0.0);
         (f.abs() > noise).then_some(f < 0.0)
