@@ -12,7 +12,7 @@ use glam::{DAffine3, DMat3, DVec3};
 use crate::math::{Bounds, Vec3};
 use crate::poly::closed::quadratic;
 use crate::poly::solve::Solver;
-use crate::poly::univariate::{Poly, normalize_pow2};
+use crate::poly::univariate::{Poly, PolyN, QUARTIC_SLOTS, SLOTS, normalize_pow2};
 
 mod crossings;
 pub mod csg;
@@ -466,10 +466,26 @@ impl Shape {
         s: f64,
         from: f64,
     ) -> Result<(f64, bool), f64> {
+        if self.surface.quartic() {
+            self.polish_in::<QUARTIC_SLOTS>(q, start, d, s, from)
+        } else {
+            self.polish_in::<SLOTS>(q, start, d, s, from)
+        }
+    }
+
+    /// `polish` with the local Q in `S` slots (see `Surface::along_in`).
+    fn polish_in<const S: usize>(
+        &self,
+        q: &Poly,
+        start: DVec3,
+        d: DVec3,
+        s: f64,
+        from: f64,
+    ) -> Result<(f64, bool), f64> {
         const SAMPLES: u32 = 32;
         let floor = self.refine_width(s);
         let p = start + s * d;
-        let local = self.surface.along(p, d);
+        let local = self.surface.along_in::<S>(p, d);
         // Values within the local rounding noise have no sign to trust: a change
         // counts only between samples that both rise above it.
         let local_noise =
@@ -502,7 +518,7 @@ impl Shape {
 }
 
 /// Halves [a, b], across which q changes sign, down to `width`.
-fn bisect(q: &Poly, mut a: f64, fa: f64, mut b: f64, width: f64) -> f64 {
+fn bisect<const S: usize>(q: &PolyN<S>, mut a: f64, fa: f64, mut b: f64, width: f64) -> f64 {
     for _ in 0..80 {
         if b - a <= width {
             break;

@@ -128,6 +128,8 @@ thread_local! {
     /// The events of the ray being traced, reused: no allocation per ray
     /// once it has grown to the largest tree's needs.
     static EVENTS: RefCell<Vec<Event>> = const { RefCell::new(Vec::new()) };
+    /// One leaf's crossings, reused for every leaf (see `Crossings`).
+    static FOUND: RefCell<Crossings> = RefCell::new(Crossings::default());
 }
 
 impl Csg {
@@ -341,18 +343,19 @@ impl Csg {
         match &leaf.part {
             Part::Solid(s) | Part::Sheet(s) => {
                 let solid = matches!(leaf.part, Part::Solid(_));
-                let mut found = Crossings::default();
                 let from = s.crossings_from(d, tmin);
-                let starts = s.crossings(o, d, from, tmax, solid, &mut found);
-                for c in found.as_slice() {
-                    let kind = match (solid, c.entering != inverse) {
-                        (false, _) => Kind::Sheet { inside: false },
-                        (true, true) => Kind::Enter,
-                        (true, false) => Kind::Leave,
-                    };
-                    out.push(event(c, kind));
-                }
-                solid && (starts != inverse)
+                FOUND.with_borrow_mut(|found| {
+                    let starts = s.crossings(o, d, from, tmax, solid, found);
+                    for c in found.as_slice() {
+                        let kind = match (solid, c.entering != inverse) {
+                            (false, _) => Kind::Sheet { inside: false },
+                            (true, true) => Kind::Enter,
+                            (true, false) => Kind::Leave,
+                        };
+                        out.push(event(c, kind));
+                    }
+                    solid && (starts != inverse)
+                })
             }
             Part::Plane { normal, offset } => {
                 let (nd, no) = (normal.dot(d), normal.dot(o));
