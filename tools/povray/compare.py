@@ -184,7 +184,9 @@ class ExactSurfaces:
     camera (POV-Ray's without look_at): on a pixel where the two renderers
     disagree, the exact count of roots of F(o + t d) for t > 0 (each placed
     surface, in rational arithmetic from the doubles both renderers use) says
-    who is right. Disagreements so settled are counted apart."""
+    who is right. Disagreements so settled are counted apart. The count is
+    this file's own (Python's Fraction), not sturmray's exact solver, so that
+    sturmray is not the judge of its own answers."""
 
     location: tuple[float, float, float]
     angle: float
