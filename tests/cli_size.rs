@@ -6,7 +6,7 @@ mod common;
 
 use std::path::Path;
 
-use common::{SQUARE, plane_scene, scratch, sturmray, write};
+use common::{SQUARE, plane_scene, png_size, scratch, sturmray, write};
 
 fn stderr(out: &std::process::Output) -> String {
     String::from_utf8_lossy(&out.stderr).into_owned()
@@ -28,13 +28,6 @@ fn refused(dir: &Path, args: &[&str], needles: &[&str]) {
             "{args:?}: expected {needle:?} in {text}"
         );
     }
-}
-
-/// The width and height of a PNG, from its IHDR chunk (bytes 16..24, big-endian).
-fn png_size(path: &Path) -> (u32, u32) {
-    let bytes = std::fs::read(path).unwrap();
-    let word = |at: usize| u32::from_be_bytes(bytes[at..at + 4].try_into().unwrap());
-    (word(16), word(20))
 }
 
 /// The size of a whole render's EXR and of its preview.

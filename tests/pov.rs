@@ -5,9 +5,7 @@
 
 mod common;
 
-use std::path::Path;
-
-use common::{scratch, sturmray, write};
+use common::{png_size, scratch, sturmray, write};
 
 fn stderr(out: &std::process::Output) -> String {
     String::from_utf8_lossy(&out.stderr).into_owned()
@@ -15,13 +13,6 @@ fn stderr(out: &std::process::Output) -> String {
 
 fn stdout(out: &std::process::Output) -> String {
     String::from_utf8_lossy(&out.stdout).into_owned()
-}
-
-/// The width and height of a PNG, from its IHDR chunk (bytes 16..24, big-endian).
-fn png_size(path: &Path) -> (u32, u32) {
-    let bytes = std::fs::read(path).unwrap();
-    let word = |at: usize| u32::from_be_bytes(bytes[at..at + 4].try_into().unwrap());
-    (word(16), word(20))
 }
 
 /// A red sphere under a white light, its radius declared in `radius.inc`.

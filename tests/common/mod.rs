@@ -32,6 +32,13 @@ pub fn scratch(name: &str) -> Scratch {
     Scratch(dir)
 }
 
+/// The width and height of a PNG, from its IHDR chunk (bytes 16..24, big-endian).
+pub fn png_size(path: &Path) -> (u32, u32) {
+    let bytes = std::fs::read(path).unwrap();
+    let word = |at: usize| u32::from_be_bytes(bytes[at..at + 4].try_into().unwrap());
+    (word(16), word(20))
+}
+
 pub fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
     let path = dir.join(name);
     std::fs::write(&path, text).unwrap();

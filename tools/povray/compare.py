@@ -89,15 +89,6 @@ OUTSIDE_SUBSET = {
 EXTRA_HITS_ALLOWED: dict[str, str] = {}
 
 
-def rotation(degrees: tuple[float, float, float]) -> np.ndarray:
-    """POV-Ray's `rotate <x, y, z>`: about x, then y, then z (column vectors)."""
-    x, y, z = np.radians(degrees)
-    rx = np.array([[1, 0, 0], [0, np.cos(x), -np.sin(x)], [0, np.sin(x), np.cos(x)]])
-    ry = np.array([[np.cos(y), 0, np.sin(y)], [0, 1, 0], [-np.sin(y), 0, np.cos(y)]])
-    rz = np.array([[np.cos(z), -np.sin(z), 0], [np.sin(z), np.cos(z), 0], [0, 0, 1]])
-    return rz @ ry @ rx
-
-
 def camera_rays(location, angle: float, width: int, height: int) -> np.ndarray:
     """The rays through the pixel centres of POV-Ray's camera without look_at:
     right = x·W/H, up = y, direction along +z with the length `angle` sets."""
