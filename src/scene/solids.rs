@@ -14,6 +14,12 @@ pub(super) fn axis_frame(origin: DVec3, axis: DVec3) -> DAffine3 {
     )
 }
 
+/// A rotation by `r` (radians) about x, then y, then z: POV-Ray's `rotate`
+/// and a TOML transform's `rotate` alike.
+pub(super) fn rotation(r: DVec3) -> DAffine3 {
+    DAffine3::from_rotation_z(r.z) * DAffine3::from_rotation_y(r.y) * DAffine3::from_rotation_x(r.x)
+}
+
 /// The plane n·p = distance as the linear F = n·p − distance, negative on
 /// the half-space's inside.
 pub(super) fn linear(normal: DVec3, distance: f64) -> Surface {

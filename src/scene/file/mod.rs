@@ -13,7 +13,7 @@ use std::path::Path;
 
 use glam::{DAffine3, DMat4, DVec3};
 
-use super::solids::linear;
+use super::solids::{linear, rotation};
 use check::Check;
 pub(super) use check::physical_memory;
 use schema::{
@@ -499,11 +499,7 @@ impl Objects<'_> {
             ));
         }
         let r = rotate * (std::f64::consts::PI / 180.0);
-        let rotation =
-            DMat4::from_rotation_z(r.z) * DMat4::from_rotation_y(r.y) * DMat4::from_rotation_x(r.x);
-        Ok(DAffine3::from_mat4(
-            DMat4::from_translation(translate) * rotation * DMat4::from_scale(scale),
-        ))
+        Ok(DAffine3::from_translation(translate) * rotation(r) * DAffine3::from_scale(scale))
     }
 
     /// The index of the material an object names, if it names one.

@@ -35,7 +35,7 @@ impl Parser {
                 } else {
                     w
                 };
-                self.colour_word(&w, &mut c, loc)?;
+                self.colour_word(&w, &mut c)?;
             }
         }
         while let Some(w) = self.peek_word()? {
@@ -44,14 +44,13 @@ impl Parser {
             {
                 break;
             }
-            let loc = self.here();
             self.next()?;
-            self.colour_word(&w, &mut c, loc)?;
+            self.colour_word(&w, &mut c)?;
         }
         Ok(Value::Vector(c.to_vec()))
     }
 
-    fn colour_word(&mut self, w: &str, c: &mut [f64; 5], loc: Loc) -> Result<()> {
+    fn colour_word(&mut self, w: &str, c: &mut [f64; 5]) -> Result<()> {
         let component = |w: &str| match w {
             "red" => 0,
             "green" => 1,
@@ -77,7 +76,6 @@ impl Parser {
                 return Err(self.error_at(vloc, format!("`{w}` takes a vector of {n} numbers")));
             }
         };
-        let _ = loc;
         *c = [0.0; 5];
         c[..3].copy_from_slice(&values[..3]);
         match w {

@@ -2,8 +2,9 @@
 //! `sqrt`, `sin`, `pow`, `max`, `vlength`, `vcross`, `select` and the like.
 
 use super::parse::{Loc, Parser};
-use super::value::{Value, rotation};
+use super::value::Value;
 use crate::error::Result;
+use crate::scene::solids::rotation;
 
 impl Parser {
     /// A call of a built-in function `name`, if it is one.

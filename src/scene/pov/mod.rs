@@ -167,11 +167,11 @@ fn statements(p: &mut Parser) -> Result<Statements> {
         }
     }
     if !s.globals.gamma {
-        p.warn(
-            parse::Loc::default(),
-            "no `assumed_gamma` in global_settings: POV-Ray 3.7 then treats colours by its \
-             older gamma rules; sturmray reads them as linear, as with `assumed_gamma 1.0`",
-        );
+        let file = p.files[0].display().to_string();
+        p.warnings.push(format!(
+            "{file}: no `assumed_gamma` in global_settings: POV-Ray 3.7 then treats colours \
+             by its older gamma rules; sturmray reads them as linear, as with `assumed_gamma 1.0`"
+        ));
     }
     Ok(s)
 }

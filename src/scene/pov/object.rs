@@ -187,7 +187,7 @@ impl Parser {
                 }
             }
             "light_source" => {
-                let light = self.light_source(loc)?;
+                let light = self.light_source()?;
                 self.count("light_source");
                 return Ok(Some(Obj::new(Kind::Light(light), loc)));
             }
@@ -555,5 +555,8 @@ pub fn poly_terms(n: u32, v: &[f64]) -> Trivariate {
 
 /// Whether a pigment lets all light through (POV-Ray's `Clear`).
 pub fn clear(p: &Pigment) -> bool {
-    matches!(p, Pigment::Colour(c) if c[3] + c[4] >= 1.0)
+    // Filtered light takes the pigment's colour: only a white filter (or
+    // transmit, which is uncoloured) lets all of it through.
+    matches!(p, Pigment::Colour(c)
+        if c[3] + c[4] >= 1.0 && (c[3] == 0.0 || c[..3].iter().all(|&v| v >= 1.0)))
 }

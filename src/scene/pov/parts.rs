@@ -13,7 +13,7 @@ use crate::error::Result;
 
 impl Parser {
     /// `light_source { position, colour, … }` after its `{`.
-    pub(super) fn light_source(&mut self, loc: Loc) -> Result<LightSource> {
+    pub(super) fn light_source(&mut self) -> Result<LightSource> {
         let position = self.vector()?;
         self.eat(',')?;
         let cloc = self.here();
@@ -82,7 +82,6 @@ impl Parser {
                 other => self.unknown_item(iloc, other, "light_source")?,
             }
         }
-        let _ = loc;
         light.position = transform.transform_point3(light.position);
         if let Some((a, b, n1, n2)) = light.area {
             light.area = Some((
@@ -137,7 +136,6 @@ impl Parser {
         let mut faces: Vec<([usize; 3], Option<usize>)> = Vec::new();
         let mut textures: Vec<Texture> = Vec::new();
         while let Some(w) = self.peek_word()? {
-            let section_loc = self.here();
             match w.as_str() {
                 "vertex_vectors" | "normal_vectors" | "uv_vectors" => {
                     self.next()?;
@@ -201,7 +199,6 @@ impl Parser {
                 }
                 _ => break,
             }
-            let _ = section_loc;
         }
         let mut triangles = Vec::with_capacity(faces.len());
         for (idx, texture) in faces {

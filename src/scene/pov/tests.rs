@@ -612,3 +612,15 @@ fn the_rich_scene_reads() {
     assert_eq!(scene.meshes.len(), 1);
     assert_eq!(scene.lights.len(), 4);
 }
+
+#[test]
+fn only_uncoloured_light_makes_a_part_clear() {
+    use super::object::clear;
+    use super::texture::Pigment;
+    // POV-Ray's Clear (rgbf 1), and transmit, which is never coloured.
+    assert!(clear(&Pigment::Colour([1.0, 1.0, 1.0, 1.0, 0.0])));
+    assert!(clear(&Pigment::Colour([0.2, 0.0, 0.0, 0.0, 1.0])));
+    // A red filter lets only red through: a surface, not a cut.
+    assert!(!clear(&Pigment::Colour([1.0, 0.0, 0.0, 1.0, 0.0])));
+    assert!(!clear(&Pigment::Colour([1.0, 1.0, 1.0, 0.5, 0.4])));
+}

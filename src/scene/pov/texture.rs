@@ -6,8 +6,9 @@ use glam::{DAffine3, DVec3};
 
 use super::lex::Tok;
 use super::parse::{Loc, Parser};
-use super::value::{Value, rotation};
+use super::value::Value;
 use crate::error::Result;
+use crate::scene::solids::rotation;
 use crate::shading::Finish;
 
 /// POV-Ray's pigment, as far as the subset goes.

@@ -474,11 +474,6 @@ impl Parser {
     }
 }
 
-/// POV-Ray's rotation by `r` (radians) about x, then y, then z.
-pub fn rotation(r: glam::DVec3) -> DAffine3 {
-    DAffine3::from_rotation_z(r.z) * DAffine3::from_rotation_y(r.y) * DAffine3::from_rotation_x(r.x)
-}
-
 /// String functions: a declaration made with one is a string, outside the subset.
 const STRING_FUNCTIONS: &[&str] = &[
     "concat", "str", "chr", "substr", "strupr", "strlwr", "vstr", "datetime",
