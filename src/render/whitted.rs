@@ -37,8 +37,18 @@ impl Whitted<'_> {
     pub fn sample(&self, ray: &Ray, rng: &mut Rng, tally: &mut Tally) -> Sample {
         let walk = &mut Walk { tally, rng };
         let hit = self.accel.intersect(ray);
-        let radiance = self.follow(ray, &hit, RayKind::Camera, 0, Vec3::ONE, walk);
-        if !hit.is_hit() {
+        // Once for the ray tree and the AOVs: an analytic hit's error bound
+        // costs a substitution of the ray into its polynomial.
+        let it = hit.is_hit().then(|| self.scene.interaction(ray, &hit));
+        let radiance = self.follow_from(
+            ray,
+            (&hit, it.as_ref()),
+            RayKind::Camera,
+            0,
+            Vec3::ONE,
+            walk,
+        );
+        let Some(it) = it else {
             return Sample {
                 radiance,
                 weight: 1.0,
@@ -46,8 +56,7 @@ impl Whitted<'_> {
                 normal: Vec3::ZERO,
                 albedo: Vec3::ZERO,
             };
-        }
-        let it = self.scene.interaction(ray, &hit);
+        };
         Sample {
             radiance,
             weight: 1.0,
@@ -67,15 +76,27 @@ impl Whitted<'_> {
         weight: Vec3,
         walk: &mut Walk<'_>,
     ) -> Vec3 {
+        let it = hit.is_hit().then(|| self.scene.interaction(ray, hit));
+        self.follow_from(ray, (hit, it.as_ref()), kind, depth, weight, walk)
+    }
+
+    /// `follow`, with the hit's interaction (`None` for a miss) already known.
+    fn follow_from(
+        &self,
+        ray: &Ray,
+        (hit, it): (&Hit, Option<&Interaction>),
+        kind: RayKind,
+        depth: u32,
+        weight: Vec3,
+        walk: &mut Walk<'_>,
+    ) -> Vec3 {
         walk.tally.count(kind, depth);
         let node = walk
             .tally
             .open(|| Node::of_hit(self.scene, hit, kind, depth, weight));
-        let radiance = if hit.is_hit() {
-            let it = self.scene.interaction(ray, hit);
-            self.shade(ray, &it, depth, weight, walk)
-        } else {
-            self.scene.background
+        let radiance = match it {
+            Some(it) => self.shade(ray, it, depth, weight, walk),
+            None => self.scene.background,
         };
         walk.tally.finish(node, radiance);
         radiance

@@ -167,7 +167,7 @@ impl Solver {
 
     /// Refines a simple root of `f` in [lo, hi], where f(lo) and f(hi) have
     /// opposite signs.
-    fn refine_bracket<const S: usize>(
+    pub(super) fn refine_bracket<const S: usize>(
         &self,
         f: &PolyN<S>,
         lo: f64,

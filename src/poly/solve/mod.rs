@@ -26,6 +26,7 @@
 //! Sturm isolation and refinement, `direct` the closed forms and Yuksel's
 //! method.
 
+mod bernstein;
 mod condition;
 mod direct;
 mod isolate;
@@ -37,7 +38,10 @@ use crate::poly::MAX_DEGREE;
 use crate::poly::exact::{Isolation, Relative};
 use crate::poly::univariate::{Poly, PolyN, QUARTIC_SLOTS, SMALL_SLOTS, normalize_pow2};
 
-use condition::{Search, is_interval, opposite};
+use bernstein::{Question, Screen};
+use condition::{
+    Search, clip_to_root_bound, is_interval, negligible_above, opposite, strictly_inside,
+};
 use direct::DirectRoots;
 
 use std::cell::Cell;
@@ -199,11 +203,41 @@ impl Solver {
         if let Some(found) = self.direct_roots(p, a, b, a) {
             return found.iter().copied().find(|&t| t > a && t < b);
         }
+        match self.screen(p, a, b, Question::Nearest) {
+            (Screen::Empty, _) => return None,
+            (Screen::Nearest { lo, hi, flo, fhi }, counted) => {
+                let t = self.refine_bracket(&counted, lo, hi, flo, fhi);
+                return Some(strictly_inside(t, a, b));
+            }
+            _ => {}
+        }
         let mut search = Search::EMPTY;
         if !search.prepare(p, a, b) {
             return None;
         }
         self.nearest_in(&search, a, b)
+    }
+
+    /// The Bernstein first pass ([`bernstein`]) at degree 16 or less, on p
+    /// as the Sturm chain counts it: within the root bound, without the
+    /// leading terms below one rounding on the interval. Returns that
+    /// polynomial too, which refines the root.
+    fn screen<const S: usize>(
+        &self,
+        p: &PolyN<S>,
+        a: f64,
+        b: f64,
+        question: Question,
+    ) -> (Screen, PolyN<S>) {
+        if p.degree() >= SMALL_SLOTS {
+            return (Screen::Unsure, *p);
+        }
+        let Some((lo, hi)) = clip_to_root_bound(p, a, b) else {
+            return (Screen::Unsure, *p);
+        };
+        let degree = negligible_above(p, lo.abs().max(hi.abs()), f64::EPSILON);
+        let counted = PolyN::new(&p.coeffs()[..=degree]);
+        (bernstein::screen(&counted, lo, hi, question), counted)
     }
 
     /// Whether any root lies in (a, b): for shadow rays. Counts only, never
@@ -222,6 +256,11 @@ impl Solver {
         }
         if a.is_finite() && b.is_finite() && opposite(p.eval(a), p.eval(b)) {
             return true;
+        }
+        match self.screen(p, a, b, Question::Any).0 {
+            Screen::Empty => return false,
+            Screen::Some | Screen::Nearest { .. } => return true,
+            Screen::Unsure => {}
         }
         let mut search = Search::EMPTY;
         if !search.prepare(p, a, b) {
