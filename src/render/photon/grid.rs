@@ -17,6 +17,10 @@ pub struct Photon {
     pub flux: Vec3,
 }
 
+/// The largest cell index on each axis, in either direction: its neighbours'
+/// are still i32s.
+const CELL_LIMIT: i32 = 1 << 30;
+
 #[derive(Clone, Debug, PartialEq)]
 pub struct Grid {
     /// 1 / the cell width.
@@ -103,8 +107,14 @@ impl Grid {
     }
 
     fn cell(&self, p: Vec3) -> [i32; 3] {
-        // `as` saturates, so a point far outside the scene still gets a cell.
-        (p * self.inv_cell).floor().to_array().map(|c| c as i32)
+        // Clamped (and `as` saturates), so a point far outside the scene, or a
+        // radius tiny beside the coordinates, still gets a cell whose
+        // neighbours' indices do not overflow. The cells at the clamp then
+        // hold many photons, which the distance test still sorts out.
+        (p * self.inv_cell)
+            .floor()
+            .to_array()
+            .map(|c| (c as i32).clamp(-CELL_LIMIT, CELL_LIMIT))
     }
 
     /// Teschner et al.'s spatial hash (2003): three large primes, xor-ed.
@@ -158,6 +168,19 @@ mod tests {
         let grid = Grid::new(Vec::new(), 1.0);
         assert!(grid.is_empty());
         grid.for_each_near(Vec3::ZERO, |_| panic!("no photons"));
+    }
+
+    #[test]
+    fn a_radius_tiny_beside_the_coordinates_still_gathers() {
+        // 3e8 / (2 · 0.01) is far beyond i32: every cell index clamps. The
+        // f32 spacing there is 32, so the neighbour lies far outside the radius.
+        let p = Vec3::splat(3e8);
+        let photons = vec![photon(p), photon(p), photon(p + Vec3::X * 32.0)];
+        let grid = Grid::new(photons, 0.01);
+        let mut count = 0;
+        grid.for_each_near(p, |_| count += 1);
+        assert_eq!(count, 2);
+        grid.for_each_near(-p, |_| panic!("nothing near the opposite corner"));
     }
 
     #[test]
