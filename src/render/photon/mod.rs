@@ -195,6 +195,15 @@ impl Tracer<'_> {
             if !hit.is_hit() {
                 return None;
             }
+            // Only a specular first hit can start a caustic; anything else is
+            // direct light, dropped before the work of an interaction (most
+            // photons, where a small glass ball sits over a wide floor).
+            if depth == 0 {
+                let material = &self.scene.materials[self.scene.material_of(&hit) as usize];
+                if !Bsdf::from_material(material).is_delta() {
+                    return None;
+                }
+            }
             let it = self.scene.interaction(&ray, &hit);
             let bsdf = Bsdf::at(&self.scene.materials[it.material as usize], it.p);
             let wo = -ray.dir;
