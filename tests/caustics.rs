@@ -1,6 +1,8 @@
 //! Caustics by the photon pass: a mirror's caustic against the closed form of
-//! its mirror-image light, a glass sphere's focused spot, the plan deciding
-//! when the pass exists, and determinism across thread counts.
+//! its mirror-image light, locally and in total at the default radius, a glass
+//! sphere's focused spot, the default radius set by the caustic and not by the
+//! floor, the plan deciding when the pass exists, and determinism across
+//! thread counts.
 
 mod common;
 
@@ -9,6 +11,7 @@ use std::f32::consts::PI;
 use common::{scratch, sturmray, write};
 use sturmray::accel::{Accel, Backend};
 use sturmray::math::Vec3;
+use sturmray::render::photon::RadiusFrom;
 use sturmray::render::{PhotonMap, Plan, RenderOptions, render, thread_pool};
 use sturmray::scene::Scene;
 
@@ -20,8 +23,13 @@ fn square(s: f32, z: f32) -> String {
 /// Loads `text` as a scene beside a floor, [-4, 4]² at z = 0, and a square
 /// mirror, [-3, 3]² at z = 1.2.
 fn load(name: &str, text: &str) -> Scene {
+    load_on(name, 4.0, text)
+}
+
+/// `load` with a floor [-half, half]².
+fn load_on(name: &str, half: f32, text: &str) -> Scene {
     let dir = scratch(name);
-    write(&dir, "floor.obj", &square(4.0, 0.0));
+    write(&dir, "floor.obj", &square(half, 0.0));
     write(&dir, "mirror.obj", &square(3.0, 1.2));
     Scene::load(&write(&dir, "s.toml", text)).unwrap()
 }
@@ -35,7 +43,6 @@ fn options(threads: usize) -> RenderOptions {
 
 fn build_map(scene: &Scene, accel: &Accel, threads: usize) -> PhotonMap {
     let settings = scene.render.photons;
-    let radius = settings.radius(scene.bounds());
     let pool = thread_pool(Some(threads)).unwrap();
     let never = || false;
     let (map, counts) = pool
@@ -44,7 +51,7 @@ fn build_map(scene: &Scene, accel: &Accel, threads: usize) -> PhotonMap {
                 scene,
                 accel,
                 settings.count,
-                radius,
+                settings.radius,
                 scene.render.max_depth,
                 &never,
             )
@@ -120,7 +127,7 @@ fn a_mirror_caustic_matches_the_mirror_image_light() {
     assert!(Plan::for_scene(&scene).photon);
     let accel = Accel::build(&scene, Backend::Embree, None).unwrap();
     let map = build_map(&scene, &accel, 2);
-    let r = map.radius();
+    let r = map.radius().value;
     // Five disjoint gather disks. Together they hold about 5 600 of the million
     // photons, so the sum's relative standard deviation is about 1/√5600 ≈ 1.3 %;
     // 5 % is about four of them.
@@ -167,8 +174,15 @@ fn a_mirror_caustic_matches_the_mirror_image_light() {
 /// intensity 9 above it (irradiance 1 at the floor's centre without the ball),
 /// seen obliquely; `photons` is the count.
 fn glass(name: &str, photons: u32, extra: &str) -> Scene {
-    load(
+    let settings = format!("photons = {{ count = {photons}, radius = 0.05 }}\n{extra}");
+    glass_on(name, 4.0, &settings)
+}
+
+/// The glass ball over a floor [-half, half]², with `render` lines of its own.
+fn glass_on(name: &str, half: f32, render: &str) -> Scene {
+    load_on(
         name,
+        half,
         &format!(
             r#"
 [camera]
@@ -179,8 +193,7 @@ width = 32
 height = 32
 [render]
 spp = 1
-photons = {{ count = {photons}, radius = 0.05 }}
-{extra}
+{render}
 [materials.paint]
 type = "diffuse"
 albedo = [0.8, 0.8, 0.8]
@@ -203,6 +216,80 @@ intensity = [9, 9, 9]
 "#
         ),
     )
+}
+
+#[test]
+fn the_mirror_caustics_total_power_is_right_at_the_default_radius() {
+    // The default count and radius: 200 000 photons, the radius they call for.
+    let scene = load(
+        "mirror-default",
+        &MIRROR.replace("photons = { count = 1_000_000, radius = 0.1 }", ""),
+    );
+    let accel = Accel::build(&scene, Backend::Embree, None).unwrap();
+    let map = build_map(&scene, &accel, 2);
+    let radius = map.radius();
+    assert_eq!(radius.from, RadiusFrom::Photons);
+    let r = radius.value;
+    // Gathers on a grid of spacing h = r/2 over the floor and a rim r wide
+    // around it, so each photon lies in about π r²/h² ≈ 12.6 disks wherever it
+    // is: Σ gather · h² is the total caustic power the floor receives.
+    let h = r / 2.0;
+    let n = ((4.0 + r) / h).ceil() as i32;
+    let mut gathered = 0.0f64;
+    for i in -n..=n {
+        for j in -n..=n {
+            let p = Vec3::new(i as f32 * h, j as f32 * h, 0.0);
+            gathered += f64::from(map.caustic(p, Vec3::Z, |_| Vec3::ONE).x);
+        }
+    }
+    gathered *= f64::from(h * h);
+    // The closed form: the mirror-image light's irradiance over [-4, 4]²
+    // (midpoint rule, 800² cells, far finer than the irradiance varies).
+    let cells = 800;
+    let side = 8.0 / cells as f32;
+    let mut expected = 0.0f64;
+    for i in 0..cells {
+        for j in 0..cells {
+            let x = Vec3::new(
+                -4.0 + (i as f32 + 0.5) * side,
+                -4.0 + (j as f32 + 0.5) * side,
+                0.0,
+            );
+            expected += f64::from(mirror_irradiance(x) * side * side);
+        }
+    }
+    // The map holds tens of thousands of photons (about 0.5% noise in their
+    // total), and the grid counts each in 12.6 disks on average, within a few
+    // tenths of a percent over so many: 2% is four times both together.
+    assert!(
+        (gathered / expected - 1.0).abs() < 0.02,
+        "caustic power {gathered} vs {expected} at radius {r}"
+    );
+}
+
+#[test]
+fn the_default_radius_is_the_caustics_scale_not_the_floors() {
+    // The glass ball's caustic on a floor 8 units wide and on one 2000 wide:
+    // the old rule, 1/200 of the scene's diagonal, gave 0.06 and 14.1.
+    let radius = |name: &str, half: f32| {
+        let scene = glass_on(name, half, "");
+        let accel = Accel::build(&scene, Backend::Embree, None).unwrap();
+        let map = build_map(&scene, &accel, 2);
+        map.radius()
+    };
+    let small = radius("floor-8", 4.0);
+    let large = radius("floor-2000", 1000.0);
+    assert_eq!(large.from, RadiusFrom::Photons);
+    // The ball of radius 0.5 focuses the light into a spot a few tenths
+    // across: the radius is a fraction of that.
+    assert!(large.value > 0.0 && large.value < 0.05, "{large:?}");
+    // The wide floor adds only the 1% of photons that glass throws far away,
+    // too sparse to count: they shift the middle half of the distances the
+    // rule averages by half a percent of them, a few percent of the radius.
+    assert!(
+        (large.value / small.value - 1.0).abs() < 0.1,
+        "{large:?} vs {small:?}"
+    );
 }
 
 #[test]
@@ -318,7 +405,7 @@ fn photon_settings_are_checked_and_named() {
         let err = Scene::load(&path).unwrap_err().to_string();
         assert!(err.contains(key), "{setting}: {err}");
     }
-    // Left out: 200 000 photons and a radius from the scene's size.
+    // Left out: 200 000 photons and a radius from the photons.
     let scene = glass("photon-defaults", 1, "").render.photons;
     let unset = MIRROR.replace("photons = { count = 1_000_000, radius = 0.1 }", "");
     let defaults = load("photon-unset", &unset).render.photons;
@@ -358,7 +445,21 @@ fn the_cli_prints_the_plan_and_counts_photon_rays() {
         let rays = stats["rays"]["photon"].as_u64().unwrap();
         assert_eq!(rays >= 5000, expect_rays, "--photons {photons}: {rays}");
         assert_eq!(rays == 0, !expect_rays);
+        // The report names the radius and where it came from.
+        let report = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(
+            report.contains("radius 1.000e-1 (render.photons.radius)"),
+            expect_rays,
+            "{report}"
+        );
     }
+    write(&dir, "u.toml", &text.replace(", radius = 0.1", ""));
+    let out = sturmray(&dir, &["render", "u.toml"]);
+    let report = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        report.contains("(from the photons: 16 within it around a typical one of 4096 sampled)"),
+        "{report}"
+    );
     let diffuse = MIRROR.replace("material = \"chrome\"", "material = \"paint\"");
     write(&dir, "d.toml", &diffuse);
     let info = sturmray(&dir, &["info", "d.toml"]);

@@ -254,17 +254,23 @@ fn photon_pass(
     // The count may come from --photons as well as the scene.
     PhotonSettings::check_count(settings.count)
         .map_err(|e| Error::Input(format!("photons (--photons or render.photons.count): {e}")))?;
-    let radius = settings.radius(scene.bounds());
-    let Some((map, counts)) =
-        PhotonMap::build(scene, accel, settings.count, radius, plan.max_depth, stop)
-    else {
+    let Some((map, counts)) = PhotonMap::build(
+        scene,
+        accel,
+        settings.count,
+        settings.radius,
+        plan.max_depth,
+        stop,
+    ) else {
         return Ok((None, RayStats::default()));
     };
     if report {
         crate::io::console::note(format_args!(
-            "photon map: {} of {} photons stored, radius {radius:.4}, {:.2} s",
+            "photon map: {} of {} photons stored, radius {:.3e} ({}), {:.2} s",
             counts.stored,
             counts.emitted,
+            map.radius().value,
+            map.radius().from,
             start.elapsed().as_secs_f64()
         ));
     }

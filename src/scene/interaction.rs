@@ -17,9 +17,20 @@ pub struct Interaction {
 }
 
 impl Scene {
+    /// The material `hit` found, which must be a hit in this scene: what
+    /// `interaction` says, without the work of finding the point and normal.
+    pub fn material_of(&self, hit: &Hit) -> u32 {
+        if hit.geom_id == self.shapes_geom_id() {
+            // A shape's hit carries its CSG part in u (see accel::analytic).
+            self.shapes[hit.prim_id as usize].material_of(hit.u as u32)
+        } else {
+            self.meshes[hit.geom_id as usize].materials[hit.prim_id as usize]
+        }
+    }
+
     /// The shading point of `hit`, which must be a hit of `ray` in this scene.
     pub fn interaction(&self, ray: &Ray, hit: &Hit) -> Interaction {
-        let (p, error, material) = if hit.geom_id == self.shapes_geom_id() {
+        let (p, error) = if hit.geom_id == self.shapes_geom_id() {
             let shape = &self.shapes[hit.prim_id as usize];
             let p = ray.at(hit.t);
             // The root's own uncertainty (see `Shape::hit_error`), then t and o + t·d
@@ -35,7 +46,7 @@ impl Scene {
             let t_error = root as f32 + hit.t.abs() * f32::EPSILON;
             let error =
                 t_error * ray.dir.abs() + gamma(3) * (ray.origin.abs() + (hit.t * ray.dir).abs());
-            (p, error, shape.material_of(part))
+            (p, error)
         } else {
             let mesh = &self.meshes[hit.geom_id as usize];
             let [p0, p1, p2] =
@@ -53,7 +64,7 @@ impl Scene {
             let error = Vec3::splat(
                 gamma(7) * ((b0 * p0).abs() + (b1 * p1).abs() + (b2 * p2).abs()).max_element(),
             );
-            (p, error, mesh.materials[hit.prim_id as usize])
+            (p, error)
         };
         let outward = crate::math::unit(hit.ng);
         let front = outward.dot(ray.dir) <= 0.0;
@@ -63,7 +74,7 @@ impl Scene {
             p,
             error,
             n,
-            material,
+            material: self.material_of(hit),
         }
     }
 }

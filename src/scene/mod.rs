@@ -79,29 +79,9 @@ pub const MAX_DEPTH: u32 = 256;
 pub struct PhotonSettings {
     /// Photons emitted from the lights; 0 turns the pass off.
     pub count: u32,
-    /// The gather radius; `None` derives it from the scene's size (see `radius`).
+    /// The gather radius; `None` derives it from the stored photons
+    /// (`render::photon::Radius`), never from the scene's size.
     pub radius: Option<f32>,
-}
-
-impl PhotonSettings {
-    /// The default gather radius as a fraction of the scene's bounding-box
-    /// diagonal: 1/200 keeps a caustic's edges within a few pixels of a
-    /// framing view while the default count still puts tens of photons in a
-    /// bright caustic's gather disk.
-    pub const RADIUS_FRACTION: f32 = 1.0 / 200.0;
-
-    /// The gather radius for a scene with these bounds.
-    pub fn radius(&self, bounds: Bounds) -> f32 {
-        self.radius.unwrap_or_else(|| {
-            let size = bounds.diagonal().length();
-            // An empty scene has no caustics; any positive radius will do.
-            if size.is_finite() && size > 0.0 {
-                Self::RADIUS_FRACTION * size
-            } else {
-                1.0
-            }
-        })
-    }
 }
 
 impl PhotonSettings {

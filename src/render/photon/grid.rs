@@ -17,6 +17,24 @@ pub struct Photon {
     pub flux: Vec3,
 }
 
+/// The largest cell index on each axis, in either direction: its neighbours'
+/// are still i32s.
+const CELL_LIMIT: i32 = 1 << 30;
+
+#[cfg(test)]
+impl Photon {
+    /// A photon at `p` from straight above, its flux `p` itself, so a test can
+    /// tell which one a gather found.
+    pub fn at(p: Vec3) -> Photon {
+        Photon {
+            p,
+            wi: Vec3::Z,
+            n: Vec3::Z,
+            flux: p,
+        }
+    }
+}
+
 #[derive(Clone, Debug, PartialEq)]
 pub struct Grid {
     /// 1 / the cell width.
@@ -103,8 +121,14 @@ impl Grid {
     }
 
     fn cell(&self, p: Vec3) -> [i32; 3] {
-        // `as` saturates, so a point far outside the scene still gets a cell.
-        (p * self.inv_cell).floor().to_array().map(|c| c as i32)
+        // Clamped (and `as` saturates), so a point far outside the scene, or a
+        // radius tiny beside the coordinates, still gets a cell whose
+        // neighbours' indices do not overflow. The cells at the clamp then
+        // hold many photons, which the distance test still sorts out.
+        (p * self.inv_cell)
+            .floor()
+            .to_array()
+            .map(|c| (c as i32).clamp(-CELL_LIMIT, CELL_LIMIT))
     }
 
     /// Teschner et al.'s spatial hash (2003): three large primes, xor-ed.
@@ -121,20 +145,11 @@ mod tests {
     use super::*;
     use crate::sampling::Rng;
 
-    fn photon(p: Vec3) -> Photon {
-        Photon {
-            p,
-            wi: Vec3::Z,
-            n: Vec3::Z,
-            flux: p,
-        }
-    }
-
     #[test]
     fn finds_exactly_the_photons_a_brute_force_search_finds() {
         let mut rng = Rng::for_sample(1, 2, 3);
         let mut point = || Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 4.0 - 2.0;
-        let photons: Vec<Photon> = (0..3000).map(|_| photon(point())).collect();
+        let photons: Vec<Photon> = (0..3000).map(|_| Photon::at(point())).collect();
         let radius = 0.3;
         let grid = Grid::new(photons.clone(), radius);
         assert_eq!(grid.len(), photons.len());
@@ -161,9 +176,22 @@ mod tests {
     }
 
     #[test]
+    fn a_radius_tiny_beside_the_coordinates_still_gathers() {
+        // 3e8 / (2 · 0.01) is far beyond i32: every cell index clamps. The
+        // f32 spacing there is 32, so the neighbour lies far outside the radius.
+        let p = Vec3::splat(3e8);
+        let photons = vec![Photon::at(p), Photon::at(p), Photon::at(p + Vec3::X * 32.0)];
+        let grid = Grid::new(photons, 0.01);
+        let mut count = 0;
+        grid.for_each_near(p, |_| count += 1);
+        assert_eq!(count, 2);
+        grid.for_each_near(-p, |_| panic!("nothing near the opposite corner"));
+    }
+
+    #[test]
     fn a_tiny_table_with_colliding_buckets_counts_each_photon_once() {
         // Two photons: two buckets, so neighbouring cells collide.
-        let photons = vec![photon(Vec3::splat(0.1)), photon(Vec3::splat(-0.1))];
+        let photons = vec![Photon::at(Vec3::splat(0.1)), Photon::at(Vec3::splat(-0.1))];
         let grid = Grid::new(photons, 1.0);
         let mut count = 0;
         grid.for_each_near(Vec3::ZERO, |_| count += 1);

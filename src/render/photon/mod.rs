@@ -4,13 +4,15 @@
 //! Direct light is the shadow rays' job, so photons that reach a diffuse
 //! surface straight from a light are not stored. The eye pass gathers the
 //! stored photons at its diffuse hits: density estimation over a disk of
-//! fixed radius.
+//! fixed radius, the scene's or one derived from the photons (`radius`).
 //!
 //! Photon i draws from its own random stream, keyed by (seed, i) on a stream
 //! no camera sample uses, and the map keeps emission order, so it is the same
 //! for any thread count.
 
 mod grid;
+mod nearest;
+mod radius;
 
 use std::f32::consts::PI;
 
@@ -18,6 +20,7 @@ use rayon::prelude::*;
 
 use grid::Grid;
 pub use grid::Photon;
+pub use radius::{Radius, RadiusFrom};
 
 use super::tally::{RayKind, RayStats, Tally};
 use crate::accel::Accel;
@@ -49,7 +52,7 @@ pub fn receives(bsdf: &Bsdf) -> bool {
 #[derive(Clone, Debug, PartialEq)]
 pub struct PhotonMap {
     grid: Grid,
-    radius: f32,
+    radius: Radius,
 }
 
 /// How the photon pass went, for reports.
@@ -62,13 +65,14 @@ pub struct PhotonCounts {
 
 impl PhotonMap {
     /// Traces `count` photons through `scene`, following at most `max_depth`
-    /// specular bounces each, in parallel on the current rayon pool. `None`
-    /// if `stop` says so before every chunk of photons is traced.
+    /// specular bounces each, in parallel on the current rayon pool, to be
+    /// gathered with `radius` or, without one, the radius the photons call
+    /// for. `None` if `stop` says so before every chunk of photons is traced.
     pub fn build(
         scene: &Scene,
         accel: &Accel,
         count: u32,
-        radius: f32,
+        radius: Option<f32>,
         max_depth: u32,
         stop: &(dyn Fn() -> bool + Sync),
     ) -> Option<(PhotonMap, PhotonCounts)> {
@@ -106,8 +110,9 @@ impl PhotonMap {
             stored: photons.len(),
             rays,
         };
+        let radius = Radius::choose(radius, &photons);
         let map = PhotonMap {
-            grid: Grid::new(photons, radius),
+            grid: Grid::new(photons, radius.value),
             radius,
         };
         Some((map, counts))
@@ -125,10 +130,11 @@ impl PhotonMap {
                 sum += ph.flux * f(ph.wi);
             }
         });
-        sum / (PI * self.radius * self.radius)
+        let r = self.radius.value;
+        sum / (PI * r * r)
     }
 
-    pub fn radius(&self) -> f32 {
+    pub fn radius(&self) -> Radius {
         self.radius
     }
 
@@ -188,6 +194,15 @@ impl Tracer<'_> {
             let hit = self.accel.intersect(&ray);
             if !hit.is_hit() {
                 return None;
+            }
+            // Only a specular first hit can start a caustic; anything else is
+            // direct light, dropped before the work of an interaction (most
+            // photons, where a small glass ball sits over a wide floor).
+            if depth == 0 {
+                let material = &self.scene.materials[self.scene.material_of(&hit) as usize];
+                if !Bsdf::from_material(material).is_delta() {
+                    return None;
+                }
             }
             let it = self.scene.interaction(&ray, &hit);
             let bsdf = Bsdf::at(&self.scene.materials[it.material as usize], it.p);
