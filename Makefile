@@ -18,7 +18,7 @@ EMBREE4_DIR := $(CURDIR)/embree4
 EMBREE4_TARGET := target/embree4
 
 .PHONY: setup render test test-rust test-python lint bench scenes clean embree4 test-embree4 \
-	fuzz check-memory wrapper-overhead povray-compare povray-speed photon-radius
+	fuzz check-memory wrapper-overhead povray-compare povray-speed photon-radius peers
 
 # Installs those of the Debian packages $(1) that are missing (none: no apt-get at all).
 define apt_install
@@ -119,6 +119,19 @@ PHOTON_ROUNDS ?= 7
 photon-radius:
 	cargo build --release
 	python3 tools/photon_radius.py --bin $(RELEASE_BIN) --rounds $(PHOTON_ROUNDS)
+
+# sturmray against its peers (issue 15; docs/peers.md): POV-Ray 3.7 on the
+# objects/quartic samples and Mitsuba 3 (llvm_ad_rgb, scalar_rgb) on the
+# Cornell box; one table of ratios, also written to out/peers.md. Installs
+# the peers first (tools/peers/setup.sh: Debian packages, .venv-peers). Not
+# part of `make test`. Mitsuba's LLVM variant aborts with Debian 12's default
+# LLVM, hence Debian's LLVM 19.
+PEERS_ROUNDS ?= 3
+peers: setup
+	tools/peers/setup.sh
+	cargo build --release
+	DRJIT_LIBLLVM_PATH=/usr/lib/x86_64-linux-gnu/libLLVM.so.19.1 .venv-peers/bin/python \
+	  tools/peers/run.py --sturmray $(RELEASE_BIN) --rounds $(PEERS_ROUNDS) --threads 2
 
 # Property-based fuzzing (proptest on stable Rust), not part of `make test` or
 # CI: each target runs FUZZ_CASES fresh random cases, or stops after
