@@ -179,3 +179,97 @@ fn point_light_over_a_diffuse_plane() {
         );
     }
 }
+
+/// The irradiance at x (unit normal n) from a uniform Lambertian polygon of
+/// radiance 1: Lambert's formula, E = ½ Σ_i θ_i (n · ĝ_i), with θ_i the
+/// angle edge i subtends at x and ĝ_i the unit normal of the plane through
+/// x and that edge (in f64; the sign of the sum follows the winding).
+fn polygon_irradiance(x: [f64; 3], n: [f64; 3], polygon: &[[f64; 3]]) -> f64 {
+    use glam::DVec3;
+    let (x, n) = (DVec3::from(x), DVec3::from(n));
+    let mut sum = 0.0;
+    for (i, &v) in polygon.iter().enumerate() {
+        let a = (DVec3::from(v) - x).normalize();
+        let b = (DVec3::from(polygon[(i + 1) % polygon.len()]) - x).normalize();
+        sum += a.dot(b).clamp(-1.0, 1.0).acos() * n.dot(a.cross(b).normalize());
+    }
+    0.5 * sum.abs()
+}
+
+#[test]
+fn a_square_area_light_over_a_diffuse_floor_at_every_depth() {
+    // A square emitter (side 1, radiance 1, facing down, black) 0.5 above
+    // a diffuse floor of albedo 0.5, path traced. Direct light is all the
+    // floor gets, so its radiance is ρ/π · E, E by Lambert's formula, at
+    // every max_depth: at depth 0 light sampling alone must carry it, at
+    // depth 1 and more MIS splits it with the BSDF-sampled ray that meets
+    // the light. (A depth-0 render that weighted its light sample for a
+    // BSDF ray it never traced lost a quarter of this light.)
+    let dir = scratch("square_light");
+    write(
+        &dir,
+        "floor.obj",
+        "v -4 -4 0\nv 4 -4 0\nv 4 4 0\nv -4 4 0\nf 1 2 3 4\n",
+    );
+    write(
+        &dir,
+        "panel.obj",
+        "v -0.5 -0.5 0.5\nv -0.5 0.5 0.5\nv 0.5 0.5 0.5\nv 0.5 -0.5 0.5\nf 1 2 3 4\n",
+    );
+    // The camera looks at the floor point (0.3, 0.2, 0) past the panel's
+    // edge, through one pixel narrow enough that E is constant over it.
+    let target = [0.3, 0.2, 0.0];
+    let expected = 0.5 / std::f64::consts::PI
+        * polygon_irradiance(
+            target,
+            [0.0, 0.0, 1.0],
+            &[
+                [-0.5, -0.5, 0.5],
+                [-0.5, 0.5, 0.5],
+                [0.5, 0.5, 0.5],
+                [0.5, -0.5, 0.5],
+            ],
+        );
+    for depth in [0, 1, 3] {
+        let text = format!(
+            r#"background = [0, 0, 0]
+[camera]
+eye = [2.3, 0.2, 0.6]
+look_at = [0.3, 0.2, 0]
+fov = 0.01
+width = 1
+height = 1
+[render]
+spp = 65536
+integrator = "path"
+max_depth = {depth}
+[materials.floor]
+type = "diffuse"
+albedo = [0.5, 0.5, 0.5]
+[materials.panel]
+type = "emissive"
+radiance = [1, 1, 1]
+albedo = [0, 0, 0]
+[[objects]]
+type = "mesh"
+file = "floor.obj"
+material = "floor"
+[[objects]]
+type = "mesh"
+file = "panel.obj"
+material = "panel"
+"#
+        );
+        let scene = Scene::load(&write(&dir, &format!("d{depth}.toml"), &text)).unwrap();
+        let accel = Accel::build(&scene, Backend::Embree, None).unwrap();
+        let out = render(&scene, &accel, &options(2)).unwrap();
+        let got = f64::from(out.film.layers().beauty[0][0]);
+        // 65536 samples of an estimator whose relative standard deviation
+        // per sample is 0.6 (depth 0) to 0.9 (depth 1), measured over 8
+        // seeds: a standard error of 0.35% at most, so 2% is 5.7 of them.
+        assert!(
+            (got - expected).abs() < 0.02 * expected,
+            "max_depth {depth}: {got} vs {expected}"
+        );
+    }
+}

@@ -40,6 +40,10 @@ struct Vertex<'v> {
     frame: &'v Frame,
     wo: Vec3,
     depth: u32,
+    /// Whether the BSDF-sampled ray from here is traced, so that a light it
+    /// meets counts with the other MIS weight. When it is not (the last
+    /// vertex), light sampling alone must carry the direct light: weight 1.
+    bsdf_continues: bool,
 }
 
 impl PathTracer<'_> {
@@ -105,6 +109,9 @@ impl PathTracer<'_> {
                     frame: &frame,
                     wo,
                     depth,
+                    // A non-delta BSDF sample is a diffuse or glossy ray:
+                    // traced only below the depth limit, if the plan has them.
+                    bsdf_continues: depth < self.plan.max_depth && self.plan.diffuse,
                 };
                 add += beta * self.direct(&vertex, rng, tally);
             }
@@ -195,7 +202,7 @@ impl PathTracer<'_> {
             return Vec3::ZERO;
         }
         // Delta lights (pdf 0) only light sampling reaches: weight 1.
-        let weight = if incident.pdf > 0.0 {
+        let weight = if incident.pdf > 0.0 && v.bsdf_continues {
             let bsdf_pdf = v.bsdf.pdf(v.frame, v.wo, incident.wi);
             power_heuristic(1.0, picked * incident.pdf, 1.0, bsdf_pdf)
         } else {
