@@ -10,6 +10,7 @@ use sturmray::io::console::note;
 use sturmray::io::output::Role;
 use sturmray::render::RenderOptions;
 use sturmray::render::job::{Job, Part, Written, preview_path, state_path};
+use sturmray::sampling::SamplerKind;
 use sturmray::scene::PhotonSettings;
 
 use super::shared::{
@@ -39,6 +40,9 @@ pub struct Args {
     /// Write ray counts and time as JSON.
     #[arg(long)]
     stats: Option<PathBuf>,
+    /// Where samples draw their numbers from (overrides the scene's `render.sampler`).
+    #[arg(long, value_enum)]
+    sampler: Option<SamplerArg>,
     /// Photons for caustics (overrides the scene's `render.photons.count`; 0: none).
     #[arg(long)]
     photons: Option<u32>,
@@ -59,6 +63,15 @@ pub struct Args {
     /// Continue an interrupted render from the film state beside the output.
     #[arg(long)]
     resume: bool,
+}
+
+// `--sampler`: the doc comments of the values are their help text.
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum SamplerArg {
+    /// Owen-scrambled Sobol points, stratified in every dimension (the default).
+    Sobol,
+    /// Independent random numbers, stratified in the pixel only.
+    Independent,
 }
 
 fn parse_tile(text: &str) -> Result<(usize, usize), String> {
@@ -92,6 +105,12 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         // Refused even where the plan has no photon pass: a typo either way.
         PhotonSettings::check_count(count).map_err(|e| Error::Input(format!("--photons: {e}")))?;
         scene.render.photons.count = count;
+    }
+    if let Some(sampler) = args.sampler {
+        scene.render.sampler = match sampler {
+            SamplerArg::Sobol => SamplerKind::Sobol,
+            SamplerArg::Independent => SamplerKind::Independent,
+        };
     }
     scene.camera.go_to_frame(args.frame);
     let output = args

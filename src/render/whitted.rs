@@ -12,16 +12,16 @@ use super::{PhotonMap, Plan};
 use crate::accel::Accel;
 use crate::film::Sample;
 use crate::math::{Hit, Ray, Vec3, offset};
-use crate::sampling::Rng;
+use crate::sampling::Sampler;
 use crate::scene::{Interaction, Scene};
 use crate::shading::fresnel;
 use crate::shading::{Material, MaterialKind};
 
-/// What one sample's walk down the tree carries: the counts and its random stream
+/// What one sample's walk down the tree carries: the counts and its sampler
 /// (area lights pick a point on themselves with it).
 struct Walk<'t> {
     tally: &'t mut Tally,
-    rng: &'t mut Rng,
+    sampler: &'t mut Sampler,
 }
 
 pub struct Whitted<'a> {
@@ -34,8 +34,8 @@ pub struct Whitted<'a> {
 
 impl Whitted<'_> {
     /// The radiance along a camera ray, with the first hit's AOVs.
-    pub fn sample(&self, ray: &Ray, rng: &mut Rng, tally: &mut Tally) -> Sample {
-        let walk = &mut Walk { tally, rng };
+    pub fn sample(&self, ray: &Ray, sampler: &mut Sampler, tally: &mut Tally) -> Sample {
+        let walk = &mut Walk { tally, sampler };
         let hit = self.accel.intersect(ray);
         let radiance = self.follow(ray, &hit, RayKind::Camera, 0, Vec3::ONE, walk);
         if !hit.is_hit() {
@@ -246,7 +246,9 @@ impl Whitted<'_> {
     /// Local shading from every point and directional light and one area light
     /// picked by power, each tested with a shadow ray; `brdf` is the
     /// material's local reflection model at the hit, a function of the
-    /// direction towards the light.
+    /// direction towards the light. Each shading point draws the same two
+    /// requests, the pick and a point for the area light (which the delta
+    /// lights ignore), in the order the tree is walked.
     fn direct(
         &self,
         it: &Interaction,
@@ -255,12 +257,13 @@ impl Whitted<'_> {
         weight: Vec3,
         walk: &mut Walk<'_>,
     ) -> Vec3 {
-        let pick = self.scene.light_picker.pick(walk.rng.next_f32());
+        let pick = self.scene.light_picker.pick(walk.sampler.get_1d());
+        let u = walk.sampler.get_2d();
         let area = pick.area.into_iter();
         let mut radiance = Vec3::ZERO;
         for (index, picked) in pick.delta.map(|i| (i, 1.0)).chain(area) {
             let light = &self.scene.lights[index];
-            let Some(incident) = light.incident(it.p, walk.rng.next_2d()) else {
+            let Some(incident) = light.incident(it.p, u) else {
                 continue;
             };
             let cos = it.n.dot(incident.wi);
