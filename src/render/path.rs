@@ -39,9 +39,7 @@ pub struct PathTracer<'a> {
 /// decision at each depth has its own dimensions in every sample, and its
 /// samples stratify it.
 struct Bounce {
-    /// Picks the area light.
-    pick: f32,
-    /// The point on the light.
+    /// Picks the area light, then the point on it (see `LightPicker::pick`).
     light: [f32; 2],
     /// The BSDF's lobe (u[0]) and direction (u[1], u[2]).
     bsdf: [f32; 3],
@@ -50,12 +48,10 @@ struct Bounce {
 
 impl Bounce {
     fn draw(sampler: &mut Sampler) -> Bounce {
-        let pick = sampler.get_1d();
         let light = sampler.get_2d();
         let lobe = sampler.get_1d();
         let [u1, u2] = sampler.get_2d();
         Bounce {
-            pick,
             light,
             bsdf: [lobe, u1, u2],
             roulette: sampler.get_1d(),
@@ -184,15 +180,15 @@ impl PathTracer<'_> {
 
     /// Next-event estimation: every delta light, and one area light picked by
     /// power, each through a shadow ray. The delta lights ignore the point
-    /// `u.light`, which is the area light's.
+    /// `pick.u`, which is the area light's.
     fn direct(&self, v: &Vertex<'_>, u: &Bounce, tally: &mut Tally) -> Vec3 {
-        let pick = self.scene.light_picker.pick(u.pick);
+        let pick = self.scene.light_picker.pick(u.light);
         let mut sum = Vec3::ZERO;
         for light in pick.delta {
-            sum += self.light_sample(v, light, 1.0, u.light, tally);
+            sum += self.light_sample(v, light, 1.0, pick.u, tally);
         }
         if let Some((light, picked)) = pick.area {
-            sum += self.light_sample(v, light, picked, u.light, tally);
+            sum += self.light_sample(v, light, picked, pick.u, tally);
         }
         sum
     }

@@ -246,9 +246,9 @@ impl Whitted<'_> {
     /// Local shading from every point and directional light and one area light
     /// picked by power, each tested with a shadow ray; `brdf` is the
     /// material's local reflection model at the hit, a function of the
-    /// direction towards the light. Each shading point draws the same two
-    /// requests, the pick and a point for the area light (which the delta
-    /// lights ignore), in the order the tree is walked.
+    /// direction towards the light. Each shading point draws one request in
+    /// the order the tree is walked, which picks the area light and then
+    /// the point on it (the delta lights ignore it).
     fn direct(
         &self,
         it: &Interaction,
@@ -257,13 +257,12 @@ impl Whitted<'_> {
         weight: Vec3,
         walk: &mut Walk<'_>,
     ) -> Vec3 {
-        let pick = self.scene.light_picker.pick(walk.sampler.get_1d());
-        let u = walk.sampler.get_2d();
+        let pick = self.scene.light_picker.pick(walk.sampler.get_2d());
         let area = pick.area.into_iter();
         let mut radiance = Vec3::ZERO;
         for (index, picked) in pick.delta.map(|i| (i, 1.0)).chain(area) {
             let light = &self.scene.lights[index];
-            let Some(incident) = light.incident(it.p, u) else {
+            let Some(incident) = light.incident(it.p, pick.u) else {
                 continue;
             };
             let cos = it.n.dot(incident.wi);
