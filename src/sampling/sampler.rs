@@ -112,7 +112,9 @@ fn next_key(key: u64, dimension: &mut u32) -> u64 {
     let d = *dimension;
     // No sample draws 2^32 numbers; wrapping keeps even that from panicking.
     *dimension = d.wrapping_add(1);
-    mix(key ^ mix(u64::from(d).wrapping_add(1).wrapping_mul(GOLDEN)))
+    // The pixel's key is a hash already: one more mix of it with the
+    // dimension's own multiple of GOLDEN makes each dimension's.
+    mix(key ^ u64::from(d).wrapping_add(1).wrapping_mul(GOLDEN))
 }
 
 #[cfg(test)]

@@ -22,7 +22,7 @@
 //! All of it is hashing of (key, index): no tables but the 32 generator
 //! columns, no state, no allocation.
 
-use super::rng::mix;
+use super::rng::GOLDEN;
 
 /// The generator matrix of Sobol's second dimension, column j being the
 /// 32-bit binary fraction that bit j of the index adds (by xor). Computed
@@ -45,35 +45,67 @@ const fn second_dimension() -> [u32; 32] {
     columns
 }
 
-/// Point `index` of Sobol's second dimension, as a 32-bit fraction.
+/// Point `index` of Sobol's second dimension, as a 32-bit fraction: the
+/// definition, column by column, which the tests hold the tables to.
+#[cfg(test)]
 fn second(index: u32) -> u32 {
-    let mut value = 0;
-    let mut bits = index;
-    let mut column = 0;
-    while bits != 0 {
-        // Branch-free: the column's mask is all ones when the bit is set.
-        value ^= SECOND[column] & 0u32.wrapping_sub(bits & 1);
-        bits >>= 1;
-        column += 1;
-    }
-    value
+    (0..32)
+        .filter(|&j| index >> j & 1 == 1)
+        .fold(0, |value, j| value ^ SECOND[j])
 }
 
-/// A nested uniform scramble (Owen's) of the 32-bit binary fraction `v`,
-/// chosen by `seed`: each bit is flipped or not by a hash of the bits above
-/// it, so points in one elementary interval stay in one. The hash is Laine
-/// and Karras's, with Burley's constants as pbrt-v4's `FastOwenScrambler`
-/// has them: on the reversed bits, each step (a multiplication by an even
-/// number, xored in; an addition; a multiplication by an odd number) changes
-/// a bit only as a function of the bits below it, which is the nesting.
-fn scramble(v: u32, seed: u32) -> u32 {
-    let mut v = v.reverse_bits();
+/// Sobol's second dimension with its bits reversed, a byte of the index at
+/// a time: entry b of table t is the xor of the reversed columns 8t to 8t + 7
+/// that the bits of b select. Four lookups instead of up to 32 column steps.
+const SECOND_BYTES: [[u32; 256]; 4] = second_bytes();
+
+const fn second_bytes() -> [[u32; 256]; 4] {
+    let mut tables = [[0u32; 256]; 4];
+    let mut t = 0;
+    while t < 4 {
+        let mut b = 0;
+        while b < 256 {
+            let mut bit = 0;
+            while bit < 8 {
+                if b >> bit & 1 == 1 {
+                    tables[t][b] ^= SECOND[8 * t + bit].reverse_bits();
+                }
+                bit += 1;
+            }
+            b += 1;
+        }
+        t += 1;
+    }
+    tables
+}
+
+/// Point `index` of Sobol's second dimension, as a 32-bit fraction with its
+/// bits reversed (the form `laine_karras` takes).
+fn second_reversed(index: u32) -> u32 {
+    let byte = |t: usize| SECOND_BYTES[t][(index >> (8 * t)) as usize & 0xff];
+    byte(0) ^ byte(1) ^ byte(2) ^ byte(3)
+}
+
+/// Laine and Karras's hash with Burley's constants, as pbrt-v4's
+/// `FastOwenScrambler` has them, on a value whose bits are reversed: each
+/// step (a multiplication by an even number, xored in; an addition; a
+/// multiplication by an odd number) changes a bit only as a function of the
+/// bits below it and the seed.
+fn laine_karras(mut v: u32, seed: u32) -> u32 {
     v ^= v.wrapping_mul(0x3d20_adea);
     v = v.wrapping_add(seed);
     v = v.wrapping_mul((seed >> 16) | 1);
     v ^= v.wrapping_mul(0x0552_6c56);
     v ^= v.wrapping_mul(0x53a2_2864);
-    v.reverse_bits()
+    v
+}
+
+/// A nested uniform scramble (Owen's) of the 32-bit binary fraction `v`,
+/// chosen by `seed`: each bit is flipped or not by a hash of the bits above
+/// it, so points in one elementary interval stay in one. Laine and Karras's
+/// hash on the reversed bits, reversed back.
+fn scramble(v: u32, seed: u32) -> u32 {
+    laine_karras(v.reverse_bits(), seed).reverse_bits()
 }
 
 /// A 32-bit fraction as an f32 in [0, 1): its top 24 bits, exactly, so the
@@ -83,10 +115,11 @@ fn unit(v: u32) -> f32 {
 }
 
 /// The three scrambles of one dimension, from its 64-bit key: the index's
-/// shuffle and the two coordinates'.
+/// shuffle and the two coordinates'. The key is a hash already, so its
+/// halves and the high half of its product with an odd constant serve.
 fn seeds(key: u64) -> [u32; 3] {
-    let more = mix(key);
-    [key as u32, (key >> 32) as u32, more as u32]
+    let more = (key.wrapping_mul(GOLDEN) >> 32) as u32;
+    [key as u32, (key >> 32) as u32, more]
 }
 
 /// Sample `index` of the one-dimensional sequence `key` names: van der
@@ -95,7 +128,8 @@ fn seeds(key: u64) -> [u32; 3] {
 pub fn sample_1d(index: u32, key: u64) -> f32 {
     let [shuffle, x, _] = seeds(key);
     let i = scramble(index, shuffle);
-    unit(scramble(i.reverse_bits(), x))
+    // Van der Corput's point is i reversed, which its scramble reverses back.
+    unit(laine_karras(i, x).reverse_bits())
 }
 
 /// Sample `index` of the two-dimensional sequence `key` names: Sobol's first
@@ -105,8 +139,8 @@ pub fn sample_2d(index: u32, key: u64) -> [f32; 2] {
     let [shuffle, x, y] = seeds(key);
     let i = scramble(index, shuffle);
     [
-        unit(scramble(i.reverse_bits(), x)),
-        unit(scramble(second(i), y)),
+        unit(laine_karras(i, x).reverse_bits()),
+        unit(laine_karras(second_reversed(i), y).reverse_bits()),
     ]
 }
 
@@ -135,6 +169,18 @@ mod tests {
         // The first points: 0, 1/2, 3/4, 1/4, 5/8, 1/8, 3/8, 7/8.
         let first: Vec<u32> = (0..8).map(|i| second(i) >> 29).collect();
         assert_eq!(first, [0, 4, 6, 2, 5, 1, 3, 7]);
+    }
+
+    #[test]
+    fn the_byte_tables_are_the_second_dimension_reversed() {
+        let mut index = 0x9e37_79b9u32;
+        for _ in 0..10_000 {
+            assert_eq!(second_reversed(index), second(index).reverse_bits());
+            index = index.wrapping_mul(0x2c92_77b5).wrapping_add(0xac56_4b05);
+        }
+        for index in [0, 1, 2, 255, 256, u32::MAX] {
+            assert_eq!(second_reversed(index), second(index).reverse_bits());
+        }
     }
 
     #[test]
