@@ -10,11 +10,11 @@ use sturmray::io::console::note;
 use sturmray::io::output::Role;
 use sturmray::render::RenderOptions;
 use sturmray::render::job::{Job, Part, Written, preview_path, state_path};
-use sturmray::sampling::SamplerKind;
 use sturmray::scene::PhotonSettings;
 
 use super::shared::{
-    BackendArg, IncludeArgs, SizeArgs, check_outputs, load_sized, scene_inputs, write_text,
+    BackendArg, IncludeArgs, SamplerArg, SizeArgs, check_outputs, load_sized, scene_inputs,
+    write_text,
 };
 use super::signals::{Interrupted, Signals};
 
@@ -65,15 +65,6 @@ pub struct Args {
     resume: bool,
 }
 
-// `--sampler`: the doc comments of the values are their help text.
-#[derive(Clone, Copy, clap::ValueEnum)]
-enum SamplerArg {
-    /// Owen-scrambled Sobol points, stratified in every dimension (the default).
-    Sobol,
-    /// Independent random numbers, stratified in the pixel only.
-    Independent,
-}
-
 fn parse_tile(text: &str) -> Result<(usize, usize), String> {
     let parsed = text.split_once('/').and_then(|(i, n)| {
         Some((
@@ -107,10 +98,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         scene.render.photons.count = count;
     }
     if let Some(sampler) = args.sampler {
-        scene.render.sampler = match sampler {
-            SamplerArg::Sobol => SamplerKind::Sobol,
-            SamplerArg::Independent => SamplerKind::Independent,
-        };
+        scene.render.sampler = sampler.into();
     }
     scene.camera.go_to_frame(args.frame);
     let output = args
