@@ -15,10 +15,13 @@ asked for, and otherwise as shipped:
   * the renders measured: each sampler at each --spp, --seeds times with
     seeds 1, 2, ... (other than the reference's); the RMSE is the root of the
     mean squared error over the seeds, over every pixel and R, G, B channel
-    of linear radiance. Seconds are sturmray's own (`--stats`), the median
-    over the seeds.
+    of linear radiance, with the range of the MSE ratio seed by seed. Seconds
+    are sturmray's own (`--stats`), the median over the seeds.
 
-Prints one Markdown table, for docs/integrators.md.
+Prints one Markdown table, for docs/integrators.md. With --work DIR the
+files stay in DIR and a reference already there is reused (a run with more
+seeds then costs only the new renders); delete them after changing a scene
+or the renderer.
 
     .venv/bin/python tools/sampler_study.py --sturmray target/release/sturmray
 """
@@ -96,15 +99,15 @@ class Study:
 
     def reference(self, scene: Path) -> tuple[np.ndarray, float]:
         """The merged reference image and its own RMSE (the floor)."""
-        halves = []
-        for seed in REFERENCE_SEEDS:
-            out = self.work / f"{scene.stem}-ref-{seed}.exr"
-            # One tile of one is the whole image, with the film state `merge` reads.
-            whole = ["--tile", "0/1"]
-            self.render(scene, seed, self.args.reference_spp // 2, "independent", out, whole)
-            halves.append(out)
-        merged = self.work / f"{scene.stem}-ref.exr"
-        run([str(self.args.sturmray), "merge", str(merged), *map(str, halves)])
+        name = f"{scene.stem}-{self.args.width}w-ref{self.args.reference_spp}"
+        halves = [self.work / f"{name}-{seed}.exr" for seed in REFERENCE_SEEDS]
+        merged = self.work / f"{name}.exr"
+        if not merged.exists():
+            for seed, out in zip(REFERENCE_SEEDS, halves):
+                # One tile of one is the whole image, with the film state `merge` reads.
+                whole = ["--tile", "0/1"]
+                self.render(scene, seed, self.args.reference_spp // 2, "independent", out, whole)
+            run([str(self.args.sturmray), "merge", str(merged), *map(str, halves)])
         a, b = (read_rgb(h) for h in halves)
         return read_rgb(merged), rmse(a, b) / 2
 
@@ -113,19 +116,24 @@ class Study:
         h, w, _ = reference.shape
         rows = []
         for spp in self.args.spp:
-            errors, seconds = {}, {}
-            for sampler in SAMPLERS:
-                squares, times = [], []
-                for seed in range(1, self.args.seeds + 1):
+            squares = {sampler: [] for sampler in SAMPLERS}
+            times = {sampler: [] for sampler in SAMPLERS}
+            # Seed by seed, the samplers in turn: a change in the machine's
+            # load falls on both.
+            for seed in range(1, self.args.seeds + 1):
+                for sampler in SAMPLERS:
                     out = self.work / f"{scene.stem}-{sampler}-{spp}-{seed}.exr"
-                    times.append(self.render(scene, seed, spp, sampler, out))
-                    squares.append(rmse(read_rgb(out), reference) ** 2)
-                errors[sampler] = float(np.sqrt(np.mean(squares)))
-                seconds[sampler] = statistics.median(times)
-            ratio = (errors["independent"] / errors["sobol"]) ** 2
+                    times[sampler].append(self.render(scene, seed, spp, sampler, out))
+                    squares[sampler].append(rmse(read_rgb(out), reference) ** 2)
+            seconds = {k: statistics.median(v) for k, v in times.items()}
+            error = {k: float(np.sqrt(np.mean(v))) for k, v in squares.items()}
+            ratio = (error["independent"] / error["sobol"]) ** 2
+            # Seed by seed (both samplers take the same seeds, so the same
+            # photon maps): how far the ratio moves with the seed.
+            each = [i / s for i, s in zip(squares["independent"], squares["sobol"])]
             rows.append(
-                f"| {scene.stem} {w}×{h} | {spp} | {errors['sobol']:.4g} | "
-                f"{errors['independent']:.4g} | {ratio:.2f}× | "
+                f"| {scene.stem} {w}×{h} | {spp} | {error['sobol']:.4g} | "
+                f"{error['independent']:.4g} | {ratio:.2f}× | {min(each):.2f}–{max(each):.2f} | "
                 f"{seconds['sobol']:.2f} | {seconds['independent']:.2f} | {floor:.2g} |"
             )
             print(rows[-1], file=sys.stderr, flush=True)
@@ -139,9 +147,11 @@ def main() -> int:
                         default=[ROOT / "scenes" / s for s in SCENES])
     parser.add_argument("--spp", nargs="+", type=int, default=[4, 16, 64])
     parser.add_argument("--reference-spp", type=int, default=4096)
-    parser.add_argument("--seeds", type=int, default=2)
+    parser.add_argument("--seeds", type=int, default=4)
     parser.add_argument("--width", type=int, default=256)
     parser.add_argument("--threads", type=int, default=os.cpu_count() or 1)
+    parser.add_argument("--work", type=Path,
+                        help="keep the files here and reuse a reference found here")
     args = parser.parse_args()
     if args.reference_spp < 2 or args.seeds < 1:
         parser.error("--reference-spp must be at least 2 and --seeds at least 1")
@@ -151,12 +161,14 @@ def main() -> int:
         f"seconds: median render time, {args.threads} threads",
         "",
         "| scene | spp | sobol RMSE | independent RMSE | MSE ratio (independent / sobol) "
-        "| sobol s | independent s | reference noise |",
-        "|---|---:|---:|---:|---:|---:|---:|---:|",
+        "| ratio per seed | sobol s | independent s | reference noise |",
+        "|---|---:|---:|---:|---:|---:|---:|---:|---:|",
     ]
     rows = []
-    with tempfile.TemporaryDirectory(prefix="sampler-study-") as work:
-        study = Study(args, Path(work))
+    with tempfile.TemporaryDirectory(prefix="sampler-study-") as temporary:
+        work = args.work or Path(temporary)
+        work.mkdir(parents=True, exist_ok=True)
+        study = Study(args, work)
         for scene in args.scenes:
             rows += study.scene(scene)
     print("\n".join(header + rows))
