@@ -18,7 +18,8 @@ EMBREE4_DIR := $(CURDIR)/embree4
 EMBREE4_TARGET := target/embree4
 
 .PHONY: setup render test test-rust test-python lint bench scenes clean embree4 test-embree4 \
-	fuzz check-memory wrapper-overhead povray-compare povray-speed photon-radius peers
+	fuzz check-memory wrapper-overhead povray-compare povray-speed photon-radius peers \
+	sampler-study
 
 # Installs those of the Debian packages $(1) that are missing (none: no apt-get at all).
 define apt_install
@@ -132,6 +133,14 @@ peers: setup
 	cargo build --release
 	DRJIT_LIBLLVM_PATH=/usr/lib/x86_64-linux-gnu/libLLVM.so.19.1 .venv-peers/bin/python \
 	  tools/peers/run.py --sturmray $(RELEASE_BIN) --rounds $(PEERS_ROUNDS) --threads 2
+
+# What the sampler buys (issue 15): RMSE against a 4096-spp reference at 4, 16
+# and 64 spp for the sobol and independent samplers on the path-traced scenes,
+# 256 pixels wide; prints the table of docs/integrators.md. Not part of `make
+# test`; about an hour on 2 cores.
+sampler-study: setup
+	cargo build --release
+	$(PYTHON) tools/sampler_study.py --sturmray $(RELEASE_BIN) --threads 2
 
 # Property-based fuzzing (proptest on stable Rust), not part of `make test` or
 # CI: each target runs FUZZ_CASES fresh random cases, or stops after

@@ -97,8 +97,12 @@ fn bad_input_exits_with_2_and_names_the_problem() {
     write(&dir, "broken.obj", "v 0 0 0\nf 1 2 3\n");
     write(&dir, "rays.npy", "not a numpy file");
     write(&dir, "file", "");
-    let cases: [(&[&str], &str); 8] = [
+    let cases: [(&[&str], &str); 9] = [
         (&["render", "missing.toml"], "missing.toml"),
+        (
+            &["render", "s.toml", "--sampler", "sobl"],
+            "a similar value exists: 'sobol'",
+        ),
         (&["render", "typo.toml"], "did you mean `fov`?"),
         (&["render", "broken.obj"], "broken.obj:2"),
         (&["render", "s.toml", "-o", "file/x.exr"], "file"),
@@ -123,6 +127,29 @@ fn bad_input_exits_with_2_and_names_the_problem() {
         );
         assert!(!err.contains("panicked"), "{args:?}: {err}");
     }
+}
+
+#[test]
+fn explain_takes_the_sampler_as_render_does() {
+    let dir = scratch("explain-sampler");
+    write(&dir, "square.obj", SQUARE);
+    write(
+        &dir,
+        "s.toml",
+        &plane_scene("").replace("spp = 1", "spp = 4"),
+    );
+    let tree = |extra: &[&str]| {
+        let mut args = vec!["explain", "s.toml", "--pixel", "20,15", "--sample", "1"];
+        args.extend(extra);
+        let out = sturmray(&dir, &args);
+        assert!(out.status.success(), "{}", stderr(&out));
+        String::from_utf8(out.stdout).unwrap()
+    };
+    // Sobol's is the default; the independent sampler puts the sample
+    // elsewhere in the pixel, so the camera ray meets the square at another t.
+    let default = tree(&[]);
+    assert_eq!(default, tree(&["--sampler", "sobol"]));
+    assert_ne!(default, tree(&["--sampler", "independent"]), "{default}");
 }
 
 #[test]

@@ -360,10 +360,25 @@ fn one_thread_and_many_give_the_same_bytes() {
         ),
     );
     for scene in ["s.toml", "a.toml"] {
-        ok(&dir, &["render", scene, "-o", "one.exr", "--threads", "1"]);
-        ok(&dir, &["render", scene, "-o", "many.exr", "--threads", "3"]);
-        let one = std::fs::read(dir.join("one.exr")).unwrap();
-        let many = std::fs::read(dir.join("many.exr")).unwrap();
-        assert!(one == many, "{scene}: 1 and 3 threads differ");
+        // The default sampler (Sobol's) and the independent one.
+        let mut by_sampler = Vec::new();
+        for sampler in [&[][..], &["--sampler", "independent"]] {
+            let mut images = Vec::new();
+            for threads in ["1", "2", "3"] {
+                let mut args = vec!["render", scene, "-o", "t.exr", "--threads", threads];
+                args.extend(sampler);
+                ok(&dir, &args);
+                images.push(std::fs::read(dir.join("t.exr")).unwrap());
+            }
+            assert!(
+                images.iter().all(|i| *i == images[0]),
+                "{scene} {sampler:?}: 1, 2 and 3 threads differ"
+            );
+            by_sampler.push(images.swap_remove(0));
+        }
+        assert!(
+            by_sampler[0] != by_sampler[1],
+            "{scene}: the samplers agree"
+        );
     }
 }

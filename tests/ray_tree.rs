@@ -154,9 +154,13 @@ fn a_glass_sphere_in_a_uniform_environment_disappears() {
     }
 }
 
-/// A uniform environment of radiance 1 around one sphere, no lights, path traced.
-fn furnace(name: &str, material: &str, spp: u32) -> (RayStats, Vec<[f32; 3]>) {
-    let dir = scratch(name);
+/// Both samplers: each must pass the known answers.
+const SAMPLERS: [&str; 2] = ["sobol", "independent"];
+
+/// A uniform environment of radiance 1 around one sphere, no lights, path
+/// traced with `sampler`.
+fn furnace(name: &str, material: &str, spp: u32, sampler: &str) -> (RayStats, Vec<[f32; 3]>) {
+    let dir = scratch(&format!("{name}-{sampler}"));
     let text = format!(
         r#"background = [1, 1, 1]
 [camera]
@@ -169,6 +173,7 @@ height = 16
 spp = {spp}
 max_depth = 50
 integrator = "path"
+sampler = "{sampler}"
 [materials.grey]
 type = "diffuse"
 albedo = [0.5, 0.5, 0.5]
@@ -189,20 +194,22 @@ material = "{material}"
 fn white_furnace_a_diffuse_sphere_renders_at_its_albedo() {
     // A convex sphere never sees itself: every bounce escapes to the environment,
     // so each sample is exactly albedo · 1 (cosine sampling's weight is the albedo).
-    let (st, image) = furnace("furnace-diffuse", "grey", 4);
-    assert!(st.diffuse > 0 && st.shadow == 0, "{st:?}");
-    // The sphere fills the central 8×8 pixels (it spans ±0.93 of the ±1.07 view);
-    // pixels on its outline mix sphere and environment.
-    for y in 4..12 {
-        for x in 4..12 {
-            let p = Vec3::from(image[y * 16 + x]);
-            assert!(
-                (p - Vec3::splat(0.5)).abs().max_element() < 1e-6,
-                "({x}, {y}): {p}"
-            );
+    for sampler in SAMPLERS {
+        let (st, image) = furnace("furnace-diffuse", "grey", 4, sampler);
+        assert!(st.diffuse > 0 && st.shadow == 0, "{st:?}");
+        // The sphere fills the central 8×8 pixels (it spans ±0.93 of the ±1.07 view);
+        // pixels on its outline mix sphere and environment.
+        for y in 4..12 {
+            for x in 4..12 {
+                let p = Vec3::from(image[y * 16 + x]);
+                assert!(
+                    (p - Vec3::splat(0.5)).abs().max_element() < 1e-6,
+                    "{sampler} ({x}, {y}): {p}"
+                );
+            }
         }
+        assert_eq!(image[0], [1.0; 3], "the corner sees the environment");
     }
-    assert_eq!(image[0], [1.0; 3], "the corner sees the environment");
 }
 
 #[test]
@@ -211,12 +218,14 @@ fn white_furnace_a_glass_sphere_disappears_under_path_tracing() {
     // leaving by η², so every path carries weight 1 back to the environment, except
     // where Russian roulette reweights long internal paths (unbiased, so the mean
     // stays 1; 64 samples per pixel keep it within 2%).
-    let (st, image) = furnace("furnace-glass", "glass", 64);
-    assert!(st.refraction > 0);
-    let mean: f32 = image.iter().map(|p| p[1]).sum::<f32>() / image.len() as f32;
-    assert!((mean - 1.0).abs() < 0.02, "{mean}");
-    for p in &image {
-        assert!((p[1] - 1.0).abs() < 0.15, "{p:?}");
+    for sampler in SAMPLERS {
+        let (st, image) = furnace("furnace-glass", "glass", 64, sampler);
+        assert!(st.refraction > 0);
+        let mean: f32 = image.iter().map(|p| p[1]).sum::<f32>() / image.len() as f32;
+        assert!((mean - 1.0).abs() < 0.02, "{sampler}: {mean}");
+        for p in &image {
+            assert!((p[1] - 1.0).abs() < 0.15, "{sampler}: {p:?}");
+        }
     }
 }
 
@@ -242,10 +251,16 @@ fn whitted_scenes_bounce_no_diffuse_rays_and_path_scenes_do() {
 
 /// The square under a light (TOML text, plus files it needs) about 1 above
 /// its centre, seen from the side so the light does not hide the centre;
-/// `integrator` whitted or path. Returns the stats and the mean of the four
-/// centre pixels (the image is 8×8; they see points within 0.02 of the axis).
-fn under_a_light(name: &str, integrator: &str, light: &str, files: &[File]) -> (RayStats, f32) {
-    let dir = scratch(name);
+/// `integrator` whitted or path, with `sampler`. Returns the stats and the
+/// mean of the four centre pixels (the image is 8×8; they see points within
+/// 0.02 of the axis).
+fn under_a_light(
+    name: &str,
+    (integrator, sampler): (&str, &str),
+    light: &str,
+    files: &[File],
+) -> (RayStats, f32) {
+    let dir = scratch(&format!("{name}-{integrator}-{sampler}"));
     write(&dir, "square.obj", SQUARE);
     for (file, text) in files {
         write(&dir, file, text);
@@ -260,6 +275,7 @@ height = 8
 [render]
 spp = 256
 integrator = "{integrator}"
+sampler = "{sampler}"
 [materials.paint]
 type = "diffuse"
 albedo = [0.5, 0.5, 0.5]
@@ -325,14 +341,15 @@ fn area_lights_give_the_form_factor_irradiance_once() {
     ];
     for (light, text, files) in lights {
         for integrator in ["whitted", "path"] {
-            let name = format!("{light}-{integrator}");
-            let (st, centre) = under_a_light(&name, integrator, text, files);
-            // 1024 one-point light samples: a few percent of noise at most.
-            assert!(
-                (centre - expected).abs() < 0.03 * expected,
-                "{name}: {centre} vs {expected}"
-            );
-            assert!(st.shadow > 0);
+            for sampler in SAMPLERS {
+                let (st, centre) = under_a_light(light, (integrator, sampler), text, files);
+                // 1024 one-point light samples: a few percent of noise at most.
+                assert!(
+                    (centre - expected).abs() < 0.03 * expected,
+                    "{light} {integrator} {sampler}: {centre} vs {expected}"
+                );
+                assert!(st.shadow > 0);
+            }
         }
     }
 }
@@ -348,12 +365,14 @@ fn an_emissive_sphere_is_a_sampled_light() {
                   transform = { translate = [0, 0, 1] }\n";
     let expected = 0.5 * 4.0 * 0.16;
     for integrator in ["whitted", "path"] {
-        let (st, centre) = under_a_light(&format!("sphere-{integrator}"), integrator, sphere, &[]);
-        assert!(
-            (centre - expected).abs() < 0.03 * expected,
-            "{integrator}: {centre} vs {expected}"
-        );
-        assert!(st.shadow > 0, "the emissive sphere is sampled");
+        for sampler in SAMPLERS {
+            let (st, centre) = under_a_light("sphere", (integrator, sampler), sphere, &[]);
+            assert!(
+                (centre - expected).abs() < 0.03 * expected,
+                "{integrator} {sampler}: {centre} vs {expected}"
+            );
+            assert!(st.shadow > 0, "the emissive sphere is sampled");
+        }
     }
 }
 
@@ -363,12 +382,7 @@ fn area_lights_shine_from_their_front_only() {
     let up = panel(false);
     for integrator in ["whitted", "path"] {
         let files = [("panel.obj", up.as_str()), ("panel.mtl", PANEL_MTL)];
-        let (_, centre) = under_a_light(
-            &format!("up-{integrator}"),
-            integrator,
-            PANEL_OBJECT,
-            &files,
-        );
+        let (_, centre) = under_a_light("up", (integrator, "sobol"), PANEL_OBJECT, &files);
         assert_eq!(centre, 0.0, "{integrator}");
     }
 }

@@ -8,7 +8,7 @@ use sturmray::accel::Accel;
 use sturmray::io::console::print;
 use sturmray::render::RayKind;
 
-use super::shared::{BackendArg, IncludeArgs, SizeArgs, load_sized};
+use super::shared::{BackendArg, IncludeArgs, SamplerArg, SizeArgs, load_sized};
 
 /// Print the ray tree of one pixel sample: each ray's kind, what it hit, t,
 /// the material, its weight and the radiance it brings back.
@@ -34,6 +34,9 @@ pub struct Args {
     frame: u32,
     #[arg(long, value_enum, default_value = "embree")]
     backend: BackendArg,
+    /// As `render --sampler`: the sampler the sample's numbers come from.
+    #[arg(long, value_enum)]
+    sampler: Option<SamplerArg>,
 }
 
 fn parse_pixel(text: &str) -> Result<(usize, usize), String> {
@@ -62,8 +65,12 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         all_effects,
         frame,
         backend,
+        sampler,
     } = args;
     let mut scene = load_sized(&scene, &size, &include)?;
+    if let Some(sampler) = sampler {
+        scene.render.sampler = sampler.into();
+    }
     scene.camera.go_to_frame(frame);
     let accel = Accel::build(&scene, backend.into(), None)?;
     let (result, tree) = sturmray::render::explain(&scene, &accel, pixel, sample, all_effects)?;

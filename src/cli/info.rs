@@ -74,8 +74,11 @@ fn describe(scene: &Scene, accel: &Accel) -> String {
     );
     let _ = writeln!(
         s,
-        "render     {} spp, max depth {}, seed {}",
-        r.spp, r.max_depth, r.seed
+        "render     {} spp, max depth {}, seed {}, sampler {}",
+        r.spp,
+        r.max_depth,
+        r.seed,
+        r.sampler.name()
     );
     let _ = writeln!(s, "background {}", v(scene.background));
     let _ = writeln!(s, "plan       {}", Plan::for_scene(scene));

@@ -13,7 +13,8 @@ use sturmray::render::job::{Job, Part, Written, preview_path, state_path};
 use sturmray::scene::PhotonSettings;
 
 use super::shared::{
-    BackendArg, IncludeArgs, SizeArgs, check_outputs, load_sized, scene_inputs, write_text,
+    BackendArg, IncludeArgs, SamplerArg, SizeArgs, check_outputs, load_sized, scene_inputs,
+    write_text,
 };
 use super::signals::{Interrupted, Signals};
 
@@ -39,6 +40,9 @@ pub struct Args {
     /// Write ray counts and time as JSON.
     #[arg(long)]
     stats: Option<PathBuf>,
+    /// Where samples draw their numbers from (overrides the scene's `render.sampler`).
+    #[arg(long, value_enum)]
+    sampler: Option<SamplerArg>,
     /// Photons for caustics (overrides the scene's `render.photons.count`; 0: none).
     #[arg(long)]
     photons: Option<u32>,
@@ -92,6 +96,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         // Refused even where the plan has no photon pass: a typo either way.
         PhotonSettings::check_count(count).map_err(|e| Error::Input(format!("--photons: {e}")))?;
         scene.render.photons.count = count;
+    }
+    if let Some(sampler) = args.sampler {
+        scene.render.sampler = sampler.into();
     }
     scene.camera.go_to_frame(args.frame);
     let output = args

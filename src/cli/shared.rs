@@ -1,4 +1,4 @@
-//! What several subcommands share: the `--backend` choice, the image size
+//! What several subcommands share: the `--backend` and `--sampler` choices, the image size
 //! (`--width`, `--height`), loading a scene, and the checks that no output replaces an input or another output.
 
 use std::io::Write as _;
@@ -10,6 +10,7 @@ use sturmray::accel::Backend;
 use sturmray::error::Error;
 use sturmray::io::console::note;
 use sturmray::io::output::{Role, check_distinct, prepare, write_atomic};
+use sturmray::sampling::SamplerKind;
 use sturmray::scene::{Scene, SizeRequest};
 
 // `--backend`: the doc comments of the values are their help text.
@@ -31,6 +32,24 @@ impl From<BackendArg> for Backend {
             BackendArg::Obvhs => Backend::Obvhs,
             BackendArg::Bvh => Backend::Bvh,
             BackendArg::RustBvh => Backend::FASTEST_RUST,
+        }
+    }
+}
+
+// `--sampler`: the doc comments of the values are their help text.
+#[derive(Clone, Copy, ValueEnum)]
+pub enum SamplerArg {
+    /// Owen-scrambled Sobol points, stratified in every dimension (the default).
+    Sobol,
+    /// Independent random numbers, stratified in the pixel only.
+    Independent,
+}
+
+impl From<SamplerArg> for SamplerKind {
+    fn from(s: SamplerArg) -> SamplerKind {
+        match s {
+            SamplerArg::Sobol => SamplerKind::Sobol,
+            SamplerArg::Independent => SamplerKind::Independent,
         }
     }
 }

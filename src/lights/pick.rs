@@ -15,6 +15,9 @@ pub struct LightPick {
     pub delta: std::ops::Range<usize>,
     /// One area light and the probability it was picked with.
     pub area: Option<(usize, f32)>,
+    /// The point the area light samples itself with: the `u` the pick was
+    /// made with, its first number reused (see [`Discrete::sample_reused`]).
+    pub u: [f32; 2],
 }
 
 /// Light selection for a scene whose lights list the delta lights first.
@@ -45,11 +48,16 @@ impl LightPicker {
         }
     }
 
-    /// The lights to sample, picking the area light with `u` in [0, 1).
-    pub fn pick(&self, u: f32) -> LightPick {
+    /// The lights to sample, picking the area light with `u[0]` in [0, 1)
+    /// and reusing it for the light's point: with stratified `u`, the points
+    /// are stratified over all the area lights together (the two triangles
+    /// of a quad panel, a mesh's thousands), not only over the choice.
+    pub fn pick(&self, u: [f32; 2]) -> LightPick {
+        let picked = self.area.sample_reused(u[0]);
         LightPick {
             delta: 0..self.deltas,
-            area: self.area.sample(u).map(|(i, p)| (self.deltas + i, p)),
+            area: picked.map(|(i, p, _)| (self.deltas + i, p)),
+            u: [picked.map_or(u[0], |(.., reused)| reused), u[1]],
         }
     }
 
@@ -92,25 +100,36 @@ mod tests {
         let emitters = HashMap::from([((4, 0), 1), ((4, 1), 2)]);
         let picker = LightPicker::new(&lights, emitters);
         assert_eq!(picker.area_lights(), 2);
-        let pick = picker.pick(0.1);
+        let pick = picker.pick([0.1, 0.3]);
         assert_eq!(pick.delta, 0..1);
         let (light, p) = pick.area.unwrap();
         assert_eq!(light, 1);
         assert!((p - 0.25).abs() < 1e-6, "{p}");
-        let (light, p) = picker.pick(0.9).area.unwrap();
+        // The pick's number is reused within the light's share, [0, 0.25).
+        assert!(
+            (pick.u[0] - 0.4).abs() < 1e-6 && pick.u[1] == 0.3,
+            "{:?}",
+            pick.u
+        );
+        let pick = picker.pick([0.9, 0.3]);
+        let (light, p) = pick.area.unwrap();
         assert_eq!(light, 2);
         assert!((p - 0.75).abs() < 1e-6, "{p}");
+        assert!((pick.u[0] - 0.65 / 0.75).abs() < 1e-6, "{:?}", pick.u);
         // The lookup from geometry gives the same probabilities.
-        assert_eq!(picker.light_of(4, 1), picker.pick(0.9).area);
+        assert_eq!(picker.light_of(4, 1), picker.pick([0.9, 0.5]).area);
         assert_eq!(picker.light_of(4, 7), None);
         // u just below 1 stays in range.
-        assert_eq!(picker.pick(0.999_999_9).area.unwrap().0, 2);
+        let top = picker.pick([0.999_999_9, 0.5]);
+        assert!(top.area.unwrap().0 == 2 && top.u[0] < 1.0, "{:?}", top.u);
     }
 
     #[test]
     fn no_area_lights_picks_none() {
         let picker = LightPicker::new(&[], HashMap::new());
-        assert!(picker.pick(0.5).area.is_none());
-        assert_eq!(picker.pick(0.5).delta, 0..0);
+        let pick = picker.pick([0.5, 0.25]);
+        assert!(pick.area.is_none());
+        assert_eq!(pick.delta, 0..0);
+        assert_eq!(pick.u, [0.5, 0.25]);
     }
 }

@@ -26,7 +26,7 @@ use crate::accel::ftz::enable_flush_to_zero;
 use crate::error::{Error, Result};
 use crate::film::{Film, Pixel, Region, Sample};
 use crate::math::{Hit, Ray};
-use crate::sampling::{FilterSampler, Rng, stratified_2d};
+use crate::sampling::{FilterSampler, Sampler};
 use crate::scene::{CameraFrame, Integrator, PhotonSettings, Scene};
 
 /// How to run a render; the scene says what to render.
@@ -187,9 +187,10 @@ pub fn render(scene: &Scene, accel: &Accel, options: &RenderOptions) -> Result<R
                                     if cut(first) {
                                         return None;
                                     }
-                                    let (ray, weight, mut rng) =
+                                    let (ray, weight, mut sampler) =
                                         camera_ray(scene, &frame, &filter, (x, y), k, spp);
-                                    let mut sample = integrator.sample(&ray, &mut rng, &mut tally);
+                                    let mut sample =
+                                        integrator.sample(&ray, &mut sampler, &mut tally);
                                     sample.weight = weight;
                                     Some(sample)
                                 },
@@ -306,10 +307,10 @@ impl<'a> Tracer<'a> {
         }
     }
 
-    fn sample(&self, ray: &Ray, rng: &mut Rng, tally: &mut Tally) -> Sample {
+    fn sample(&self, ray: &Ray, sampler: &mut Sampler, tally: &mut Tally) -> Sample {
         match self {
-            Tracer::Whitted(w) => w.sample(ray, rng, tally),
-            Tracer::Path(p) => p.sample(ray, rng, tally),
+            Tracer::Whitted(w) => w.sample(ray, sampler, tally),
+            Tracer::Path(p) => p.sample(ray, sampler, tally),
         }
     }
 }
@@ -323,11 +324,11 @@ fn plan(scene: &Scene, all_effects: bool) -> Plan {
 }
 
 /// Camera ray `k` through pixel (x, y), with its filter weight and the
-/// sample's random stream (which the path tracer goes on drawing from):
-/// through the pixel's centre when the pixel takes one sample; otherwise a
-/// point stratified over each round of `spp` samples, warped by the
-/// reconstruction filter (filter importance sampling). Seeded by (seed,
-/// pixel, k), so it is the same whoever renders it.
+/// sample's sampler (which the integrator goes on drawing from): through the
+/// pixel's centre when the pixel takes one sample; otherwise at the
+/// sampler's pixel position (stratified over each round of `spp` samples),
+/// warped by the reconstruction filter (filter importance sampling). Keyed
+/// by (seed, pixel, k), so it is the same whoever renders it.
 fn camera_ray(
     scene: &Scene,
     frame: &CameraFrame,
@@ -335,16 +336,16 @@ fn camera_ray(
     (x, y): (usize, usize),
     k: u32,
     spp: u32,
-) -> (Ray, f32, Rng) {
+) -> (Ray, f32, Sampler) {
     let centre = (x as f32 + 0.5, y as f32 + 0.5);
     let index = (y * scene.camera.width as usize + x) as u64;
-    let mut rng = Rng::for_sample(scene.render.seed, index, k);
+    let mut sampler = Sampler::new(scene.render.sampler, scene.render.seed, index, k);
     if spp == 1 {
-        return (frame.ray(centre.0, centre.1), 1.0, rng);
+        return (frame.ray(centre.0, centre.1), 1.0, sampler);
     }
-    let s = filter.sample(stratified_2d(k, spp, rng.next_2d()));
+    let s = filter.sample(sampler.pixel_2d(spp));
     let ray = frame.ray(centre.0 + s.offset[0], centre.1 + s.offset[1]);
-    (ray, s.weight, rng)
+    (ray, s.weight, sampler)
 }
 
 /// The ray tree of one pixel sample, for `sturmray explain`.
@@ -379,13 +380,13 @@ pub fn explain(
     let integrator = Tracer::new(scene, accel, plan, caustics.as_ref());
     let filter = scene.render.filter.sampler()?;
     let frame = scene.camera.frame();
-    let (ray, weight, mut rng) =
+    let (ray, weight, mut sampler) =
         camera_ray(scene, &frame, &filter, pixel, sample, scene.render.spp);
     let mut tally = Tally {
         tree: Some(Vec::new()),
         ..Tally::default()
     };
-    let mut result = integrator.sample(&ray, &mut rng, &mut tally);
+    let mut result = integrator.sample(&ray, &mut sampler, &mut tally);
     result.weight = weight;
     accel.check()?;
     Ok((result, tally.tree.unwrap_or_default()))

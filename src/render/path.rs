@@ -17,7 +17,7 @@ use super::tally::{Node, RayKind, Tally};
 use crate::accel::Accel;
 use crate::film::Sample;
 use crate::math::{Frame, Ray, Vec3, offset};
-use crate::sampling::Rng;
+use crate::sampling::Sampler;
 use crate::sampling::mis::power_heuristic;
 use crate::scene::{Interaction, Scene};
 use crate::shading::{Bsdf, Lobe};
@@ -31,6 +31,32 @@ pub struct PathTracer<'a> {
     pub plan: Plan,
     /// The caustic photons, when the plan has a photon pass.
     pub caustics: Option<&'a PhotonMap>,
+}
+
+/// The numbers one bounce uses, drawn together in this order at every
+/// vertex whether or not it needs them all (a specular vertex samples no
+/// light, roulette waits for a few bounces): so with the Sobol sampler each
+/// decision at each depth has its own dimensions in every sample, and its
+/// samples stratify it.
+struct Bounce {
+    /// Picks the area light, then the point on it (see `LightPicker::pick`).
+    light: [f32; 2],
+    /// The BSDF's lobe (u[0]) and direction (u[1], u[2]).
+    bsdf: [f32; 3],
+    roulette: f32,
+}
+
+impl Bounce {
+    fn draw(sampler: &mut Sampler) -> Bounce {
+        let light = sampler.get_2d();
+        let lobe = sampler.get_1d();
+        let [u1, u2] = sampler.get_2d();
+        Bounce {
+            light,
+            bsdf: [lobe, u1, u2],
+            roulette: sampler.get_1d(),
+        }
+    }
 }
 
 /// The shading point a path is at, as light sampling needs it.
@@ -47,7 +73,7 @@ struct Vertex<'v> {
 }
 
 impl PathTracer<'_> {
-    pub fn sample(&self, camera: &Ray, rng: &mut Rng, tally: &mut Tally) -> Sample {
+    pub fn sample(&self, camera: &Ray, sampler: &mut Sampler, tally: &mut Tally) -> Sample {
         let mut radiance = Vec3::ZERO;
         let mut beta = Vec3::ONE;
         let mut ray = *camera;
@@ -73,6 +99,7 @@ impl PathTracer<'_> {
                 break;
             }
             let it = self.scene.interaction(&ray, &hit);
+            let u = Bounce::draw(sampler);
             let material = &self.scene.materials[it.material as usize];
             if depth == 0 {
                 first = Some((hit.t, it.n, material.albedo_at(it.p)));
@@ -113,12 +140,11 @@ impl PathTracer<'_> {
                     // traced only below the depth limit, if the plan has them.
                     bsdf_continues: depth < self.plan.max_depth && self.plan.diffuse,
                 };
-                add += beta * self.direct(&vertex, rng, tally);
+                add += beta * self.direct(&vertex, &u, tally);
             }
             tally.add(node, add);
             radiance += add;
-            let u = [rng.next_f32(), rng.next_f32(), rng.next_f32()];
-            let Some(s) = bsdf.sample(&frame, wo, u) else {
+            let Some(s) = bsdf.sample(&frame, wo, u.bsdf) else {
                 break;
             };
             kind = match s.kind {
@@ -141,7 +167,7 @@ impl PathTracer<'_> {
             beta *= s.weight;
             if depth >= ROULETTE_AFTER {
                 let survive = beta.max_element().min(0.95);
-                if rng.next_f32() >= survive {
+                if u.roulette >= survive {
                     break;
                 }
                 beta /= survive;
@@ -160,30 +186,31 @@ impl PathTracer<'_> {
     }
 
     /// Next-event estimation: every delta light, and one area light picked by
-    /// power, each through a shadow ray.
-    fn direct(&self, v: &Vertex<'_>, rng: &mut Rng, tally: &mut Tally) -> Vec3 {
-        let pick = self.scene.light_picker.pick(rng.next_f32());
+    /// power, each through a shadow ray. The delta lights ignore the point
+    /// `pick.u`, which is the area light's.
+    fn direct(&self, v: &Vertex<'_>, u: &Bounce, tally: &mut Tally) -> Vec3 {
+        let pick = self.scene.light_picker.pick(u.light);
         let mut sum = Vec3::ZERO;
         for light in pick.delta {
-            sum += self.light_sample(v, light, 1.0, rng, tally);
+            sum += self.light_sample(v, light, 1.0, pick.u, tally);
         }
         if let Some((light, picked)) = pick.area {
-            sum += self.light_sample(v, light, picked, rng, tally);
+            sum += self.light_sample(v, light, picked, pick.u, tally);
         }
         sum
     }
 
-    /// One sample of light `index`, picked with probability `picked`.
+    /// One sample of light `index`, picked with probability `picked`, at `u`.
     fn light_sample(
         &self,
         v: &Vertex<'_>,
         index: usize,
         picked: f32,
-        rng: &mut Rng,
+        u: [f32; 2],
         tally: &mut Tally,
     ) -> Vec3 {
         let it = v.it;
-        let Some(incident) = self.scene.lights[index].incident(it.p, rng.next_2d()) else {
+        let Some(incident) = self.scene.lights[index].incident(it.p, u) else {
             return Vec3::ZERO;
         };
         let cos = it.n.dot(incident.wi);

@@ -12,16 +12,16 @@ use super::{PhotonMap, Plan};
 use crate::accel::Accel;
 use crate::film::Sample;
 use crate::math::{Hit, Ray, Vec3, offset};
-use crate::sampling::Rng;
+use crate::sampling::Sampler;
 use crate::scene::{Interaction, Scene};
 use crate::shading::fresnel;
 use crate::shading::{Material, MaterialKind};
 
-/// What one sample's walk down the tree carries: the counts and its random stream
+/// What one sample's walk down the tree carries: the counts and its sampler
 /// (area lights pick a point on themselves with it).
 struct Walk<'t> {
     tally: &'t mut Tally,
-    rng: &'t mut Rng,
+    sampler: &'t mut Sampler,
 }
 
 pub struct Whitted<'a> {
@@ -34,8 +34,8 @@ pub struct Whitted<'a> {
 
 impl Whitted<'_> {
     /// The radiance along a camera ray, with the first hit's AOVs.
-    pub fn sample(&self, ray: &Ray, rng: &mut Rng, tally: &mut Tally) -> Sample {
-        let walk = &mut Walk { tally, rng };
+    pub fn sample(&self, ray: &Ray, sampler: &mut Sampler, tally: &mut Tally) -> Sample {
+        let walk = &mut Walk { tally, sampler };
         let hit = self.accel.intersect(ray);
         // Once for the ray tree and the AOVs: an analytic hit's error bound
         // costs a substitution of the ray into its polynomial.
@@ -267,7 +267,9 @@ impl Whitted<'_> {
     /// Local shading from every point and directional light and one area light
     /// picked by power, each tested with a shadow ray; `brdf` is the
     /// material's local reflection model at the hit, a function of the
-    /// direction towards the light.
+    /// direction towards the light. Each shading point draws one request in
+    /// the order the tree is walked, which picks the area light and then
+    /// the point on it (the delta lights ignore it).
     fn direct(
         &self,
         it: &Interaction,
@@ -276,12 +278,12 @@ impl Whitted<'_> {
         weight: Vec3,
         walk: &mut Walk<'_>,
     ) -> Vec3 {
-        let pick = self.scene.light_picker.pick(walk.rng.next_f32());
+        let pick = self.scene.light_picker.pick(walk.sampler.get_2d());
         let area = pick.area.into_iter();
         let mut radiance = Vec3::ZERO;
         for (index, picked) in pick.delta.map(|i| (i, 1.0)).chain(area) {
             let light = &self.scene.lights[index];
-            let Some(incident) = light.incident(it.p, walk.rng.next_2d()) else {
+            let Some(incident) = light.incident(it.p, pick.u) else {
                 continue;
             };
             let cos = it.n.dot(incident.wi);

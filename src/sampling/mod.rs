@@ -1,10 +1,12 @@
-//! Sampling: random numbers seeded per (seed, pixel, sample index), stratified
-//! pixel samples, warps from the unit square onto the shapes shading and lights
-//! need, reconstruction filters sampled by importance (pbrt-v4's filter
-//! importance sampling), and multiple-importance-sampling weights.
+//! Sampling: the samplers a pixel sample draws its uniform numbers from
+//! (Owen-scrambled Sobol points or independent random numbers, each keyed by
+//! (seed, pixel, sample index)), stratified pixel samples, warps from the
+//! unit square onto the shapes shading and lights need, reconstruction
+//! filters sampled by importance (pbrt-v4's filter importance sampling), and
+//! multiple-importance-sampling weights.
 //!
 //! Everything here is a pure function of its arguments (of its key, for the
-//! generator), works in f32 at its interface and allocates nothing per sample,
+//! samplers), works in f32 at its interface and allocates nothing per sample,
 //! so a sample depends only on (seed, pixel, sample index): ARCHITECTURE.md's
 //! determinism rule. Inputs called `u` are uniform numbers in [0, 1).
 
@@ -12,12 +14,15 @@ mod discrete;
 pub mod filter;
 pub mod mis;
 mod rng;
+mod sampler;
+mod sobol;
 mod stratify;
 pub mod warp;
 
 pub use discrete::Discrete;
 pub use filter::{Filter, FilterSample, FilterSampler};
 pub use rng::Rng;
+pub use sampler::{Sampler, SamplerKind};
 pub use stratify::stratified_2d;
 
 /// The largest f32 below 1 (1 − 2⁻²⁴): results meant to lie in [0, 1) are

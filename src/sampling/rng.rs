@@ -2,7 +2,7 @@
 //! reproducible whatever thread or tile computes it.
 
 /// splitmix64's output function: a bijective 64-bit mixer.
-fn mix(mut z: u64) -> u64 {
+pub(super) fn mix(mut z: u64) -> u64 {
     z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
     z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
     z ^ (z >> 31)
@@ -14,7 +14,9 @@ pub struct Rng {
     state: u64,
 }
 
-const GOLDEN: u64 = 0x9e37_79b9_7f4a_7c15;
+/// 2⁶⁴ over the golden ratio: splitmix64's increment, which visits every
+/// state, and a spread-out step for keys.
+pub(super) const GOLDEN: u64 = 0x9e37_79b9_7f4a_7c15;
 
 impl Rng {
     /// The generator for one pixel sample.

@@ -24,7 +24,7 @@ use crate::error::{Error, Result};
 use crate::geometry::{Mesh, Shape};
 use crate::lights::{Light, LightPicker};
 use crate::math::{Bounds, INVALID_ID, Vec3};
-use crate::sampling::Filter;
+use crate::sampling::{Filter, SamplerKind};
 use crate::shading::Material;
 
 /// Which light transport the render computes.
@@ -58,6 +58,8 @@ pub struct RenderSettings {
     /// The reconstruction filter, applied by filter importance sampling: each
     /// sample counts only for its own pixel.
     pub filter: Filter,
+    /// Where each sample's uniform numbers come from.
+    pub sampler: SamplerKind,
     pub integrator: Integrator,
     /// Adaptive supersampling, when asked for.
     pub adaptive: Option<Adaptive>,
@@ -134,6 +136,7 @@ impl Default for RenderSettings {
             seed: 0,
             min_weight: 1e-3,
             filter: Filter::default(),
+            sampler: SamplerKind::default(),
             integrator: Integrator::default(),
             adaptive: None,
             photons: PhotonSettings::default(),

@@ -209,11 +209,15 @@ fn toml_scene_settings_and_transforms() {
             seed: 9,
             min_weight: 1e-3,
             filter: crate::sampling::Filter::BOX,
+            sampler: SamplerKind::Sobol,
             integrator: Integrator::Whitted,
             adaptive: None,
             photons: super::PhotonSettings::default(),
         }
     );
+    let independent = TOML.replace("seed = 9", "seed = 9\nsampler = \"independent\"");
+    let scene_b = Scene::load(&write(dir, "b.toml", &independent)).unwrap();
+    assert_eq!(scene_b.render.sampler, SamplerKind::Independent);
     assert_eq!(scene.background, Vec3::new(0.1, 0.2, 0.3));
     let mesh = &scene.meshes[0];
     assert_eq!(scene.materials[mesh.materials[0] as usize].name, "gold");
@@ -243,6 +247,14 @@ fn toml_errors_name_line_and_suggest() {
         (
             TOML.replace("spp = 3", "spp = 0"),
             vec!["line 12, render.spp"],
+        ),
+        (
+            TOML.replace("spp = 3", "spp = 3\nsampler = \"sobl\""),
+            vec![
+                "line 13",
+                "unknown variant `sobl`, expected `sobol` or `independent`",
+                "did you mean `sobol`?",
+            ],
         ),
         (
             TOML.replace(

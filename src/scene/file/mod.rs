@@ -18,8 +18,8 @@ use check::Check;
 pub(super) use check::physical_memory;
 use schema::{
     AlbedoFile, CameraFile, CheckerFile, IntegratorFile, LightFile, MaterialFile, MeshFile,
-    MetallicFile, Object, RenderFile, ScaleFile, SceneFile, ShapeFile, ShapeKind, SpecularFile,
-    TransformFile,
+    MetallicFile, Object, RenderFile, SamplerFile, ScaleFile, SceneFile, ShapeFile, ShapeKind,
+    SpecularFile, TransformFile,
 };
 use shapes::{Body, Built};
 use tree::Parent;
@@ -34,6 +34,7 @@ use crate::geometry::{Box3, Csg, Mesh, Shape, Surface};
 use crate::lights::Light;
 use crate::math::Vec3;
 use crate::poly::solve::{Method, Solver};
+use crate::sampling::SamplerKind;
 use crate::shading::{Checker, Finish, Material, MaterialKind};
 use crate::suggest;
 
@@ -104,6 +105,11 @@ fn render(check: &Check, file: &RenderFile) -> Result<RenderSettings> {
         filter: match &file.filter {
             Some(name) => name.parse().map_err(|e| check.error("render.filter", e))?,
             None => defaults.filter,
+        },
+        sampler: match file.sampler {
+            Some(SamplerFile::Sobol) => SamplerKind::Sobol,
+            Some(SamplerFile::Independent) => SamplerKind::Independent,
+            None => defaults.sampler,
         },
         integrator: match file.integrator {
             Some(IntegratorFile::Whitted) | None => Integrator::Whitted,

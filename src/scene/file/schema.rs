@@ -64,6 +64,7 @@ pub(super) struct RenderFile {
     pub min_weight: Option<f32>,
     /// "box", "tent", "gaussian" or "mitchell".
     pub filter: Option<String>,
+    pub sampler: Option<SamplerFile>,
     pub integrator: Option<IntegratorFile>,
     /// The root finder for analytic surfaces, by its stable name.
     pub method: Option<String>,
@@ -85,6 +86,14 @@ pub(super) struct AdaptiveFile {
 pub(super) struct PhotonsFile {
     pub count: Option<u32>,
     pub radius: Option<f32>,
+}
+
+/// `sampler`: an unknown name is serde's "unknown variant", with a suggestion.
+#[derive(Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub(super) enum SamplerFile {
+    Sobol,
+    Independent,
 }
 
 #[derive(Deserialize)]
