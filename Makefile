@@ -137,7 +137,7 @@ peers: setup
 # What the sampler buys (issue 15): RMSE against a 4096-spp reference at 4, 16
 # and 64 spp for the sobol and independent samplers on the path-traced scenes,
 # 256 pixels wide; prints the table of docs/integrators.md. Not part of `make
-# test`; about an hour on 2 cores.
+# test`; 24 minutes on 2 cores.
 sampler-study: setup
 	cargo build --release
 	$(PYTHON) tools/sampler_study.py --sturmray $(RELEASE_BIN) --threads 2
