@@ -472,15 +472,7 @@ mod tests {
     }
 
     fn quartic(roots: [f64; 4]) -> PolyN<5> {
-        // (t - r0)(t - r1)(t - r2)(t - r3), lowest degree first.
-        let mut c = [1.0, 0.0, 0.0, 0.0, 0.0];
-        for (k, r) in roots.iter().enumerate() {
-            for i in (0..=k + 1).rev() {
-                let lower = if i > 0 { c[i - 1] } else { 0.0 };
-                c[i] = lower - r * c[i];
-            }
-        }
-        PolyN::new(&c)
+        PolyN::new(&product(1.0, &roots, &[]))
     }
 
     #[test]
