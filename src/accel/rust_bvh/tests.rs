@@ -48,6 +48,13 @@ fn every_backend(scene: &Scene) -> Vec<Accel> {
         .collect()
 }
 
+/// Whether t is `want` or one of its f32 neighbours. Embree's t comes from
+/// a reciprocal whose rounding depends on the instruction set it picks at
+/// run time: this machine's AMD EPYC gives 0.99999994 where others gave 1.
+fn within_an_ulp(t: f32, want: f32) -> bool {
+    [want.next_down(), want, want.next_up()].contains(&t)
+}
+
 fn down(x: f32, y: f32) -> Ray {
     Ray::new(Vec3::new(x, y, 1.0), Vec3::new(0.0, 0.0, -1.0))
 }
@@ -57,11 +64,12 @@ fn hits_carry_embrees_ids_barycentrics_and_normal() {
     let scene = square_with_degenerates();
     for accel in every_backend(&scene) {
         let hit = accel.intersect(&down(0.75, 0.25));
-        assert_eq!(
-            (hit.geom_id, hit.prim_id, hit.t),
-            (0, 0, 1.0),
-            "{}",
-            accel.describe()
+        assert_eq!((hit.geom_id, hit.prim_id), (0, 0), "{}", accel.describe());
+        assert!(
+            within_an_ulp(hit.t, 1.0),
+            "{}: t {}",
+            accel.describe(),
+            hit.t
         );
         assert!((hit.u - 0.5).abs() < 1e-6 && (hit.v - 0.25).abs() < 1e-6);
         assert_eq!(hit.ng, Vec3::Z);
@@ -105,7 +113,8 @@ fn negative_zero_direction_components_still_hit() {
     let scene = square_with_degenerates();
     for accel in every_backend(&scene) {
         let ray = Ray::new(Vec3::new(0.3, 0.6, 1.0), Vec3::new(-0.0, -0.0, -1.0));
-        assert_eq!(accel.intersect(&ray).t, 1.0, "{}", accel.describe());
+        let t = accel.intersect(&ray).t;
+        assert!(within_an_ulp(t, 1.0), "{}: t {t}", accel.describe());
     }
 }
 
