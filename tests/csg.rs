@@ -698,3 +698,92 @@ fn crossings_in_an_interval_are_those_of_the_whole_line_within_it() {
         );
     }
 }
+
+/// A sphere as a general algebraic surface: the same solid as
+/// `Surface::Sphere`, but costly to the tree (see `Csg::cost`).
+fn algebraic_sphere(radius: f64, at: DVec3) -> Shape {
+    use sturmray::poly::trivariate::Trivariate;
+    let f = Trivariate::from_terms([
+        ([2, 0, 0], 1.0),
+        ([0, 2, 0], 1.0),
+        ([0, 0, 2], 1.0),
+        ([0, 0, 0], -radius * radius),
+    ]);
+    let pad = 1.01 * radius;
+    placed(
+        Surface::Algebraic(Box::new(f)),
+        at,
+        Some(Box3 {
+            min: DVec3::splat(-pad),
+            max: DVec3::splat(pad),
+        }),
+    )
+}
+
+/// An intersection or a clip searches its costly children (a torus here)
+/// only where its cheap ones (a sphere, a half-space) are all inside. The
+/// hits must be those of the same tree whose sphere is written as an
+/// algebraic surface, which is costly too, so nothing is narrowed: rays
+/// from outside and inside, through the sphere's rim and the torus's tube.
+#[test]
+fn narrowing_to_where_the_cheap_children_are_inside_keeps_every_hit() {
+    let torus = || {
+        solid(placed(
+            Surface::Torus {
+                major: 2.0,
+                minor: 0.6,
+            },
+            DVec3::ZERO,
+            None,
+        ))
+    };
+    let half_space = || Leaf {
+        part: Part::Plane {
+            normal: DVec3::new(0.3, 0.2, 1.0).normalize(),
+            offset: 0.25,
+        },
+        inverse: false,
+        material: 0,
+    };
+    let at = DVec3::new(1.5, 0.5, 0.0);
+    for op in [Op::Intersection, Op::Clip] {
+        let narrowed = tree(op, vec![torus(), solid(sphere(1.2, at)), half_space()]);
+        let whole = tree(
+            op,
+            vec![torus(), solid(algebraic_sphere(1.2, at)), half_space()],
+        );
+        let mut hits = 0;
+        for i in 0..3000 {
+            let k = f64::from(i);
+            let o = DVec3::new(
+                4.0 * (k * 0.71).sin(),
+                4.0 * (k * 0.53).cos(),
+                2.0 * (k * 0.29).sin(),
+            );
+            let aim = at + 1.3 * DVec3::new((k * 0.17).cos(), (k * 0.23).sin(), (k * 0.31).cos());
+            let d = (aim - o).normalize();
+            let tmin = if i % 3 == 0 { 2.0 } else { 0.0 };
+            let (a, b) = (
+                narrowed.intersect(o, d, tmin, f64::INFINITY),
+                whole.intersect(o, d, tmin, f64::INFINITY),
+            );
+            match (a, b) {
+                (Some(a), Some(b)) => {
+                    hits += 1;
+                    assert!(
+                        (a.t - b.t).abs() < 1e-9 && a.part == b.part,
+                        "{op:?} ray {i}: {a:?} against {b:?}"
+                    );
+                }
+                (None, None) => {}
+                _ => panic!("{op:?} ray {i} from {o} along {d}: {a:?} against {b:?}"),
+            }
+            assert_eq!(
+                narrowed.occluded(o, d, tmin, f64::INFINITY),
+                whole.occluded(o, d, tmin, f64::INFINITY),
+                "{op:?} ray {i}"
+            );
+        }
+        assert!(hits > 300, "{op:?}: {hits} hits");
+    }
+}

@@ -101,6 +101,13 @@ def test_trace_hits_analytic_shapes(sturmray, tmp_path):
     rel = np.abs(hits["t"][both] - nearest[both]) / nearest[both]
     # float32 t of a float64 root: a few ulps.
     assert rel.max() < 1e-6, f"max relative t error {rel.max():.3g}"
+    # v bounds the error of the float64 root, before t is rounded to
+    # float32: positive, and small against t (a tolerance of 1e-12 times
+    # the distance, plus the root's uncertainty).
+    v = hits["v"][both].astype(np.float64)
+    assert (v > 0).all() and (v < 1e-6 * nearest[both]).all(), f"v from {v.min():.3g} to {v.max():.3g}"
+    # u names the CSG leaf: these are plain shapes.
+    assert (hits["u"][both] == 0).all()
     # Misses of both shapes land on the quad behind (geom 0).
     assert (hits["geom_id"][~analytic & ~ours] == 0).all()
     # Sphere normals point from the centre through the hit point.

@@ -25,7 +25,9 @@ impl UserPrimitive for Shape {
             // Which CSG leaf was hit, for its material and error bound
             // (`Shape::material_of`): exact in f32 below 2^24 leaves.
             u: hit.part as f32,
-            v: 0.0,
+            // The bound on t's error, rounded up to f32, for the shading
+            // point's offset (`Scene::interaction`).
+            v: round_up_f32(hit.error),
         })
     }
 
@@ -33,4 +35,10 @@ impl UserPrimitive for Shape {
         let (o, d) = f64_ray(ray);
         Shape::occluded(self, o, d, f64::from(ray.tnear), f64::from(ray.tfar))
     }
+}
+
+/// The least f32 at or above x (x finite and not negative).
+fn round_up_f32(x: f64) -> f32 {
+    let r = x as f32;
+    if f64::from(r) < x { r.next_up() } else { r }
 }

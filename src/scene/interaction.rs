@@ -31,19 +31,11 @@ impl Scene {
     /// The shading point of `hit`, which must be a hit of `ray` in this scene.
     pub fn interaction(&self, ray: &Ray, hit: &Hit) -> Interaction {
         let (p, error) = if hit.geom_id == self.shapes_geom_id() {
-            let shape = &self.shapes[hit.prim_id as usize];
             let p = ray.at(hit.t);
-            // The root's own uncertainty (see `Shape::hit_error`), then t and o + t·d
+            // The root's own error bound, which a shape's hit carries in v
+            // (see accel::analytic and `ShapeHit::error`), then t and o + t·d
             // rounded to f32.
-            // A shape's hit carries its CSG part in u (see accel::analytic).
-            let part = hit.u as u32;
-            let root = shape.hit_error(
-                ray.origin.as_dvec3(),
-                ray.dir.as_dvec3(),
-                f64::from(hit.t),
-                part,
-            );
-            let t_error = root as f32 + hit.t.abs() * f32::EPSILON;
+            let t_error = hit.v + hit.t.abs() * f32::EPSILON;
             let error =
                 t_error * ray.dir.abs() + gamma(3) * (ray.origin.abs() + (hit.t * ray.dir).abs());
             (p, error)

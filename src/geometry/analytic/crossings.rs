@@ -136,7 +136,7 @@ impl Shape {
             face: Some(face),
         };
         let mut n = 0;
-        self.each_crossing(&ray, |s, entering| {
+        self.each_crossing(&ray, |s, entering, _| {
             out.roots[n] = (s, entering);
             n += 1;
             n < CAPACITY - 2

@@ -81,6 +81,10 @@ pub struct ShapeHit {
     /// Which part of a CSG tree was hit (its leaf, see `csg::Csg`); 0 for a
     /// plain shape.
     pub part: u32,
+    /// A bound on the error in t (see `Shape::hit_error`): for a plain
+    /// shape from the root's own refinement, which has the surface's Q at
+    /// the root in hand, so the shading point needs no second substitution.
+    pub error: f64,
 }
 
 /// An analytic surface placed in the world, or a CSG tree of them.
@@ -131,6 +135,8 @@ pub struct RayPoly {
 struct Found {
     t: f64,
     object_point: DVec3,
+    /// The bound on the error in t (see `ShapeHit::error`).
+    error: f64,
 }
 
 impl Shape {
@@ -282,6 +288,7 @@ impl Shape {
             t: found.t,
             normal: self.normal_at(found.object_point),
             part: 0,
+            error: found.error,
         })
     }
 
@@ -300,13 +307,11 @@ impl Shape {
         self.normal_to_world * DVec3::from(gradient)
     }
 
-    /// A bound on the error in t of a hit of the world ray o + t·d at `t`:
-    /// the root's uncertainty (see `Surface::uncertainty`) plus the solver's tolerance.
-    /// `part` is the hit's (see [`ShapeHit::part`]).
-    pub fn hit_error(&self, o: DVec3, d: DVec3, t: f64, part: u32) -> f64 {
-        if let Surface::Csg(tree) = &self.surface {
-            return tree.hit_error(part, o, d, t);
-        }
+    /// A bound on the error in t of a hit of the world ray o + t·d at `t`,
+    /// computed afresh: the root's uncertainty (see `Surface::uncertainty`)
+    /// plus the solver's tolerance. A search gives the same bound from the
+    /// root it refined (`ShapeHit::error`); a CSG tree asks its leaf here.
+    pub fn hit_error(&self, o: DVec3, d: DVec3, t: f64) -> f64 {
         let (o, d) = (
             self.to_object.transform_point3(o),
             self.to_object.transform_vector3(d),
@@ -314,9 +319,8 @@ impl Shape {
         let length = d.length();
         let d = d / length;
         let distance = t * length;
-        let refine = self.solver.tolerance * distance.abs().max(1.0);
         let uncertainty = self.surface.uncertainty(o + distance * d, d);
-        (2.0 * uncertainty.min(1.0) + refine) / length
+        error_in_t(uncertainty, self.refine_width(distance), length)
     }
 
     /// Whether the world ray o + t·d crosses the surface for some t in (tmin, tmax).
@@ -330,7 +334,7 @@ impl Shape {
             return false;
         }
         if let Surface::Csg(tree) = &self.surface {
-            return tree.intersect(o, d, tmin, tmax).is_some();
+            return tree.occluded(o, d, tmin, tmax);
         }
         self.search(o, d, tmin, tmax, true).is_some()
     }
@@ -390,10 +394,11 @@ impl Shape {
             return None;
         }
         let mut found = None;
-        self.each_crossing(&ray, |s, _| {
+        self.each_crossing(&ray, |s, _, uncertainty| {
             found = Some(Found {
                 t: (ray.t0 + s) / ray.length,
                 object_point: ray.start + s * ray.d,
+                error: error_in_t(uncertainty, self.refine_width(ray.t0 + s), ray.length),
             });
             false
         });
@@ -404,11 +409,12 @@ impl Shape {
         matches!(self.surface, Surface::Sphere { .. } | Surface::Quadric(_))
     }
 
-    /// Calls `visit(s, entering)` for each root of the ray's Q where the ray
-    /// crosses the surface, nearest first, while it returns true. Only roots
+    /// Calls `visit(s, entering, uncertainty)` for each root of the ray's Q
+    /// where the ray crosses the surface, nearest first, while it returns
+    /// true; `uncertainty` is the root's (see `Surface::uncertainty`). Only roots
     /// where the ray crosses are accepted (see `polish`): touching and
     /// phantom roots are stepped past, at most `MAX_TOUCHES` of them.
-    fn each_crossing(&self, ray: &RayPoly, mut visit: impl FnMut(f64, bool) -> bool) {
+    fn each_crossing(&self, ray: &RayPoly, mut visit: impl FnMut(f64, bool, f64) -> bool) {
         // By reference: a copy of the ray's Q (full-size storage) per walk
         // showed in the profile.
         let RayPoly {
@@ -427,8 +433,8 @@ impl Shape {
                 return;
             };
             match self.polish(q, start, d, s, from) {
-                Ok((s, entering)) => {
-                    if !visit(s, entering) {
+                Ok((s, entering, uncertainty)) => {
+                    if !visit(s, entering, uncertainty) {
                         return;
                     }
                     // Past the bisection's last interval, which holds the sign
@@ -456,8 +462,9 @@ impl Shape {
     /// Only a sign change of the local Q is accepted: the ray crosses the
     /// surface there. A tangent touch, or a pair of roots that rounding made out
     /// of a complex pair (near the heart surface's rim, where F's gradient
-    /// vanishes), has none. Returns the refined root and whether the ray
-    /// enters there (F goes from + to −), or where to search on.
+    /// vanishes), has none. Returns the refined root, whether the ray
+    /// enters there (F goes from + to −) and the root's uncertainty (see
+    /// `Surface::uncertainty`), or where to search on.
     fn polish(
         &self,
         q: &Poly,
@@ -465,7 +472,7 @@ impl Shape {
         d: DVec3,
         s: f64,
         from: f64,
-    ) -> Result<(f64, bool), f64> {
+    ) -> Result<(f64, bool, f64), f64> {
         if self.surface.quartic() {
             self.polish_in::<QUARTIC_SLOTS>(q, start, d, s, from)
         } else {
@@ -481,7 +488,7 @@ impl Shape {
         d: DVec3,
         s: f64,
         from: f64,
-    ) -> Result<(f64, bool), f64> {
+    ) -> Result<(f64, bool, f64), f64> {
         const SAMPLES: u32 = 32;
         let floor = self.refine_width(s);
         let p = start + s * d;
@@ -496,7 +503,15 @@ impl Shape {
         let coarse = q.coeffs();
         let noise =
             (f64::EPSILON * (4 * coarse.len()) as f64 * abs_eval(coarse, s)).max(local_noise);
-        let window = 4.0 * root_uncertainty(local.coeffs(), noise).max(floor);
+        let reach = root_uncertainty(local.coeffs(), noise);
+        let window = 4.0 * reach.max(floor);
+        // The root's own uncertainty, from F's noise at the root alone: what
+        // `Surface::uncertainty` gives there.
+        let uncertainty = if noise == local_noise {
+            reach
+        } else {
+            root_uncertainty(local.coeffs(), local_noise)
+        };
         let lo = (-window).max(from - s);
         let step = (window - lo) / f64::from(SAMPLES);
         let mut last: Option<(f64, f64)> = None;
@@ -509,12 +524,20 @@ impl Shape {
             if let Some((a, fa)) = last
                 && (fa < 0.0) != (fb < 0.0)
             {
-                return Ok((s + bisect(&local, a, fa, b, floor), fa > 0.0));
+                return Ok((s + bisect(&local, a, fa, b, floor), fa > 0.0, uncertainty));
             }
             last = Some((b, fb));
         }
         Err(s + window)
     }
+}
+
+/// A hit's error bound in the ray's t from its root's uncertainty and its
+/// refinement width, both in object-space distance, and the length of the
+/// ray's direction there: twice the uncertainty (capped at one unit of
+/// object space) for the root's noise on either side.
+fn error_in_t(uncertainty: f64, refine: f64, length: f64) -> f64 {
+    (2.0 * uncertainty.min(1.0) + refine) / length
 }
 
 /// Halves [a, b], across which q changes sign, down to `width`.
