@@ -23,6 +23,9 @@ if ! records=$(scontrol --oneliner show job "$array" 2>&1); then
     echo "slurm_report.sh: $records" >&2
     exit 2
 fi
+# In task order (scontrol lists the last first).
+records=$(awk 'match($0, /ArrayTaskId=[0-9]+/) { print substr($0, RSTART + 12, RLENGTH - 12) "\t" $0 }' \
+    <<<"$records" | sort -n | cut -f2-)
 
 # The value of field $1 in the record $2 (values without spaces only).
 field() { [[ " $2 " =~ \ $1=([^ ]*)\  ]] && echo "${BASH_REMATCH[1]}"; }
@@ -61,7 +64,7 @@ if ((${#failed[@]} > 0 && waiting > 0)); then
     exit 1
 fi
 if ((${#failed[@]} > 0)); then
-    tasks=$(printf "${array}_%s," $(printf "%s\n" "${failed[@]}" | sort -n))
+    tasks=$(printf "${array}_%s," "${failed[@]}")
     tasks=${tasks%,}
     echo "Fix the cause, then requeue the failed tasks and submit the merge again:"
     echo "    scontrol requeue $tasks"
