@@ -42,6 +42,8 @@ finish() {
     fi
 }
 trap finish EXIT
+# Stopped from outside: exit, so that the EXIT trap stops the daemons.
+trap 'exit 130' INT TERM
 
 fail() {
     echo "FAIL $current: $*" >&2
@@ -74,6 +76,17 @@ job_field() {
 gone() { [[ -z $(squeue --noheader --jobs "$1" 2>/dev/null) ]]; }
 running() { [[ $(squeue --noheader --jobs "$1" --states=RUNNING 2>/dev/null | wc -l) == "$2" ]]; }
 rendering() { grep -q "photon map" "$1" 2>/dev/null; }
+
+# Waits for merge job $1 (of array $2) to end; fails at once, with the
+# report, when its array failed and it will never run.
+wait_merge() {
+    local merge=$1 array=$2
+    merge_over() {
+        gone "$merge" || [[ $(job_field "$merge" Reason) == DependencyNeverSatisfied ]]
+    }
+    wait_until 120 "the merge job ends" merge_over
+    gone "$merge" || fail "the array failed: $("$farm/slurm_report.sh" "$array" "$merge")"
+}
 
 # A job that ran and ended well (scontrol keeps ended jobs for MinJobAge).
 completed() {
@@ -154,7 +167,7 @@ merge=$(sbatch --parsable --dependency=afterok:"$array" \
     --export=ALL,OUT=parts,FRAMES=0-1,IMAGE=frame-%d.exr "$farm/slurm_merge.sh")
 wait_until 10 "the merge job waits for the array" \
     eval '[[ $(job_field "$merge" Reason) == Dependency ]]'
-wait_until 120 "the merge job ends" gone "$merge"
+wait_merge "$merge" "$array"
 completed "$merge" "$(cat sturmray-merge-"$merge".log)"
 for frame in 0 1; do
     render "$scenes/s.toml" --frame $frame -o whole-$frame.exr
@@ -191,7 +204,7 @@ scontrol requeue "${array}_1"
 scancel "$merge"
 merge=$(sbatch --parsable --dependency=afterok:"${array}_1" \
     --export=ALL,OUT=parts,IMAGE=merged.exr "$farm/slurm_merge.sh")
-wait_until 120 "the second merge job ends" gone "$merge"
+wait_merge "$merge" "$array"
 completed "$merge" "$(cat sturmray-merge-"$merge".log)"
 grep -q "tile 1/2, run 2: .* --resume" "$log" || fail "the requeued task did not resume: $(cat "$log")"
 render "$scenes/slow.toml" -o whole.exr
@@ -238,7 +251,7 @@ for task in 0 1; do
         fail "task $task is $(job_field "${array}_$task" JobState), not requeued"
 done
 node_start
-wait_until 120 "the merge job ends" gone "$merge"
+wait_merge "$merge" "$array"
 completed "$merge" "$(cat sturmray-merge-"$merge".log)"
 for task in 0 1; do
     grep -q "tile $task/2, run 2: " sturmray-tile-"$array"-$task.log || fail "task $task did not run again"
@@ -260,7 +273,7 @@ merge=$(sbatch --parsable --dependency=afterok:"$array" \
 render "$scenes/diffuse.toml" --spp $((16 * passes)) -o single.exr
 sed 's/^\[render\]$/[render]\nseed = 1000/' "$scenes/diffuse.toml" >"$scenes/reference.toml"
 render "$scenes/reference.toml" --spp 1024 -o reference.exr
-wait_until 120 "the merge job ends" gone "$merge"
+wait_merge "$merge" "$array"
 completed "$merge" "$(cat sturmray-merge-"$merge".log)"
 for task in $(seq 0 $((passes - 1))); do
     grep -q "seed = $((1 + task))$" "$scenes/diffuse.seed-$((1 + task)).toml" ||
