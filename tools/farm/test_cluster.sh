@@ -16,6 +16,9 @@ repo=$(cd "$(dirname "$0")/../.." && pwd)
 farm=$repo/tools/farm
 STURMRAY=$(realpath "${1:?usage: test_cluster.sh STURMRAY [PYTHON]}")
 PYTHON=${2:-$repo/.venv/bin/python}
+# Absolute, as the checks run in folders of their own; not resolved, as the
+# venv's python is a link out of the venv.
+[[ $PYTHON == /* ]] || PYTHON=$PWD/$PYTHON
 export STURMRAY
 if [[ $(id -u) != 0 ]]; then
     echo "test_cluster.sh: run as root: the test cluster's Slurm daemons run as root" >&2
