@@ -39,6 +39,8 @@ awk -v seed="$seed" '
 ' "$SCENE" >"$seeded.$$"
 mv "$seeded.$$" "$seeded"
 
+# The threads and --resume as in slurm_render.sh: written again, not sourced,
+# as sbatch runs a copy of each script away from its folder.
 mkdir -p "$OUT"
 part="$OUT/part-$task.exr"
 args=(render "$seeded" -o "$part")
