@@ -25,6 +25,7 @@ merge() {
         echo "slurm_merge.sh: no parts in $1" >&2
         return 2
     fi
+    mkdir -p "$(dirname "$2")"
     "$STURMRAY" merge "$2" "${parts[@]}"
 }
 

@@ -77,7 +77,6 @@ job_field() {
 }
 
 gone() { [[ -z $(squeue --noheader --jobs "$1" 2>/dev/null) ]]; }
-running() { [[ $(squeue --noheader --jobs "$1" --states=RUNNING 2>/dev/null | wc -l) == "$2" ]]; }
 rendering() { grep -q "photon map" "$1" 2>/dev/null; }
 
 # Waits for merge job $1 (of array $2) to end; fails at once, with the
@@ -167,16 +166,16 @@ mkdir "$work/frames" && cd "$work/frames"
 array=$(sbatch --parsable --array=0-5 --cpus-per-task=1 \
     --export=ALL,SCENE="$scenes/s.toml",TILES=3,FRAMES=0-1,OUT=parts "$farm/slurm_render.sh")
 merge=$(sbatch --parsable --dependency=afterok:"$array" \
-    --export=ALL,OUT=parts,FRAMES=0-1,IMAGE=frame-%d.exr "$farm/slurm_merge.sh")
+    --export=ALL,OUT=parts,FRAMES=0-1,IMAGE=frames/frame-%d.exr "$farm/slurm_merge.sh")
 wait_until 10 "the merge job waits for the array" \
     eval '[[ $(job_field "$merge" Reason) == Dependency ]]'
 wait_merge "$merge" "$array"
 completed "$merge" "$(cat sturmray-merge-"$merge".log)"
 for frame in 0 1; do
     render "$scenes/s.toml" --frame $frame -o whole-$frame.exr
-    same_bytes frame-$frame.exr whole-$frame.exr "frame $frame merged from 3 tiles, against one render"
+    same_bytes frames/frame-$frame.exr whole-$frame.exr "frame $frame merged from 3 tiles, against one render"
 done
-cmp -s frame-0.exr frame-1.exr && fail "frames 0 and 1 are the same image: the camera did not move"
+cmp -s frames/frame-0.exr frames/frame-1.exr && fail "frames 0 and 1 are the same image: the camera did not move"
 passed
 
 check "a task cancelled mid-render resumes from its film state when requeued"
@@ -187,7 +186,8 @@ merge=$(sbatch --parsable --dependency=afterok:"$array" \
     --export=ALL,OUT=parts,IMAGE=merged.exr "$farm/slurm_merge.sh")
 log=sturmray-tile-$array-1.log
 wait_until 60 "task 1 renders" rendering "$log"
-sleep 1
+# Its passes have begun (the photon pass is over); 1500 spp take seconds.
+sleep 0.5
 scancel "${array}_1"
 wait_until 60 "the array ends" gone "$array"
 [[ $(job_field "${array}_1" JobState) == CANCELLED ]] ||
