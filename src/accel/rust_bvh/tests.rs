@@ -52,17 +52,21 @@ fn down(x: f32, y: f32) -> Ray {
     Ray::new(Vec3::new(x, y, 1.0), Vec3::new(0.0, 0.0, -1.0))
 }
 
+/// Whether `t` is the exact 1 of these rays to within an ulp. Embree picks
+/// its kernels by the CPU at run time, and its t is not always the correctly
+/// rounded one: Embree 3.13.5 on an AMD EPYC with AVX2 (no AVX-512) gives
+/// 0.99999994 here, one ulp below 1, where these tests had seen 1.0.
+fn at_one(t: f32) -> bool {
+    (t - 1.0).abs() <= f32::EPSILON
+}
+
 #[test]
 fn hits_carry_embrees_ids_barycentrics_and_normal() {
     let scene = square_with_degenerates();
     for accel in every_backend(&scene) {
         let hit = accel.intersect(&down(0.75, 0.25));
-        assert_eq!(
-            (hit.geom_id, hit.prim_id, hit.t),
-            (0, 0, 1.0),
-            "{}",
-            accel.describe()
-        );
+        assert_eq!((hit.geom_id, hit.prim_id), (0, 0), "{}", accel.describe());
+        assert!(at_one(hit.t), "{}: t = {}", accel.describe(), hit.t);
         assert!((hit.u - 0.5).abs() < 1e-6 && (hit.v - 0.25).abs() < 1e-6);
         assert_eq!(hit.ng, Vec3::Z);
         assert_eq!(accel.intersect(&down(0.25, 0.75)).prim_id, 1);
@@ -105,7 +109,8 @@ fn negative_zero_direction_components_still_hit() {
     let scene = square_with_degenerates();
     for accel in every_backend(&scene) {
         let ray = Ray::new(Vec3::new(0.3, 0.6, 1.0), Vec3::new(-0.0, -0.0, -1.0));
-        assert_eq!(accel.intersect(&ray).t, 1.0, "{}", accel.describe());
+        let t = accel.intersect(&ray).t;
+        assert!(at_one(t), "{}: t = {t}", accel.describe());
     }
 }
 
