@@ -13,7 +13,8 @@
 #
 # Debian's slurm-wlm and munge run as root here, as this cluster's own
 # processes: no systemd, no /etc/slurm, no /etc/munge/munge.key. Nothing
-# outside DIR is written.
+# outside DIR is written. The functions return non-zero on failure and do
+# not exit: under `set -e`, cluster_stop still stops what it can.
 
 # Ports of our own: a Slurm already on this machine uses 6817 and 6818.
 CLUSTER_CTLD_PORT=${CLUSTER_CTLD_PORT:-16817}
@@ -121,13 +122,15 @@ node_start() {
     }
 }
 
-# The jobs' processes (scontrol listpids, while slurmd answers) and, for each,
-# the slurmstepd that runs it (its parent), then slurmd: all at once.
+# The jobs' processes (scontrol listpids, while slurmd answers) and the
+# slurmstepd that runs each (its parent, when that is one), then slurmd: all
+# at once.
 node_kill() {
     local pids=() pid parent
     for pid in $(scontrol listpids 2>/dev/null | awk 'NR > 1 && $1 ~ /^[0-9]+$/ {print $1}'); do
+        pids+=("$pid")
         parent=$(awk '{print $4}' "/proc/$pid/stat" 2>/dev/null) || continue
-        pids+=("$pid" "$parent")
+        [[ $(cat "/proc/$parent/comm" 2>/dev/null) != slurmstepd ]] || pids+=("$parent")
     done
     kill -KILL "$cluster_slurmd" "${pids[@]}" 2>/dev/null || true
     wait "$cluster_slurmd" 2>/dev/null || true
@@ -137,14 +140,14 @@ node_kill() {
 cluster_stop() {
     [[ -n $cluster_dir ]] || return 0
     if [[ -n ${cluster_slurmctld:-} ]]; then
-        scancel --full --quiet --user="$(id -un)" 2>/dev/null
+        scancel --full --quiet --user="$(id -un)" 2>/dev/null || true
         # Give the jobs' processes their SIGTERM and the time to exit.
         cluster_wait 20 cluster_no_jobs ||
             cluster_log "jobs still listed at stop: $(squeue --noheader 2>&1)"
     fi
     local pid
     for pid in ${cluster_slurmd:-} ${cluster_slurmctld:-} ${cluster_munged:-}; do
-        kill -TERM "$pid" 2>/dev/null && wait "$pid" 2>/dev/null
+        kill -TERM "$pid" 2>/dev/null && wait "$pid" 2>/dev/null || true
     done
     cluster_slurmd="" cluster_slurmctld="" cluster_munged="" cluster_dir=""
 }

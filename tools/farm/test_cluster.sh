@@ -37,7 +37,7 @@ current="setup"
 finish() {
     local status=$?
     cluster_stop
-    [[ -z $sshd_pid ]] || { kill "$sshd_pid" 2>/dev/null && wait "$sshd_pid" 2>/dev/null; }
+    [[ -z $sshd_pid ]] || { kill "$sshd_pid" 2>/dev/null && wait "$sshd_pid" 2>/dev/null || true; }
     if ((status == 0)); then
         rm -rf "$work"
     else
