@@ -19,7 +19,7 @@ EMBREE4_TARGET := target/embree4
 
 .PHONY: setup render test test-rust test-python lint bench scenes clean embree4 test-embree4 \
 	fuzz check-memory wrapper-overhead povray-compare povray-speed photon-radius peers \
-	sampler-study
+	sampler-study test-farm
 
 # Installs those of the Debian packages $(1) that are missing (none: no apt-get at all).
 define apt_install
@@ -141,6 +141,20 @@ peers: setup
 sampler-study: setup
 	cargo build --release
 	$(PYTHON) tools/sampler_study.py --sturmray $(RELEASE_BIN) --threads 2
+
+# docs/farm.md's recipes for real (issue 19): a one-node Slurm cluster started
+# by the test (munged, slurmctld, slurmd as its own processes, state in a
+# temporary folder, stopped by a trap), array jobs of tiles and frames with a
+# dependent merge, a cancelled task, a failed one and a node that dies; GNU
+# parallel on local slots and over ssh to an sshd of the test's own. Needs root,
+# as CI runs. Its packages are installed here only: Debian enables their
+# services (munge, slurmctld, slurmd, ssh) where systemd runs; the test uses
+# none of them, nor their ports. Not part of `make test`; .ci/run runs it.
+APT_FARM_PACKAGES := slurm-wlm munge parallel openssh-server rsync
+test-farm: setup
+	$(call apt_install,$(APT_FARM_PACKAGES))
+	cargo build --release
+	tools/farm/test_cluster.sh $(RELEASE_BIN) $(PYTHON)
 
 # Property-based fuzzing (proptest on stable Rust), not part of `make test` or
 # CI: each target runs FUZZ_CASES fresh random cases, or stops after
