@@ -46,7 +46,7 @@ pub fn run(Args { quick, json, plot }: Args) -> anyhow::Result<()> {
             accuracy::plot::write_svg(path, &records)?;
         }
     }
-    let per_degree = if quick { 3 } else { 12 };
+    let per_degree = if quick { 6 } else { 24 };
     let certified = accuracy::certified::run(per_degree);
     Ok(print(&format!(
         "{}{}",

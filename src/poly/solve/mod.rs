@@ -184,8 +184,10 @@ impl Solver {
     }
 
     /// The f64 roots in (a, b], unproven: from the closed forms or
-    /// Yuksel's method where they apply, else from the Sturm chain.
-    fn unproven_roots(&self, p: &Poly, a: f64, b: f64, out: &mut [f64; MAX_DEGREE]) -> usize {
+    /// Yuksel's method where they apply, else from the Sturm chain. What
+    /// [`Solver::roots`] and [`Solver::certified`] check; public for the
+    /// accuracy study, which counts how often the check fails.
+    pub fn unproven_roots(&self, p: &Poly, a: f64, b: f64, out: &mut [f64; MAX_DEGREE]) -> usize {
         by_degree!(p, |q| self.unproven_roots_in(q, a, b, out))
     }
 
