@@ -158,14 +158,14 @@ test-farm: setup
 
 # Property-based fuzzing (proptest on stable Rust), not part of `make test` or
 # CI: each target runs FUZZ_CASES fresh random cases, or stops after
-# FUZZ_SECONDS (five targets: at most 5 x 60 s). A failure is shrunk, printed
+# FUZZ_SECONDS (seven targets: at most 7 x 60 s). A failure is shrunk, printed
 # and kept in tests/<crate>.proptest-regressions, which `cargo test` replays.
 # fuzz_cli drives the binary end to end (scenes, rays, damaged film states).
 FUZZ_CASES ?= 1000000
 FUZZ_SECONDS ?= 60
 FUZZ_TARGETS := fuzz_input:fuzz_scene_parser fuzz_input:fuzz_obj_loader \
 	fuzz_poly:fuzz_poly_parser fuzz_poly:fuzz_root_finder fuzz_cli:fuzz_cli_end_to_end \
-	hostile_poly:fuzz_roots_at_extreme_scales
+	hostile_poly:fuzz_roots_at_extreme_scales fuzz_poly:fuzz_certified_roots
 
 fuzz:
 	cargo test --no-run --test fuzz_input --test fuzz_poly --test fuzz_cli --test hostile_poly

@@ -163,27 +163,41 @@ fn high_degree(c: &mut Criterion) {
     group.finish();
 }
 
-/// The exact Sturm count `Solver::roots` checks its answer against: random
-/// coefficients of up to 1e3 in size with all 53 bits of mantissa in use
-/// (as computed ray polynomials have; the rationals' size, hence the cost,
-/// grows with them), degree 8, 16 and 35 (the limit).
+/// The exact path that certifies `roots` (issue 17): random coefficients
+/// of up to 1e3 in size with all 53 bits of mantissa in use (as computed ray
+/// polynomials have; the rationals' size, hence the cost, grows with them),
+/// at degree 8, 16, 35 (the f64 path's limit) and 100 (where the exact path
+/// answers alone). `exact_count` is the count the renderer's `roots` checks
+/// against; `certified` is the whole answer of `sturmray roots` on (−MAX,
+/// MAX], certificate included. Run: `cargo bench --bench poly -- exact`.
 fn exact_certificate(c: &mut Criterion) {
     let mut rng = Rng::for_sample(0xce27, 0, 0);
     let mut unit = move || f64::from(rng.next_f32()) + f64::from(rng.next_f32()) * 2f64.powi(-24);
-    let mut group = c.benchmark_group("exact_count, per call");
-    for degree in [8, 16, 35] {
-        let polys: Vec<Vec<f64>> = (0..64)
+    let solver = Solver::default();
+    for degree in [8, 16, 35, 100] {
+        let polys: Vec<Vec<f64>> = (0..16)
             .map(|_| (0..=degree).map(|_| 2e3 * unit() - 1e3).collect())
             .collect();
-        group.bench_function(format!("degree {degree}"), |bench| {
+        let mut group = c.benchmark_group(format!("exact, degree {degree}, per call"));
+        if degree > 35 {
+            group.sample_size(10);
+        }
+        group.bench_function("exact_count", |bench| {
             let mut i = 0;
             bench.iter(|| {
                 i = (i + 1) % polys.len();
                 black_box(exact_count(black_box(&polys[i]), -3.7, 2.9))
             })
         });
+        group.bench_function("certified", |bench| {
+            let mut i = 0;
+            bench.iter(|| {
+                i = (i + 1) % polys.len();
+                black_box(solver.certified(black_box(&polys[i]), -f64::MAX, f64::MAX))
+            })
+        });
+        group.finish();
     }
-    group.finish();
 }
 
 criterion_group!(benches, queries, high_degree, exact_certificate);

@@ -15,7 +15,7 @@ use serde_json::Value;
 use common::{SQUARE, plane_scene, scratch, sturmray, write};
 use sturmray::geometry::{Box3, Shape, ShapeHit, Surface};
 use sturmray::poly::MAX_DEGREE;
-use sturmray::poly::exact::{exact_count, exact_roots};
+use sturmray::poly::exact::{MAX_EXACT_DEGREE, exact_count, exact_roots};
 use sturmray::poly::expr;
 use sturmray::poly::solve::Solver;
 
@@ -472,8 +472,8 @@ fn cluster(m: usize, r: f64, n: usize) -> Vec<f64> {
 
 /// `roots` at degree 35: the 35 simple roots of T_35, a root of
 /// multiplicity 35, a 34-fold root 2^-11 from a simple one (the f64 chain
-/// cannot hold them apart; the exact path answers), and degree 36 refused
-/// with the limit named.
+/// cannot hold them apart; the exact path answers), degree 36 answered by
+/// the exact path and degree 129 refused with the limit named.
 #[test]
 fn roots_at_degree_35() {
     let t35 = chebyshev_35();
@@ -485,6 +485,7 @@ fn roots_at_degree_35() {
         query(&cluster(34, r, 1), Some((0.0, 2.0))),
         query(&cluster(33, r2, 2), Some((0.0, 2.0))),
         query(&[1.0; MAX_DEGREE + 2], None),
+        query(&[1.0; MAX_EXACT_DEGREE + 2], None),
     ]);
     let got = roots_of(&replies[0]);
     assert_eq!(replies[0]["count"], 35, "{}", replies[0]);
@@ -501,8 +502,11 @@ fn roots_at_degree_35() {
     assert_eq!(roots_of(&replies[1]), [1.0], "{}", replies[1]);
     assert_eq!(roots_of(&replies[2]), [1.0, r], "{}", replies[2]);
     assert_eq!(roots_of(&replies[3]), [1.0, r2], "{}", replies[3]);
-    let error = replies[4]["error"].as_str().unwrap();
-    assert!(error.contains("degree <= 35"), "{error}");
+    // 1 + x + ... + x^36: above the f64 path's 35 the exact path answers
+    // (no real roots: at -1 the 37 terms sum to 1); above 128, an error.
+    assert_eq!(replies[4]["count"], 0, "{}", replies[4]);
+    let error = replies[5]["error"].as_str().unwrap();
+    assert!(error.contains("degree <= 128"), "{error}");
 }
 
 /// x^20 + y^20 + z^20 = 1, a rounded cube of degree 20, crosses each axis

@@ -2,19 +2,24 @@
 //! debugging a surface's polynomial and as a test harness.
 //!
 //! In: `{"coeffs": [c0, c1, ...], "interval": [a, b], "method": "...",
-//! "tolerance": 1e-12}`, lowest degree first; `interval` defaults to
-//! (−MAX, MAX], every root an f64 can hold, `method` to the renderer's
-//! default. Any finite coefficients are accepted, subnormal ones included;
-//! only all zeros is the zero polynomial.
-//! Out: `{"roots": [...], "count": n}`: the distinct roots in (a, b],
-//! increasing, each within the tolerance of its own root, relative to the
-//! root's magnitude (or correctly rounded where f64 cannot get that close),
-//! and `count` the exact Sturm count of the rational
-//! coefficients, always the length of the list: the method's f64 answer is
+//! "tolerance": 1e-12}`, lowest degree first, degree up to
+//! [`MAX_EXACT_DEGREE`]; `interval` defaults to (−MAX, MAX], every root an
+//! f64 can hold, `method` to the renderer's default. Any finite
+//! coefficients are accepted, subnormal ones included; only all zeros is
+//! the zero polynomial.
+//! Out: `{"roots": [...], "count": n, "multiplicity": [...], "bound":
+//! [...]}`: the distinct roots in (a, b], increasing, each within the
+//! tolerance of its own root relative to the root's magnitude (or correctly
+//! rounded where f64 cannot get that close), with its exact multiplicity
+//! and its certified error bound; `count` is the exact Sturm count of the
+//! rational coefficients, always the length of the list. Every answer
+//! carries the same proof, [`Certificate`]: the method's f64 answer is
 //! given only when the exact isolation certifies it, else the exact path
-//! answers (see `Solver::certified_roots`). With `--sturm`, the f64 Sturm
-//! sequence and its sign table, for debugging the fast path (its counts
-//! are f64's and may differ). A bad line gives `{"error": "...", "line": n}`.
+//! answers (see `Solver::certified`); above degree [`MAX_DEGREE`] (the f64
+//! path's fixed storage) the exact path answers alone. `--explain` adds the
+//! certificate; `--sturm` the f64 Sturm sequence and its sign table, for
+//! debugging the fast path (its counts are f64's and may differ). A bad
+//! line gives `{"error": "...", "line": n}`.
 
 use std::io::{BufRead, Write};
 
@@ -23,8 +28,8 @@ use serde_json::{Value, json};
 
 use sturmray::error::{Error, Result};
 use sturmray::poly::MAX_DEGREE;
-use sturmray::poly::exact::{Isolation, Relative};
-use sturmray::poly::solve::{Method, Solver};
+use sturmray::poly::exact::{Certificate, Isolation, MAX_EXACT_DEGREE, Relative};
+use sturmray::poly::solve::{Method, Solver, Source};
 use sturmray::poly::sturm::SturmSequence;
 use sturmray::poly::univariate::{Poly, nonzero};
 
@@ -32,15 +37,28 @@ use sturmray::poly::univariate::{Poly, nonzero};
 /// "method": "..."} on stdin, one JSON line out per line.
 #[derive(clap::Args)]
 pub struct Args {
-    /// Also print the Sturm sequence and its sign table at a and b.
+    /// Also print the f64 Sturm sequence and its sign table at a and b
+    /// (degree 35 or less).
     #[arg(long)]
     sturm: bool,
+    /// Also print the certificate: the exact count's Sturm variations, each
+    /// root's isolating interval with exact ends, the square-free factors.
+    #[arg(long)]
+    explain: bool,
+}
+
+/// What to print beside the answer.
+#[derive(Clone, Copy, Default)]
+struct Extras {
+    sturm: bool,
+    explain: bool,
 }
 
 /// Answers stdin on stdout; any bad line makes the command's error (exit 2)
 /// once every line is answered.
-pub fn run(Args { sturm }: Args) -> anyhow::Result<()> {
-    let any_bad = answer_all(std::io::stdin().lock(), std::io::stdout().lock(), sturm)?;
+pub fn run(Args { sturm, explain }: Args) -> anyhow::Result<()> {
+    let extras = Extras { sturm, explain };
+    let any_bad = answer_all(std::io::stdin().lock(), std::io::stdout().lock(), extras)?;
     if any_bad {
         let message = "some lines were not understood (see their error lines)";
         return Err(Error::Input(message.into()).into());
@@ -82,12 +100,12 @@ fn signs(sturm: &SturmSequence, t: f64) -> Vec<i32> {
 }
 
 /// Answers one line; Err is the message of an error line.
-fn answer(line: &str, with_sturm: bool) -> Result<Value, String> {
+fn answer(line: &str, extras: Extras) -> Result<Value, String> {
     let q: Query = serde_json::from_str(line).map_err(|e| e.to_string())?;
-    if q.coeffs.is_empty() || q.coeffs.len() > MAX_DEGREE + 1 {
+    if q.coeffs.is_empty() || q.coeffs.len() > MAX_EXACT_DEGREE + 1 {
         return Err(format!(
-            "coeffs: expected 1 to {} numbers (degree <= {MAX_DEGREE}), found {}",
-            MAX_DEGREE + 1,
+            "coeffs: expected 1 to {} numbers (degree <= {MAX_EXACT_DEGREE}), found {}",
+            MAX_EXACT_DEGREE + 1,
             q.coeffs.len()
         ));
     }
@@ -113,11 +131,12 @@ fn answer(line: &str, with_sturm: bool) -> Result<Value, String> {
         solver.tolerance = t;
     }
     let not_finite = "coeffs: every coefficient must be finite";
-    // Both answers are proven to list exactly the exact count's roots: the
-    // exact path by construction, the f64 one by `certified_roots`.
-    let roots = match q.method.as_deref() {
+    // Both answers carry the same proof: the exact path's brackets, or the
+    // windows around the f64 roots that `Solver::certified` proved.
+    let (certificate, found_by) = match q.method.as_deref() {
         Some(EXACT) => Isolation::new(&q.coeffs, a, b)
-            .and_then(|isolation| isolation.roots(solver.tolerance, Relative::Magnitude))
+            .and_then(|isolation| isolation.solve(solver.tolerance, Relative::Magnitude))
+            .map(|c| (c, EXACT.to_string()))
             .ok_or(not_finite)?,
         name => {
             if let Some(name) = name {
@@ -125,12 +144,31 @@ fn answer(line: &str, with_sturm: bool) -> Result<Value, String> {
                     .parse::<Method>()
                     .map_err(|e| format!("{e}, {EXACT}"))?;
             }
-            solver.certified_roots(&q.coeffs, a, b).ok_or(not_finite)?
+            let (c, source) = solver.certified(&q.coeffs, a, b).ok_or(not_finite)?;
+            let by = match source {
+                Source::F64 => solver.method.name().to_string(),
+                Source::Exact if q.coeffs.len() > MAX_DEGREE + 1 => {
+                    format!("{EXACT} (degree above {MAX_DEGREE}: no f64 path)")
+                }
+                Source::Exact => format!("{EXACT} (the {} answer failed)", solver.method.name()),
+            };
+            (c, by)
         }
     };
+    let roots = certificate.values();
+    let multiplicity: Vec<u32> = certificate.roots.iter().map(|r| r.multiplicity).collect();
+    let bound: Vec<f64> = certificate.roots.iter().map(|r| r.bound).collect();
     let count = roots.len();
-    let mut reply = json!({ "roots": roots, "count": count });
-    if with_sturm {
+    let mut reply = json!({
+        "roots": roots,
+        "count": count,
+        "multiplicity": multiplicity,
+        "bound": bound,
+    });
+    if extras.explain {
+        reply["certificate"] = explain(&certificate, &found_by);
+    }
+    if extras.sturm && q.coeffs.len() <= MAX_DEGREE + 1 {
         let sturm = SturmSequence::new(&Poly::new(&q.coeffs));
         let sequence: Vec<&[f64]> = sturm.members().iter().map(Poly::coeffs).collect();
         reply["sturm"] = json!({
@@ -144,8 +182,44 @@ fn answer(line: &str, with_sturm: bool) -> Result<Value, String> {
     Ok(reply)
 }
 
+/// The certificate as JSON: the argument, step by step.
+fn explain(c: &Certificate, found_by: &str) -> Value {
+    let roots: Vec<Value> = c
+        .roots
+        .iter()
+        .map(|r| {
+            json!({
+                "value": r.value,
+                "interval": r.interval,
+                "interval_f64": r.interval_f64,
+                "distinct_in_interval": r.distinct_in_interval,
+                "multiplicity": r.multiplicity,
+                "bound": r.bound,
+            })
+        })
+        .collect();
+    let factors: Vec<Value> = c
+        .factors
+        .iter()
+        .map(|&(degree, multiplicity)| json!({"degree": degree, "multiplicity": multiplicity}))
+        .collect();
+    json!({
+        "found_by": found_by,
+        "degree": c.degree,
+        "square_free_degree": c.square_free_degree,
+        "square_free_factors": factors,
+        "sturm_chain_members": c.chain_len,
+        "count": {
+            "interval": c.interval,
+            "variations": c.variations,
+            "distinct_roots": c.count,
+        },
+        "roots": roots,
+    })
+}
+
 /// Answers every line of `input`; returns whether any line was bad.
-fn answer_all(input: impl BufRead, mut output: impl Write, with_sturm: bool) -> Result<bool> {
+fn answer_all(input: impl BufRead, mut output: impl Write, extras: Extras) -> Result<bool> {
     let mut any_bad = false;
     let write_error = |e: std::io::Error| Error::Input(format!("cannot write the answers: {e}"));
     for (index, line) in input.lines().enumerate() {
@@ -154,7 +228,7 @@ fn answer_all(input: impl BufRead, mut output: impl Write, with_sturm: bool) -> 
         if line.trim().is_empty() {
             continue;
         }
-        let reply = answer(&line, with_sturm).unwrap_or_else(|message| {
+        let reply = answer(&line, extras).unwrap_or_else(|message| {
             any_bad = true;
             json!({ "error": message, "line": index + 1 })
         });
@@ -171,9 +245,9 @@ fn answer_all(input: impl BufRead, mut output: impl Write, with_sturm: bool) -> 
 mod tests {
     use super::*;
 
-    fn ask(lines: &str, sturm: bool) -> (Vec<Value>, bool) {
+    fn ask(lines: &str, extras: Extras) -> (Vec<Value>, bool) {
         let mut out = Vec::new();
-        let bad = answer_all(lines.as_bytes(), &mut out, sturm).unwrap();
+        let bad = answer_all(lines.as_bytes(), &mut out, extras).unwrap();
         let replies = String::from_utf8(out)
             .unwrap()
             .lines()
@@ -193,13 +267,22 @@ not json
 {"coeffs": [2]}
 {"coeffs": [-1, 0, 1]}
 "#;
-        let (r, bad) = ask(input, false);
+        let (r, bad) = ask(input, Extras::default());
         assert!(bad);
-        assert_eq!(r[0], json!({"roots": [-1.0, 1.0], "count": 2}));
+        assert_eq!(r[0]["roots"], json!([-1.0, 1.0]));
+        assert_eq!(r[0]["count"], 2);
+        assert_eq!(r[0]["multiplicity"], json!([1, 1]));
         assert_eq!(r[1]["count"], 3);
         assert_eq!(r[2]["line"], 3);
         // (1 - t)^3: one distinct root, exactly 1, in (0, 2].
-        assert_eq!(r[3], json!({"roots": [1.0], "count": 1}));
+        assert_eq!(r[3]["roots"], json!([1.0]));
+        assert_eq!(r[3]["count"], 1);
+        assert_eq!(r[3]["multiplicity"], json!([3]));
+        assert_eq!(
+            r[3]["bound"],
+            json!([0.0]),
+            "the rational root 1 is found exactly"
+        );
         assert!(r[4]["error"].as_str().unwrap().contains("interval"));
         assert!(r[5]["error"].as_str().unwrap().contains("sturm-newton"));
         assert!(r[6]["error"].as_str().unwrap().contains("no roots"));
@@ -222,10 +305,10 @@ not json
     fn a_reader_that_stops_early_is_no_error() {
         let input = "{\"coeffs\": [-1, 0, 1]}\n".repeat(3);
         let closed = Closed(std::io::ErrorKind::BrokenPipe);
-        assert!(!answer_all(input.as_bytes(), closed, false).unwrap());
+        assert!(!answer_all(input.as_bytes(), closed, Extras::default()).unwrap());
         // Any other failure to write is one.
         let full = Closed(std::io::ErrorKind::StorageFull);
-        let err = answer_all(input.as_bytes(), full, false)
+        let err = answer_all(input.as_bytes(), full, Extras::default())
             .unwrap_err()
             .to_string();
         assert!(err.contains("cannot write the answers"), "{err}");
@@ -233,7 +316,14 @@ not json
 
     #[test]
     fn sturm_table_of_t4_minus_t2() {
-        let (r, _) = ask(r#"{"coeffs": [0, 0, -1, 0, 1], "interval": [-2, 2]}"#, true);
+        let sturm = Extras {
+            sturm: true,
+            explain: false,
+        };
+        let (r, _) = ask(
+            r#"{"coeffs": [0, 0, -1, 0, 1], "interval": [-2, 2]}"#,
+            sturm,
+        );
         let s = &r[0]["sturm"];
         assert_eq!(
             (s["variations_a"].as_u64(), s["variations_b"].as_u64()),
@@ -241,5 +331,42 @@ not json
         );
         assert_eq!(r[0]["count"], 3);
         assert_eq!(s["signs_a"][0], 1);
+    }
+
+    #[test]
+    fn degree_above_35_and_the_certificate() {
+        // x^100 − 1: ±1; x^129 is refused.
+        let mut c = vec![0.0; 101];
+        c[0] = -1.0;
+        c[100] = 1.0;
+        let mut too_high = vec![0.0; 130];
+        too_high[129] = 1.0;
+        too_high[0] = -1.0;
+        let line = |c: &[f64]| json!({ "coeffs": c }).to_string();
+        let explain = Extras {
+            sturm: true,
+            explain: true,
+        };
+        let (r, bad) = ask(&format!("{}\n{}\n", line(&c), line(&too_high)), explain);
+        assert!(bad);
+        assert_eq!(r[0]["roots"], json!([-1.0, 1.0]));
+        assert_eq!(r[0]["multiplicity"], json!([1, 1]));
+        assert_eq!(r[0]["bound"], json!([0.0, 0.0]));
+        assert!(r[0].get("sturm").is_none(), "no f64 table above degree 35");
+        let cert = &r[0]["certificate"];
+        assert_eq!(cert["found_by"], "exact (degree above 35: no f64 path)");
+        assert_eq!(cert["count"]["distinct_roots"], 2);
+        assert_eq!(cert["degree"], 100);
+        assert!(r[1]["error"].as_str().unwrap().contains("degree <= 128"));
+        // A double root within a window: its interval and multiplicity.
+        let (r, _) = ask(r#"{"coeffs": [1, 2, 1], "interval": [-3, 0]}"#, explain);
+        let root = &r[0]["certificate"]["roots"][0];
+        assert_eq!(root["multiplicity"], 2);
+        assert_eq!(
+            r[0]["certificate"]["square_free_factors"][0]["multiplicity"],
+            2
+        );
+        assert!(root["interval_f64"][0].as_f64().unwrap() <= -1.0);
+        assert!(root["interval_f64"][1].as_f64().unwrap() >= -1.0);
     }
 }

@@ -38,20 +38,30 @@
 //! `dyadic` holds the evaluation points, and `ipoly` the integer polynomials
 //! with the subresultant sequence.
 
+mod certificate;
 mod dyadic;
 mod ipoly;
 mod isolate;
+
+pub use certificate::{Certificate, CertifiedRoot};
 
 use num_bigint::BigInt;
 use num_rational::BigRational;
 use num_traits::{One, Zero};
 
+use certificate::{Found, Span};
 use dyadic::Dyadic;
 use ipoly::{
     IPoly, count_variations, count_variations_dyadic, gcd_int, ipoly_gcd, primitive, sign_dyadic,
-    sign_rational, square_free_and_chain, square_free_factors, square_free_ipoly, sturm_chain,
+    sign_rational, square_free_and_chain, square_free_ipoly,
 };
 use isolate::{Input, Point, Solved};
+
+/// The highest degree `sturmray roots` answers. Everything here is
+/// heap-allocated, so the limit is one of cost, not of storage: the exact
+/// Sturm chain of a degree-n input with 53-bit coefficients holds about n²/2
+/// integers of up to about 2·53·n bits (measured in docs/accuracy.md).
+pub const MAX_EXACT_DEGREE: usize = 128;
 
 /// A polynomial with exact rational coefficients, lowest degree first.
 ///
@@ -254,6 +264,8 @@ pub fn exact_count(coeffs: &[f64], a: f64, b: f64) -> Option<usize> {
 /// part), then each check costs a few exact evaluations of the chain.
 pub struct Isolation {
     input: Input,
+    /// Sign variations of the chain at the clipped ends (lo, hi].
+    variations: [usize; 2],
     count: usize,
 }
 
@@ -263,11 +275,18 @@ impl Isolation {
     /// nonzero numbers here; only the all-zero polynomial is zero.
     pub fn new(coeffs: &[f64], a: f64, b: f64) -> Option<Isolation> {
         let input = Input::new(coeffs, a, b)?;
-        let count = input.interval.as_ref().map_or(0, |(lo, hi)| {
-            count_variations_dyadic(&input.chain, lo)
-                .saturating_sub(count_variations_dyadic(&input.chain, hi))
+        let variations = input.interval.as_ref().map_or([0, 0], |(lo, hi)| {
+            [
+                count_variations_dyadic(&input.chain, lo),
+                count_variations_dyadic(&input.chain, hi),
+            ]
         });
-        Some(Isolation { input, count })
+        let count = variations[0].saturating_sub(variations[1]);
+        Some(Isolation {
+            input,
+            variations,
+            count,
+        })
     }
 
     /// The exact number of distinct real roots in (a, b].
@@ -285,39 +304,97 @@ impl Isolation {
     /// must be a root itself. A tolerance that is not positive and finite
     /// proves nothing but an empty answer.
     pub fn certifies(&self, roots: &[f64], tolerance: f64, relative: Relative) -> bool {
+        self.windows(roots, tolerance, relative).is_some()
+    }
+
+    /// [`Isolation::certifies`] with its proof: the certificate of `roots`
+    /// (each window, the root's multiplicity and error bound), or None.
+    pub fn certify(
+        &self,
+        roots: &[f64],
+        tolerance: f64,
+        relative: Relative,
+    ) -> Option<Certificate> {
+        let found = self.windows(roots, tolerance, relative)?;
+        let interval = self.input.interval.as_ref();
+        Some(certificate::certify(
+            &self.input,
+            interval,
+            self.variations,
+            found,
+        ))
+    }
+
+    /// The windows that prove `roots`, or None: see [`Isolation::certifies`].
+    fn windows(&self, roots: &[f64], tolerance: f64, relative: Relative) -> Option<Vec<Found>> {
         if roots.len() != self.count {
-            return false;
+            return None;
         }
         let Some((lo, hi)) = &self.input.interval else {
-            return roots.is_empty();
+            return roots.is_empty().then(Vec::new);
         };
         if !(tolerance > 0.0 && tolerance.is_finite()) {
-            return roots.is_empty();
+            return roots.is_empty().then(Vec::new);
         }
         let tol = Dyadic::from_f64(tolerance);
         let mut previous_end = lo.clone();
+        let mut found = Vec::with_capacity(roots.len());
         for &r in roots {
             if !(r.is_finite() && self.input.a < r && r <= self.input.b) {
-                return false;
+                return None;
             }
             let x = Dyadic::from_f64(r);
             let w = tol.mul(&relative.scale(x.abs()));
             let (start, end) = (x.sub(&w).max(lo.clone()), x.add(&w).min(hi.clone()));
-            let alone = if w.is_zero() {
-                previous_end < x && x <= *hi && sign_dyadic(&self.input.square_free, &x) == 0
+            let span = if w.is_zero() {
+                let alone =
+                    previous_end < x && x <= *hi && sign_dyadic(&self.input.square_free, &x) == 0;
+                alone.then(|| Span::At(x.clone()))
             } else {
-                start >= previous_end
+                let alone = start >= previous_end
                     && start < end
                     && count_variations_dyadic(&self.input.chain, &start)
                         .saturating_sub(count_variations_dyadic(&self.input.chain, &end))
-                        == 1
+                        == 1;
+                alone.then(|| Span::Interval {
+                    lo: start,
+                    hi: Point::Dyadic(end.clone()),
+                    distinct: 1,
+                })
             };
-            if !alone {
-                return false;
-            }
-            previous_end = end;
+            found.push(Found {
+                value: r,
+                span: span?,
+            });
+            previous_end = if w.is_zero() { x } else { end };
         }
-        true
+        Some(found)
+    }
+
+    /// The exact path's answer with its certificate: every distinct root
+    /// in (a, b] as [`Isolation::roots`] gives it, each with the bracket it
+    /// was refined in. None if the tolerance is NaN.
+    pub fn solve(self, tolerance: f64, relative: Relative) -> Option<Certificate> {
+        let variations = self.variations;
+        let interval = self.input.interval.clone();
+        let Solved { input, groups } = Solved::new(self.input, tolerance, relative)?;
+        let found = groups
+            .into_iter()
+            .map(|g| Found {
+                value: g.value,
+                span: Span::Interval {
+                    lo: g.lo,
+                    hi: g.hi,
+                    distinct: g.count,
+                },
+            })
+            .collect();
+        Some(certificate::certify(
+            &input,
+            interval.as_ref(),
+            variations,
+            found,
+        ))
     }
 
     /// Every distinct real root in (a, b], increasing, as many as
@@ -368,42 +445,14 @@ pub fn exact_roots_with_multiplicity(
     b: f64,
     tolerance: f64,
 ) -> Option<Vec<(f64, u32)>> {
-    let Solved { input, groups } = Solved::new(
-        Input::new(coeffs, a, b)?,
-        tolerance,
-        Relative::MagnitudeOrOne,
-    )?;
-    if groups.is_empty() {
-        return Some(Vec::new());
-    }
-    let factors: Vec<(Vec<IPoly>, u32)> = if input.square_free.len() == input.poly.len() {
-        // Already square-free: one factor, whose chain is at hand.
-        vec![(input.chain, 1)]
-    } else {
-        square_free_factors(&input.poly)
-            .into_iter()
-            .map(|(f, k)| (sturm_chain(f), k))
-            .collect()
-    };
-    let mut out = Vec::new();
-    for g in &groups {
-        let mut found = 0;
-        for (chain, k) in &factors {
-            let v_lo = count_variations_dyadic(chain, &g.lo);
-            let v_hi = match &g.hi {
-                Point::Dyadic(d) => count_variations_dyadic(chain, d),
-                Point::Rational(r) => count_variations(chain.iter().map(|p| sign_rational(p, r))),
-            };
-            let n = v_lo.saturating_sub(v_hi);
-            found += n;
-            out.extend(std::iter::repeat_n((g.value, *k), n));
-        }
-        debug_assert_eq!(
-            found, g.count,
-            "factor counts must add up to the group's count"
-        );
-    }
-    Some(out)
+    let certificate = Isolation::new(coeffs, a, b)?.solve(tolerance, Relative::MagnitudeOrOne)?;
+    Some(
+        certificate
+            .roots
+            .iter()
+            .map(|r| (r.value, r.multiplicity))
+            .collect(),
+    )
 }
 
 #[cfg(test)]

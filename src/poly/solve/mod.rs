@@ -35,7 +35,7 @@ mod method;
 pub use method::{Method, Solver};
 
 use crate::poly::MAX_DEGREE;
-use crate::poly::exact::{Isolation, Relative};
+use crate::poly::exact::{Certificate, Isolation, MAX_EXACT_DEGREE, Relative};
 use crate::poly::univariate::{Poly, PolyN, QUARTIC_SLOTS, SMALL_SLOTS, normalize_pow2};
 
 use bernstein::{Question, Screen};
@@ -45,6 +45,16 @@ use condition::{
 use direct::DirectRoots;
 
 use std::cell::Cell;
+
+/// Which path found a certified answer's values (both are proven the same
+/// way, by [`Certificate`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Source {
+    /// The solver's f64 method, its answer certified.
+    F64,
+    /// The exact path, after the f64 answer failed (or above [`MAX_DEGREE`]).
+    Exact,
+}
 
 thread_local! {
     /// See [`unseparated_count`].
@@ -132,39 +142,52 @@ impl Solver {
     }
 
     /// Every distinct real root in (a, b] of the polynomial with these
-    /// coefficients, increasing, with the proof the `roots` tool promises:
-    /// the list is as long as the exact count, and each value is within the
-    /// tolerance *relative to its magnitude* of its own exact root
-    /// ([`Relative::Magnitude`]: a root of 1e-14 is not answered with
-    /// 1.4e-14, as the renderer's absolute tolerance below 1 would allow).
-    /// The f64 answer of this solver's method (on the coefficients scaled by
-    /// a power of two, which keeps the roots and spares f64 needless
-    /// overflow and underflow) is kept when [`Isolation::certifies`] it;
-    /// otherwise the exact path answers, one value per root, never merged
-    /// (roots closer than f64 resolution come out as one value repeated, and
-    /// a root f64 cannot hold to the tolerance, such as a subnormal one, as
-    /// its correctly rounded value). None if a coefficient or the tolerance
-    /// is not finite, or an end is NaN.
-    pub fn certified_roots(&self, coeffs: &[f64], a: f64, b: f64) -> Option<Vec<f64>> {
-        if coeffs.len() > MAX_DEGREE + 1 || !self.tolerance.is_finite() {
+    /// coefficients, increasing, with the proof the `roots` tool promises
+    /// ([`Certificate`]): the list is as long as the exact count, and each
+    /// value lies in an interval with exact ends that holds exactly its own
+    /// root, no farther from the value than the tolerance *relative to its
+    /// magnitude* ([`Relative::Magnitude`]: a root of 1e-14 is not answered
+    /// with 1.4e-14, as the renderer's absolute tolerance below 1 would
+    /// allow). The f64 answer of this solver's method (on the coefficients
+    /// scaled by a power of two, which keeps the roots and spares f64
+    /// needless overflow and underflow) is kept when [`Isolation::certify`]
+    /// proves it; otherwise, and always above degree [`MAX_DEGREE`] (the f64
+    /// path's fixed storage), the exact path answers, one value per root,
+    /// never merged (roots closer than f64 resolution come out as one value
+    /// repeated, and a root f64 cannot hold to the tolerance, such as a
+    /// subnormal one, as its correctly rounded value). None if a coefficient
+    /// or the tolerance is not finite, an end is NaN, or the degree is above
+    /// [`MAX_EXACT_DEGREE`].
+    pub fn certified(&self, coeffs: &[f64], a: f64, b: f64) -> Option<(Certificate, Source)> {
+        if coeffs.len() > MAX_EXACT_DEGREE + 1 || !self.tolerance.is_finite() {
             return None;
         }
         let isolation = Isolation::new(coeffs, a, b)?;
-        let mut scaled = [0.0; MAX_DEGREE + 1];
-        scaled[..coeffs.len()].copy_from_slice(coeffs);
-        normalize_pow2(&mut scaled);
-        let p = Poly::new(&scaled[..coeffs.len()]);
-        let mut out = [0.0; MAX_DEGREE];
-        let n = self.unproven_roots(&p, a, b, &mut out);
-        if isolation.certifies(&out[..n], self.tolerance, Relative::Magnitude) {
-            return Some(out[..n].to_vec());
+        if coeffs.len() <= MAX_DEGREE + 1 {
+            let mut scaled = [0.0; MAX_DEGREE + 1];
+            scaled[..coeffs.len()].copy_from_slice(coeffs);
+            normalize_pow2(&mut scaled);
+            let p = Poly::new(&scaled[..coeffs.len()]);
+            let mut out = [0.0; MAX_DEGREE];
+            let n = self.unproven_roots(&p, a, b, &mut out);
+            if let Some(c) = isolation.certify(&out[..n], self.tolerance, Relative::Magnitude) {
+                return Some((c, Source::F64));
+            }
         }
-        isolation.roots(self.tolerance, Relative::Magnitude)
+        let c = isolation.solve(self.tolerance, Relative::Magnitude)?;
+        Some((c, Source::Exact))
+    }
+
+    /// The values of [`Solver::certified`].
+    pub fn certified_roots(&self, coeffs: &[f64], a: f64, b: f64) -> Option<Vec<f64>> {
+        Some(self.certified(coeffs, a, b)?.0.values())
     }
 
     /// The f64 roots in (a, b], unproven: from the closed forms or
-    /// Yuksel's method where they apply, else from the Sturm chain.
-    fn unproven_roots(&self, p: &Poly, a: f64, b: f64, out: &mut [f64; MAX_DEGREE]) -> usize {
+    /// Yuksel's method where they apply, else from the Sturm chain. What
+    /// [`Solver::roots`] and [`Solver::certified`] check; public for the
+    /// accuracy study, which counts how often the check fails.
+    pub fn unproven_roots(&self, p: &Poly, a: f64, b: f64, out: &mut [f64; MAX_DEGREE]) -> usize {
         by_degree!(p, |q| self.unproven_roots_in(q, a, b, out))
     }
 

@@ -177,29 +177,47 @@ pub fn noisy(n: usize) -> CaseSet {
 pub fn high_degree(n: usize) -> CaseSet {
     synthetic("high-degree", 0x0035, n, |rng, i| {
         let degree = 20 + (rng.next_u64() % 16) as usize;
-        let spaced = |k: usize, from: f64, to: f64| from + (to - from) * k as f64 / degree as f64;
-        let roots: Vec<f64> = match i % 3 {
-            0 => (1..=degree)
-                .map(|k| {
-                    let angle = (2 * k - 1) as f64 * std::f64::consts::PI / (2 * degree) as f64;
-                    2.0 + 2.0 * angle.cos()
-                })
-                .collect(),
-            1 => (1..=degree)
-                .map(|k| spaced(k, 0.0, 4.0 * degree as f64 / (degree + 1) as f64))
-                .collect(),
-            _ => {
-                let size = 2 + (rng.next_u64() % 3) as usize;
-                let gap = 10f64.powf(-3.0 - 6.0 * f64::from(rng.next_f32()));
-                let centre = 0.2 + 3.0 * f64::from(rng.next_f32());
-                let cluster = (0..size).map(|k| centre + gap * k as f64);
-                cluster
-                    .chain((size..degree).map(|k| spaced(k, -1.0, 5.0)))
-                    .collect()
-            }
-        };
-        from_roots(lead(rng), &roots)
+        high_degree_poly(rng, i, degree)
     })
+}
+
+/// `n` polynomials of each degree in `degrees`, built as [`high_degree`]
+/// builds its (the kind cycling with the index), each solved on (0, 4].
+pub fn by_degree(degrees: std::ops::RangeInclusive<usize>, n: usize) -> Vec<(usize, CaseSet)> {
+    degrees
+        .map(|degree| {
+            let set = synthetic("by-degree", 0x1700 + degree as u64, n, |rng, i| {
+                high_degree_poly(rng, i, degree)
+            });
+            (degree, set)
+        })
+        .collect()
+}
+
+/// One polynomial of [`high_degree`]'s kind `i % 3` at this degree.
+fn high_degree_poly(rng: &mut Rng, i: usize, degree: usize) -> Poly {
+    let spaced = |k: usize, from: f64, to: f64| from + (to - from) * k as f64 / degree as f64;
+    let roots: Vec<f64> = match i % 3 {
+        0 => (1..=degree)
+            .map(|k| {
+                let angle = (2 * k - 1) as f64 * std::f64::consts::PI / (2 * degree) as f64;
+                2.0 + 2.0 * angle.cos()
+            })
+            .collect(),
+        1 => (1..=degree)
+            .map(|k| spaced(k, 0.0, 4.0 * degree as f64 / (degree + 1) as f64))
+            .collect(),
+        _ => {
+            let size = 2 + (rng.next_u64() % 3) as usize;
+            let gap = 10f64.powf(-3.0 - 6.0 * f64::from(rng.next_f32()));
+            let centre = 0.2 + 3.0 * f64::from(rng.next_f32());
+            let cluster = (0..size).map(|k| centre + gap * k as f64);
+            cluster
+                .chain((size..degree).map(|k| spaced(k, -1.0, 5.0)))
+                .collect()
+        }
+    };
+    from_roots(lead(rng), &roots)
 }
 
 /// A synthetic set of `n` polynomials from `make(rng, index)`, each solved

@@ -9,6 +9,7 @@
 //! of the machine hurts every finder alike.
 
 pub mod cases;
+pub mod certified;
 pub mod measure;
 pub mod plot;
 
