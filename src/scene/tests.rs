@@ -143,8 +143,7 @@ fn obj_errors_name_the_line() {
         ),
         ("v 0 0 0\nf 1 1\n", ":2: a face needs at least 3 vertices"),
         ("v 0 0 0\nf 1 a 1\n", ":2: expected a vertex index"),
-        ("mtllib nothere.mtl\n", "nothere.mtl not found"),
-        ("usemtl ghost\n", ":1: material `ghost` is not defined"),
+        ("usemtl\n", ":1: expected a material name after `usemtl`"),
     ];
     for (text, expected) in cases {
         let path = write(dir, "bad.obj", text);
@@ -158,6 +157,107 @@ fn obj_errors_name_the_line() {
     }
     let err = Scene::load(&dir.join("missing.obj")).unwrap_err();
     assert!(err.is_bad_input() && message(err).contains("missing.obj"));
+}
+
+/// Blender's export of a model whose library was not copied along, with
+/// faces that had no material (`usemtl None`).
+const BLENDER_WITHOUT_LIBRARY: &str = "\
+mtllib gone.mtl
+v 0 0 0
+v 1 0 0
+v 0 1 0
+usemtl Material.001
+f 1 2 3
+usemtl None
+f 3 2 1
+usemtl Material.001
+f 1 3 2
+";
+
+#[test]
+fn a_missing_library_and_undefined_names_warn_once_each_and_render_grey() {
+    let scratch = scratch("blender");
+    let dir = scratch.path();
+    let scene = Scene::load(&write(dir, "b.obj", BLENDER_WITHOUT_LIBRARY)).unwrap();
+    let grey = Material::default_grey();
+    for &m in &scene.meshes[0].materials {
+        assert_eq!(scene.materials[m as usize], grey);
+    }
+    let warnings = scene.warnings.join("\n");
+    assert_eq!(scene.warnings.len(), 3, "{warnings}");
+    assert!(
+        warnings.contains("b.obj:1: material library") && warnings.contains("gone.mtl not found"),
+        "{warnings}"
+    );
+    // One warning per name, at the line that first used it.
+    assert!(
+        warnings.contains("b.obj:5: material `Material.001` is not defined"),
+        "{warnings}"
+    );
+    assert!(
+        warnings.contains("b.obj:7: material `None` is not defined"),
+        "{warnings}"
+    );
+}
+
+#[test]
+fn a_scene_material_replaces_the_obj_material_of_its_name() {
+    let scratch = scratch("override");
+    let dir = scratch.path();
+    write(dir, "m.mtl", MTL);
+    write(dir, "a.obj", QUAD_AND_PENTAGON);
+    write(dir, "b.obj", BLENDER_WITHOUT_LIBRARY);
+    let scene_text = |extra: &str| {
+        format!(
+            "[materials.red]\ntype = \"metal\"\nalbedo = [0.9, 0.2, 0.2]\nroughness = 0.1\n\
+             [materials.None]\ntype = \"diffuse\"\nalbedo = [0.1, 0.2, 0.3]\n\
+             [[objects]]\ntype = \"mesh\"\nfile = \"a.obj\"\n{extra}\
+             [[objects]]\ntype = \"mesh\"\nfile = \"b.obj\"\n"
+        )
+    };
+    let scene = Scene::load(&write(dir, "s.toml", &scene_text(""))).unwrap();
+    let material = |mesh: usize, triangle: usize| {
+        &scene.materials[scene.meshes[mesh].materials[triangle] as usize]
+    };
+    // a.obj's `red` faces take the scene's `red`; `shiny` keeps the MTL's.
+    assert_eq!(
+        (material(0, 0).name.as_str(), material(0, 0).kind),
+        ("red", MaterialKind::Metal)
+    );
+    assert_eq!(material(0, 1).kind, MaterialKind::Metal);
+    assert_eq!(
+        (material(0, 2).name.as_str(), material(0, 2).kind),
+        ("shiny", MaterialKind::Plastic)
+    );
+    // b.obj's `usemtl None` faces take the scene's `None`, with no warning for
+    // it; `Material.001` is still undefined and grey.
+    assert_eq!(material(2, 1).albedo, Vec3::new(0.1, 0.2, 0.3));
+    assert_eq!(*material(2, 0), Material::default_grey());
+    let warnings = scene.warnings.join("\n");
+    assert!(!warnings.contains("`None`"), "{warnings}");
+    assert!(warnings.contains("`Material.001`"), "{warnings}");
+    // An object's own `material` still replaces every one of its faces', quietly.
+    let forced = Scene::load(&write(
+        dir,
+        "f.toml",
+        &scene_text("material = \"None\"\n").replace(
+            "file = \"b.obj\"\n",
+            "file = \"b.obj\"\nmaterial = \"red\"\n",
+        ),
+    ))
+    .unwrap();
+    let forced_material = |mesh: usize, triangle: usize| {
+        &forced.materials[forced.meshes[mesh].materials[triangle] as usize]
+    };
+    assert_eq!(forced_material(0, 0).name, "None");
+    assert_eq!(forced_material(0, 2).name, "None");
+    assert_eq!(forced_material(2, 1).name, "red");
+    // (a.obj's fan has a degenerate triangle, warned as such.)
+    assert!(
+        forced.warnings.iter().all(|w| !w.contains("material")),
+        "{:?}",
+        forced.warnings
+    );
 }
 
 const TOML: &str = r#"

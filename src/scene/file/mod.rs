@@ -473,7 +473,14 @@ impl Objects<'_> {
             Error::Io { .. } => check.error(&format!("objects[{index}].file"), e),
             other => other,
         })?;
-        scene.add_obj(&obj_path, obj, material);
+        // A scene material of a name the OBJ uses replaces the OBJ's own.
+        let named = |name: &str| {
+            self.materials
+                .keys()
+                .position(|k| k == name)
+                .map(|i| i as u32)
+        };
+        scene.add_obj(&obj_path, obj, material, named);
         let matrix = DMat4::from(transform).as_mat4();
         for m in &mut scene.meshes[first..] {
             m.transform(&matrix);

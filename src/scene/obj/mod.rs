@@ -15,11 +15,16 @@ use crate::geometry::Mesh;
 use crate::math::{INVALID_ID, Vec3};
 use crate::shading::Material;
 
-/// The meshes of one OBJ file with the materials of its MTL libraries.
+/// The meshes of one OBJ file with the materials its faces name.
 /// A triangle without a material has material index `INVALID_ID`.
 pub struct ObjFile {
     pub meshes: Vec<Mesh>,
-    pub materials: Vec<Material>,
+    /// Every name a `usemtl` or a library gave, in order of first appearance;
+    /// a triangle's material index points here.
+    pub materials: Vec<ObjMaterial>,
+    /// `mtllib` files that are not there: a warning each, not an error, as
+    /// Blender writes the line whether or not it wrote the file.
+    pub missing_libraries: Vec<(usize, PathBuf)>,
     /// Triangles of zero area (repeated or collinear corners). They stay in the
     /// meshes, so triangle numbers never shift, and Embree never hits them.
     pub degenerate: usize,
@@ -33,14 +38,26 @@ pub struct ObjFile {
 /// (t = v0 · (e1 × e2), a hit at t = inf beyond about 1e12), light areas and
 /// powers two of them times a colour, and a framing camera stands several
 /// scene sizes away. At 1e9 every such product stays within f32 (3.4e38).
+/// A material name of an OBJ file: what its library defines, or `None`
+/// where no library loaded so far defines it (Blender's `usemtl None` for
+/// faces without a material). A scene file's material of the same name
+/// replaces either; an undefined one without it renders as the default grey.
+pub struct ObjMaterial {
+    pub name: String,
+    pub defined: Option<Material>,
+    /// The line that first named it: its `usemtl`, for the warning.
+    pub line: usize,
+}
+
 pub(super) const MAX_COORDINATE: f64 = 1e9;
 
 struct Reader<'a> {
     path: &'a Path,
     line: usize,
     positions: Vec<Vec3>,
-    materials: Vec<Material>,
+    materials: Vec<ObjMaterial>,
     material_names: HashMap<String, u32>,
+    missing_libraries: Vec<(usize, PathBuf)>,
     current_material: u32,
     meshes: Vec<Mesh>,
     mesh: Mesh,
@@ -157,7 +174,8 @@ impl Reader<'_> {
         }
         let file: PathBuf = dir.join(name);
         if !file.exists() {
-            return Err(self.error(format!("material library {} not found", file.display())));
+            self.missing_libraries.push((self.line, file));
+            return Ok(());
         }
         // A library that cannot be read is named with the line that asks for it.
         let materials = mtl::load(&file).map_err(|e| match e {
@@ -166,27 +184,42 @@ impl Reader<'_> {
         })?;
         self.libraries.push(file);
         for m in &materials {
-            let index = self.materials.len() as u32;
-            self.material_names.insert(m.name.clone(), index);
-            self.materials.push(Material::from_mtl(m));
+            let material = ObjMaterial {
+                name: m.name.clone(),
+                defined: Some(Material::from_mtl(m)),
+                line: self.line,
+            };
+            // A later library's definition of a name replaces the earlier one.
+            match self.material_names.get(&m.name) {
+                Some(&i) => self.materials[i as usize] = material,
+                None => {
+                    let index = self.materials.len() as u32;
+                    self.material_names.insert(m.name.clone(), index);
+                    self.materials.push(material);
+                }
+            }
         }
         Ok(())
     }
 
     fn use_material(&mut self, name: &str) -> Result<()> {
         let name = name.trim();
-        self.current_material = *self.material_names.get(name).ok_or_else(|| {
-            let mut known: Vec<&str> = self.material_names.keys().map(String::as_str).collect();
-            known.sort_unstable();
-            self.error(format!(
-                "material `{name}` is not defined in any mtllib loaded so far (known: {})",
-                if known.is_empty() {
-                    "none".into()
-                } else {
-                    known.join(", ")
-                }
-            ))
-        })?;
+        if name.is_empty() {
+            return Err(self.error("expected a material name after `usemtl`"));
+        }
+        self.current_material = match self.material_names.get(name) {
+            Some(&i) => i,
+            None => {
+                let index = self.materials.len() as u32;
+                self.material_names.insert(name.to_owned(), index);
+                self.materials.push(ObjMaterial {
+                    name: name.to_owned(),
+                    defined: None,
+                    line: self.line,
+                });
+                index
+            }
+        };
         Ok(())
     }
 }
@@ -203,6 +236,7 @@ pub fn load_obj(path: &Path) -> Result<ObjFile> {
         positions: Vec::new(),
         materials: Vec::new(),
         material_names: HashMap::new(),
+        missing_libraries: Vec::new(),
         current_material: INVALID_ID,
         meshes: Vec::new(),
         mesh: Mesh {
@@ -250,6 +284,7 @@ pub fn load_obj(path: &Path) -> Result<ObjFile> {
     Ok(ObjFile {
         meshes: r.meshes,
         materials: r.materials,
+        missing_libraries: r.missing_libraries,
         degenerate: r.degenerate,
         sources,
     })
