@@ -61,7 +61,7 @@ impl Whitted<'_> {
             radiance,
             weight: 1.0,
             depth: hit.t,
-            normal: it.n,
+            normal: it.ns,
             albedo: self.scene.materials[it.material as usize].albedo_at(it.p),
         }
     }
@@ -122,7 +122,7 @@ impl Whitted<'_> {
             MaterialKind::Mirror => {
                 if self.plan.reflection {
                     let r = material.reflectance(material.albedo_at(it.p));
-                    let dir = fresnel::reflect(ray.dir, it.n);
+                    let dir = fresnel::reflect(ray.dir, it.ns);
                     radiance +=
                         r * self.spawn(it, dir, depth, weight * r, RayKind::Reflection, walk);
                 }
@@ -130,10 +130,10 @@ impl Whitted<'_> {
             MaterialKind::Dielectric => {
                 // Snell and Fresnel need to know which side the ray comes from: the
                 // interaction's normal faces the ray, `front` says whether that is outside.
-                let outward = if it.front { it.n } else { -it.n };
+                let outward = it.outward();
                 let f = fresnel::dielectric(wo.dot(outward), material.ior);
                 if self.plan.reflection {
-                    let dir = fresnel::reflect(ray.dir, it.n);
+                    let dir = fresnel::reflect(ray.dir, it.ns);
                     radiance +=
                         f * self.spawn(it, dir, depth, weight * f, RayKind::Reflection, walk);
                 }
@@ -151,7 +151,7 @@ impl Whitted<'_> {
             | MaterialKind::Metal
             | MaterialKind::Emissive => {
                 let albedo = material.albedo_at(it.p);
-                let brdf = |wi| material.local_brdf(albedo, it.n, wo, wi);
+                let brdf = |wi| material.local_brdf(albedo, it.ns, wo, wi);
                 if self.plan.shadow {
                     radiance += self.direct(it, brdf, depth, weight, walk);
                 }
@@ -209,10 +209,10 @@ impl Whitted<'_> {
         let albedo = material.albedo_at(it.p);
         let mut radiance = finish.ambient_colour(albedo);
         if self.plan.shadow {
-            let brdf = |wi| material.local_brdf(albedo, it.n, wo, wi);
+            let brdf = |wi| material.local_brdf(albedo, it.ns, wo, wi);
             radiance += self.direct(it, brdf, depth, weight, walk);
         }
-        let outward = if it.front { it.n } else { -it.n };
+        let outward = it.outward();
         let mut reflected = finish.reflectance(wo.dot(outward), material.ior);
         let refracted = if finish.transmits() {
             let dir = fresnel::refract(wo, outward, material.ior);
@@ -225,7 +225,7 @@ impl Whitted<'_> {
         };
         let r = finish.tint(albedo) * reflected;
         if self.plan.reflection && reflected > 0.0 {
-            let dir = fresnel::reflect(ray.dir, it.n);
+            let dir = fresnel::reflect(ray.dir, it.ns);
             radiance += r * self.spawn(it, dir, depth, weight * r, RayKind::Reflection, walk);
         }
         if self.plan.refraction
@@ -259,6 +259,10 @@ impl Whitted<'_> {
         if depth >= self.plan.max_depth || weight.max_element() < self.scene.render.min_weight {
             return Vec3::ZERO;
         }
+        // A shading normal may send the ray through the surface: no leak.
+        if !it.leaves_as(dir, kind == RayKind::Refraction) {
+            return Vec3::ZERO;
+        }
         let ray = Ray::new(offset(it.p, it.error, it.n, dir), dir);
         let hit = self.accel.intersect(&ray);
         self.follow(&ray, &hit, kind, depth + 1, weight, walk)
@@ -286,8 +290,9 @@ impl Whitted<'_> {
             let Some(incident) = light.incident(it.p, pick.u) else {
                 continue;
             };
-            let cos = it.n.dot(incident.wi);
-            if cos <= 0.0 {
+            // The geometric side first: no light from behind the true surface.
+            let cos = it.ns.dot(incident.wi);
+            if !it.leaves_as(incident.wi, false) || cos <= 0.0 {
                 continue;
             }
             let mut shadow = Ray::new(offset(it.p, it.error, it.n, incident.wi), incident.wi);

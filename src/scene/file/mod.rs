@@ -600,6 +600,7 @@ fn light(
                 ],
                 triangles: vec![[0, 1, 2], [0, 2, 3]],
                 materials: vec![material; 2],
+                ..Mesh::default()
             });
             check.bounds(&key("corner"), scene.bounds())?;
         }
