@@ -11,6 +11,7 @@ mod obj;
 mod pov;
 mod size;
 mod solids;
+mod textures;
 
 use std::path::{Path, PathBuf};
 
@@ -19,6 +20,7 @@ pub use interaction::Interaction;
 use obj::MAX_COORDINATE;
 pub use obj::{ObjFile, load_obj};
 pub use size::SizeRequest;
+use textures::Textures;
 
 use crate::error::{Error, Result};
 use crate::geometry::{Mesh, Shape};
@@ -270,7 +272,13 @@ impl Scene {
     /// the camera, grey diffuse for faces without a material.
     fn from_obj(path: &Path) -> Result<Scene> {
         let mut scene = Scene::empty(path, RenderSettings::default(), Vec3::splat(0.05));
-        scene.add_obj(path, load_obj(path)?, None, |_| None);
+        scene.add_obj(
+            path,
+            load_obj(path)?,
+            None,
+            |_| None,
+            &mut Textures::default(),
+        );
         let bounds = scene.bounds();
         if bounds.is_empty() {
             return Err(Error::Mesh {
@@ -301,6 +309,7 @@ impl Scene {
         obj: ObjFile,
         forced: Option<u32>,
         named: impl Fn(&str) -> Option<u32>,
+        textures: &mut Textures,
     ) {
         if obj.degenerate > 0 {
             self.warnings.push(format!(
@@ -333,7 +342,17 @@ impl Scene {
         for m in obj.materials {
             let own = match (named(&m.name), m.defined) {
                 (Some(replaced), _) => replaced,
-                (None, Some(defined)) => {
+                (None, Some(mut defined)) => {
+                    if let Some(map) = &m.albedo_map {
+                        let asked_by = format!("{}:{}", map.library.display(), map.line);
+                        defined.albedo_map = textures.texture(
+                            &map.file,
+                            true,
+                            &map.placement,
+                            &asked_by,
+                            &mut self.warnings,
+                        );
+                    }
                     self.materials.push(defined);
                     self.materials.len() as u32 - 1
                 }

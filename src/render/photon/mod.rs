@@ -205,7 +205,7 @@ impl Tracer<'_> {
                 }
             }
             let it = self.scene.interaction(&ray, &hit);
-            let bsdf = Bsdf::at(&self.scene.materials[it.material as usize], it.p);
+            let bsdf = Bsdf::at(&self.scene.materials[it.material as usize], it.p, it.uv);
             let wo = -ray.dir;
             if receives(&bsdf) {
                 // Straight from the light (depth 0) is direct light: not a caustic.

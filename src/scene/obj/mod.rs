@@ -7,6 +7,8 @@
 
 mod mtl;
 
+pub(crate) use mtl::AlbedoMap;
+
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
@@ -45,6 +47,8 @@ pub struct ObjFile {
 pub struct ObjMaterial {
     pub name: String,
     pub defined: Option<Material>,
+    /// Its `map_Kd`, read when the scene takes the material.
+    pub(crate) albedo_map: Option<AlbedoMap>,
     /// The line that first named it: its `usemtl`, for the warning.
     pub line: usize,
 }
@@ -234,7 +238,7 @@ impl Reader<'_> {
             return Ok(());
         }
         // A library that cannot be read is named with the line that asks for it.
-        let materials = mtl::load(&file).map_err(|e| match e {
+        let (materials, mut maps) = mtl::load(&file).map_err(|e| match e {
             Error::Io { .. } => self.error(e.to_string()),
             other => other,
         })?;
@@ -243,6 +247,7 @@ impl Reader<'_> {
             let material = ObjMaterial {
                 name: m.name.clone(),
                 defined: Some(Material::from_mtl(m)),
+                albedo_map: maps.remove(&m.name),
                 line: self.line,
             };
             // A later library's definition of a name replaces the earlier one.
@@ -271,6 +276,7 @@ impl Reader<'_> {
                 self.materials.push(ObjMaterial {
                     name: name.to_owned(),
                     defined: None,
+                    albedo_map: None,
                     line: self.line,
                 });
                 index
