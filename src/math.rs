@@ -1,7 +1,7 @@
 //! Vectors (glam), rays and hit records shared by every backend, and the
 //! orthonormal shading frame.
 
-pub use glam::{Mat3, Mat4, Vec3};
+pub use glam::{Mat3, Mat4, Vec2, Vec3};
 
 /// A ray in world space with its parametric interval [tnear, tfar].
 #[derive(Clone, Copy, Debug, PartialEq)]

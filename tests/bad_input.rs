@@ -97,10 +97,10 @@ fn cases() -> Vec<Case> {
             &["bad.obj:2", "vertex index 2 out of range"],
         ),
         case(
-            "missing MTL",
-            obj("m.obj", b"v 0 0 0\nmtllib none.mtl\n"),
+            "usemtl without a name",
+            obj("m.obj", b"v 0 0 0\nusemtl \n"),
             RENDER_M,
-            &["m.obj:2", "none.mtl not found"],
+            &["m.obj:2", "expected a material name after `usemtl`"],
         ),
         case(
             "unreadable MTL (a folder)",

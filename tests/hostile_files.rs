@@ -671,3 +671,46 @@ fn a_second_ctrl_c_while_writing_waits_for_whole_files() {
         ]
     );
 }
+
+#[test]
+fn broken_textures_are_warnings_and_the_render_goes_on() {
+    let dir = scratch("textures");
+    write(&dir, "square.obj", SQUARE);
+    let png_header = b"\x89PNG\r\n\x1a\n\0\0\0\rIHDR\x7f\xff\xff\xff\x7f\xff\xff\xff\x08\x06";
+    std::fs::write(dir.join("truncated.png"), png_header).unwrap();
+    std::fs::write(dir.join("noise.exr"), [0x76, 0x2f, 0x31, 0x01, 7, 7, 7]).unwrap();
+    std::fs::write(dir.join("empty.jpg"), []).unwrap();
+    std::fs::create_dir(dir.join("folder.png")).unwrap();
+    let mut materials = String::new();
+    for (i, file) in [
+        "truncated.png",
+        "noise.exr",
+        "empty.jpg",
+        "folder.png",
+        "gone.tga",
+    ]
+    .iter()
+    .enumerate()
+    {
+        materials +=
+            &format!("[materials.t{i}]\ntype = \"diffuse\"\nalbedo = {{ texture = \"{file}\" }}\n");
+    }
+    write(&dir, "s.toml", &plane_scene(&materials));
+    let out = sturmray(&dir, &["render", "s.toml", "-o", "t.exr"]);
+    let err = stderr(&out);
+    assert!(out.status.success(), "{err}");
+    for file in [
+        "truncated.png",
+        "noise.exr",
+        "empty.jpg",
+        "folder.png",
+        "gone.tga",
+    ] {
+        assert!(
+            err.contains(&format!("texture {file}")) || err.contains(file),
+            "{file}: {err}"
+        );
+    }
+    assert_eq!(err.matches("warning").count(), 5, "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+}

@@ -175,6 +175,7 @@ fn square_scene(half: f32) -> Scene {
                 .collect(),
             triangles: vec![[0, 1, 2], [0, 2, 3]],
             materials: vec![0, 0],
+            ..Mesh::default()
         }],
         shapes: Vec::new(),
         lights: Vec::new(),

@@ -1,6 +1,6 @@
 //! Triangle meshes in world space.
 
-use crate::math::{Bounds, Mat4, Vec3, unit};
+use crate::math::{Bounds, Mat3, Mat4, Vec2, Vec3, unit};
 
 /// One OBJ object: its own vertices, triangles in file order (after fan
 /// triangulation) and one material index per triangle. Degenerate triangles
@@ -12,6 +12,14 @@ pub struct Mesh {
     pub triangles: Vec<[u32; 3]>,
     /// Per triangle, an index into the scene's materials.
     pub materials: Vec<u32>,
+    /// Per vertex, the shading normal (OBJ's `vn`), or none at all. A zero
+    /// normal marks a corner without one: its triangles are shaded flat.
+    /// Left out of the scene hash when empty, so meshes without hash as before.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub normals: Vec<Vec3>,
+    /// Per vertex, the texture coordinates (OBJ's `vt`), or none at all.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub uvs: Vec<Vec2>,
 }
 
 impl Mesh {
@@ -27,6 +35,36 @@ impl Mesh {
         for p in &mut self.positions {
             *p = m.transform_point3(*p);
         }
+        // Normals move by the inverse transpose; their length does not matter.
+        let normal = Mat3::from_mat4(*m).inverse().transpose();
+        for n in &mut self.normals {
+            *n = normal * *n;
+        }
+    }
+
+    /// The interpolated shading normal at barycentrics (b1, b2) of a
+    /// triangle (unit, not oriented), or `None` where the mesh or one of the
+    /// triangle's corners has no normal, or they cancel: such a triangle is flat.
+    pub fn shading_normal(&self, prim: u32, b1: f32, b2: f32) -> Option<Vec3> {
+        if self.normals.is_empty() {
+            return None;
+        }
+        let [n0, n1, n2] = self.triangles[prim as usize].map(|i| self.normals[i as usize]);
+        if n0 == Vec3::ZERO || n1 == Vec3::ZERO || n2 == Vec3::ZERO {
+            return None;
+        }
+        let n = unit((1.0 - b1 - b2) * n0 + b1 * n1 + b2 * n2);
+        (n != Vec3::ZERO).then_some(n)
+    }
+
+    /// The interpolated texture coordinates at barycentrics (b1, b2) of a
+    /// triangle, if the mesh has them.
+    pub fn uv(&self, prim: u32, b1: f32, b2: f32) -> Option<Vec2> {
+        if self.uvs.is_empty() {
+            return None;
+        }
+        let [t0, t1, t2] = self.triangles[prim as usize].map(|i| self.uvs[i as usize]);
+        Some((1.0 - b1 - b2) * t0 + b1 * t1 + b2 * t2)
     }
 
     /// The unit geometric normal of a triangle, (p1 − p0) × (p2 − p0) normalised,

@@ -1,4 +1,5 @@
-//! File formats: EXR images, PNG previews, .npy rays and hits, film states.
+//! File formats: EXR images, PNG previews, .npy rays and hits, film states,
+//! texture images in.
 //!
 //! Each writer produces the same bytes for the same data (no timestamps, no
 //! hash-map order), so equal renders give equal files and tests can compare
@@ -18,3 +19,4 @@ pub mod npy;
 pub mod output;
 pub mod png;
 pub mod state;
+pub mod texture;

@@ -102,7 +102,7 @@ impl PathTracer<'_> {
             let u = Bounce::draw(sampler);
             let material = &self.scene.materials[it.material as usize];
             if depth == 0 {
-                first = Some((hit.t, it.n, material.albedo_at(it.p)));
+                first = Some((hit.t, it.ns, material.albedo_at(it.p, it.uv)));
             }
             let mut add = Vec3::ZERO;
             // Emitters shine from their front side only.
@@ -119,9 +119,8 @@ impl PathTracer<'_> {
                     add += beta * material.emission * weight;
                 }
             }
-            let bsdf = Bsdf::at(material, it.p);
-            // The BSDF tells inside from outside by the surface's own normal.
-            let frame = Frame::from_normal(if it.front { it.n } else { -it.n });
+            let bsdf = Bsdf::at(material, it.p, it.uv);
+            let frame = it.frame();
             let wo = -ray.dir;
             if let Some(map) = self.caustics
                 && photon::receives(&bsdf)
@@ -147,6 +146,9 @@ impl PathTracer<'_> {
             let Some(s) = bsdf.sample(&frame, wo, u.bsdf) else {
                 break;
             };
+            if !it.leaves_as(s.wi, s.kind.is_transmission()) {
+                break;
+            }
             kind = match s.kind {
                 Lobe::DiffuseReflection | Lobe::GlossyReflection => RayKind::Diffuse,
                 Lobe::SpecularReflection => RayKind::Reflection,
@@ -213,8 +215,9 @@ impl PathTracer<'_> {
         let Some(incident) = self.scene.lights[index].incident(it.p, u) else {
             return Vec3::ZERO;
         };
-        let cos = it.n.dot(incident.wi);
-        if cos <= 0.0 {
+        // The geometric side first: no light from behind the true surface.
+        let cos = it.ns.dot(incident.wi);
+        if !it.leaves_as(incident.wi, false) || cos <= 0.0 {
             return Vec3::ZERO;
         }
         let f = v.bsdf.eval(v.frame, v.wo, incident.wi);

@@ -61,8 +61,8 @@ impl Whitted<'_> {
             radiance,
             weight: 1.0,
             depth: hit.t,
-            normal: it.n,
-            albedo: self.scene.materials[it.material as usize].albedo_at(it.p),
+            normal: it.ns,
+            albedo: self.scene.materials[it.material as usize].albedo_at(it.p, it.uv),
         }
     }
 
@@ -121,8 +121,8 @@ impl Whitted<'_> {
         match material.kind {
             MaterialKind::Mirror => {
                 if self.plan.reflection {
-                    let r = material.reflectance(material.albedo_at(it.p));
-                    let dir = fresnel::reflect(ray.dir, it.n);
+                    let r = material.reflectance(material.albedo_at(it.p, it.uv));
+                    let dir = fresnel::reflect(ray.dir, it.ns);
                     radiance +=
                         r * self.spawn(it, dir, depth, weight * r, RayKind::Reflection, walk);
                 }
@@ -130,10 +130,10 @@ impl Whitted<'_> {
             MaterialKind::Dielectric => {
                 // Snell and Fresnel need to know which side the ray comes from: the
                 // interaction's normal faces the ray, `front` says whether that is outside.
-                let outward = if it.front { it.n } else { -it.n };
+                let outward = it.outward();
                 let f = fresnel::dielectric(wo.dot(outward), material.ior);
                 if self.plan.reflection {
-                    let dir = fresnel::reflect(ray.dir, it.n);
+                    let dir = fresnel::reflect(ray.dir, it.ns);
                     radiance +=
                         f * self.spawn(it, dir, depth, weight * f, RayKind::Reflection, walk);
                 }
@@ -150,8 +150,8 @@ impl Whitted<'_> {
             | MaterialKind::Plastic
             | MaterialKind::Metal
             | MaterialKind::Emissive => {
-                let albedo = material.albedo_at(it.p);
-                let brdf = |wi| material.local_brdf(albedo, it.n, wo, wi);
+                let albedo = material.albedo_at(it.p, it.uv);
+                let brdf = |wi| material.local_brdf(albedo, it.ns, wo, wi);
                 if self.plan.shadow {
                     radiance += self.direct(it, brdf, depth, weight, walk);
                 }
@@ -206,13 +206,13 @@ impl Whitted<'_> {
     ) -> Vec3 {
         let finish = &material.finish;
         let wo = -ray.dir;
-        let albedo = material.albedo_at(it.p);
+        let albedo = material.albedo_at(it.p, it.uv);
         let mut radiance = finish.ambient_colour(albedo);
         if self.plan.shadow {
-            let brdf = |wi| material.local_brdf(albedo, it.n, wo, wi);
+            let brdf = |wi| material.local_brdf(albedo, it.ns, wo, wi);
             radiance += self.direct(it, brdf, depth, weight, walk);
         }
-        let outward = if it.front { it.n } else { -it.n };
+        let outward = it.outward();
         let mut reflected = finish.reflectance(wo.dot(outward), material.ior);
         let refracted = if finish.transmits() {
             let dir = fresnel::refract(wo, outward, material.ior);
@@ -225,7 +225,7 @@ impl Whitted<'_> {
         };
         let r = finish.tint(albedo) * reflected;
         if self.plan.reflection && reflected > 0.0 {
-            let dir = fresnel::reflect(ray.dir, it.n);
+            let dir = fresnel::reflect(ray.dir, it.ns);
             radiance += r * self.spawn(it, dir, depth, weight * r, RayKind::Reflection, walk);
         }
         if self.plan.refraction
@@ -259,6 +259,10 @@ impl Whitted<'_> {
         if depth >= self.plan.max_depth || weight.max_element() < self.scene.render.min_weight {
             return Vec3::ZERO;
         }
+        // A shading normal may send the ray through the surface: no leak.
+        if !it.leaves_as(dir, kind == RayKind::Refraction) {
+            return Vec3::ZERO;
+        }
         let ray = Ray::new(offset(it.p, it.error, it.n, dir), dir);
         let hit = self.accel.intersect(&ray);
         self.follow(&ray, &hit, kind, depth + 1, weight, walk)
@@ -286,8 +290,9 @@ impl Whitted<'_> {
             let Some(incident) = light.incident(it.p, pick.u) else {
                 continue;
             };
-            let cos = it.n.dot(incident.wi);
-            if cos <= 0.0 {
+            // The geometric side first: no light from behind the true surface.
+            let cos = it.ns.dot(incident.wi);
+            if !it.leaves_as(incident.wi, false) || cos <= 0.0 {
                 continue;
             }
             let mut shadow = Ray::new(offset(it.p, it.error, it.n, incident.wi), incident.wi);

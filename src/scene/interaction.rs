@@ -2,14 +2,26 @@
 //! the surface faces and what it is made of.
 
 use super::Scene;
-use crate::math::{Hit, Ray, Vec3, gamma};
+use crate::math::{Frame, Hit, Ray, Vec2, Vec3, gamma};
+
+/// The least cosine between the viewer and a shading normal: an
+/// interpolated normal the viewer is behind is bent towards the viewer until
+/// this is met, so a smooth mesh's silhouette has no black seams.
+const MIN_VIEW_COS: f32 = 0.01;
 
 pub struct Interaction {
     pub p: Vec3,
     /// A bound on the error of `p`, per axis, for offsetting spawned rays.
     pub error: Vec3,
-    /// Unit geometric normal, facing the side the ray came from.
+    /// Unit geometric normal, facing the side the ray came from: spawned
+    /// rays leave by it, and it decides which side a direction is on.
     pub n: Vec3,
+    /// Unit shading normal, on `n`'s side and never with the viewer behind
+    /// it: the interpolated vertex normal of a smooth mesh, `n` elsewhere.
+    /// The BSDF's frame and cosines use it.
+    pub ns: Vec3,
+    /// The texture coordinates of a mesh that has them.
+    pub uv: Option<Vec2>,
     /// Whether the ray hit the side the surface's own normal points to (the
     /// outside of a closed analytic shape, the counter-clockwise side of a triangle).
     pub front: bool,
@@ -30,6 +42,8 @@ impl Scene {
 
     /// The shading point of `hit`, which must be a hit of `ray` in this scene.
     pub fn interaction(&self, ray: &Ray, hit: &Hit) -> Interaction {
+        let mut shading = None;
+        let mut uv = None;
         let (p, error) = if hit.geom_id == self.shapes_geom_id() {
             let p = ray.at(hit.t);
             // The root's own error bound, which a shape's hit carries in v
@@ -47,6 +61,8 @@ impl Scene {
             // unlike o + t·d, whose error grows with the distance travelled.
             let (b1, b2) = (hit.u, hit.v);
             let b0 = 1.0 - b1 - b2;
+            shading = mesh.shading_normal(hit.prim_id, b1, b2);
+            uv = mesh.uv(hit.prim_id, b1, b2);
             let p = b0 * p0 + b1 * p1 + b2 * p2;
             // pbrt bounds each axis by that axis's own terms, which is zero on an axis
             // plane such as x = 0. Embree's triangle test mixes the axes (it works
@@ -61,12 +77,110 @@ impl Scene {
         let outward = crate::math::unit(hit.ng);
         let front = outward.dot(ray.dir) <= 0.0;
         let n = if front { outward } else { -outward };
+        let ns = shading.map_or(n, |ns| shading_normal(ns, n, -ray.dir));
         Interaction {
             front,
             p,
             error,
             n,
+            ns,
+            uv,
             material: self.material_of(hit),
         }
+    }
+}
+
+impl Interaction {
+    /// The BSDF's frame: around the shading normal, out of the material
+    /// (the BSDF tells inside from outside by the surface's own normal).
+    pub fn frame(&self) -> Frame {
+        Frame::from_normal(self.outward())
+    }
+
+    /// The shading normal pointing out of the material.
+    pub fn outward(&self) -> Vec3 {
+        if self.front { self.ns } else { -self.ns }
+    }
+
+    /// Whether a scattered direction `wi` leaves on the side its lobe says:
+    /// the viewer's side for a reflection, the other for a transmission. A
+    /// shading normal can tilt a lobe past the true surface; such directions
+    /// are dropped, so no light leaks through a smooth mesh (pbrt-v3's rule).
+    pub fn leaves_as(&self, wi: Vec3, transmission: bool) -> bool {
+        let towards_viewer = wi.dot(self.n) > 0.0;
+        towards_viewer != transmission
+    }
+}
+
+/// An interpolated normal `ns`, turned to the side of the geometric normal
+/// `n` (which faces the viewer `wo`) as pbrt-v4 does when the geometric side
+/// is authoritative, then, where the viewer is still behind it (the
+/// silhouette of a coarse mesh), bent towards the viewer: otherwise the BSDF
+/// would see the viewer below its horizon and return black.
+fn shading_normal(ns: Vec3, n: Vec3, wo: Vec3) -> Vec3 {
+    let ns = if ns.dot(n) < 0.0 { -ns } else { ns };
+    let cos = ns.dot(wo);
+    if cos >= MIN_VIEW_COS {
+        return ns;
+    }
+    // ns + k·wo with k chosen so that its dot with wo is MIN_VIEW_COS before
+    // normalising: still positive after.
+    (ns + (MIN_VIEW_COS - cos) * wo).normalize_or(n)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn it(ns: Vec3) -> Interaction {
+        Interaction {
+            p: Vec3::ZERO,
+            error: Vec3::ZERO,
+            n: Vec3::Z,
+            ns,
+            uv: None,
+            front: true,
+            material: 0,
+        }
+    }
+
+    #[test]
+    fn a_shading_normal_the_viewer_is_behind_is_bent_towards_the_viewer() {
+        let n = Vec3::Z;
+        // Grazing view from +x; the interpolated normal leans away to -x.
+        let wo = Vec3::new(1.0, 0.0, 0.1).normalize();
+        let leaning = Vec3::new(-0.5, 0.0, 1.0).normalize();
+        assert!(leaning.dot(wo) < 0.0);
+        let ns = shading_normal(leaning, n, wo);
+        assert!((ns.length() - 1.0).abs() < 1e-6);
+        // Just above the horizon: bent no further than it takes.
+        assert!(
+            ns.dot(wo) >= MIN_VIEW_COS && ns.dot(wo) < 2.0 * MIN_VIEW_COS,
+            "{ns}"
+        );
+        // One facing the viewer well is kept; one on the other side of the
+        // surface is turned to the geometric normal's side first.
+        let fine = Vec3::new(0.2, 0.0, 1.0).normalize();
+        assert_eq!(shading_normal(fine, n, wo), fine);
+        assert_eq!(shading_normal(-fine, n, wo), fine);
+    }
+
+    #[test]
+    fn directions_that_cross_the_true_surface_are_dropped() {
+        let tilted = it(Vec3::new(0.6, 0.0, 0.8));
+        // Above the shading normal's horizon but below the surface: a reflection
+        // there would leak light through it.
+        let below = Vec3::new(0.9, 0.0, -0.1).normalize();
+        assert!(tilted.ns.dot(below) > 0.0);
+        assert!(!tilted.leaves_as(below, false));
+        assert!(tilted.leaves_as(below, true));
+        assert!(tilted.leaves_as(Vec3::Z, false));
+        // The frame and outward normal follow the shading normal, out of the material.
+        assert_eq!(tilted.frame().n, tilted.ns);
+        let back = Interaction {
+            front: false,
+            ..it(Vec3::Z)
+        };
+        assert_eq!(back.outward(), -Vec3::Z);
     }
 }

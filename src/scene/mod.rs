@@ -11,6 +11,7 @@ mod obj;
 mod pov;
 mod size;
 mod solids;
+mod textures;
 
 use std::path::{Path, PathBuf};
 
@@ -19,6 +20,7 @@ pub use interaction::Interaction;
 use obj::MAX_COORDINATE;
 pub use obj::{ObjFile, load_obj};
 pub use size::SizeRequest;
+use textures::Textures;
 
 use crate::error::{Error, Result};
 use crate::geometry::{Mesh, Shape};
@@ -270,7 +272,13 @@ impl Scene {
     /// the camera, grey diffuse for faces without a material.
     fn from_obj(path: &Path) -> Result<Scene> {
         let mut scene = Scene::empty(path, RenderSettings::default(), Vec3::splat(0.05));
-        scene.add_obj(path, load_obj(path)?, None);
+        scene.add_obj(
+            path,
+            load_obj(path)?,
+            None,
+            |_| None,
+            &mut Textures::default(),
+        );
         let bounds = scene.bounds();
         if bounds.is_empty() {
             return Err(Error::Mesh {
@@ -290,9 +298,19 @@ impl Scene {
         Ok(scene)
     }
 
-    /// Appends the meshes of the OBJ at `path`; `material` replaces its own
-    /// materials when given.
-    pub(crate) fn add_obj(&mut self, path: &Path, obj: ObjFile, material: Option<u32>) {
+    /// Appends the meshes of the OBJ at `path`. `forced` replaces all its
+    /// materials when given; otherwise `named` gives the scene file's
+    /// material of a name, which replaces the OBJ's own of that name. A
+    /// missing library and a name nothing defines are a warning each (file
+    /// and line), and such faces get the default grey.
+    pub(crate) fn add_obj(
+        &mut self,
+        path: &Path,
+        obj: ObjFile,
+        forced: Option<u32>,
+        named: impl Fn(&str) -> Option<u32>,
+        textures: &mut Textures,
+    ) {
         if obj.degenerate > 0 {
             self.warnings.push(format!(
                 "{}: {} degenerate triangle{} (zero area) skipped: never hit, but kept so \
@@ -307,15 +325,56 @@ impl Scene {
                 self.sources.push(source);
             }
         }
-        let offset = self.materials.len() as u32;
-        self.materials.extend(obj.materials);
-        let mut default = None;
+        let at = |line: usize| format!("{}:{line}", path.display());
+        if forced.is_none() {
+            for (line, file) in &obj.missing_libraries {
+                self.warnings.push(format!(
+                    "{}: material library {} not found; its materials render as the default \
+                     grey diffuse",
+                    at(*line),
+                    file.display()
+                ));
+            }
+        }
+        // Every material a library defines is added, used or not, in file
+        // order, so the scene hash of files that loaded before is unchanged.
+        let mut index = Vec::with_capacity(obj.materials.len());
+        for m in obj.materials {
+            let own = match (named(&m.name), m.defined) {
+                (Some(replaced), _) => replaced,
+                (None, Some(mut defined)) => {
+                    if let Some(map) = &m.albedo_map {
+                        let asked_by = format!("{}:{}", map.library.display(), map.line);
+                        defined.albedo_map = textures.texture(
+                            &map.file,
+                            true,
+                            &map.placement,
+                            &asked_by,
+                            &mut self.warnings,
+                        );
+                    }
+                    self.materials.push(defined);
+                    self.materials.len() as u32 - 1
+                }
+                (None, None) if forced.is_some() => INVALID_ID,
+                (None, None) => {
+                    self.warnings.push(format!(
+                        "{}: material `{}` is not defined in any material library loaded so \
+                         far; its faces render as the default grey diffuse",
+                        at(m.line),
+                        m.name
+                    ));
+                    self.default_material()
+                }
+            };
+            index.push(forced.unwrap_or(own));
+        }
+        let mut default = forced;
         for mut mesh in obj.meshes {
             for m in &mut mesh.materials {
-                *m = match (material, *m) {
-                    (Some(forced), _) => forced,
-                    (None, INVALID_ID) => *default.get_or_insert_with(|| self.default_material()),
-                    (None, own) => own + offset,
+                *m = match index.get(*m as usize) {
+                    Some(&own) => own,
+                    None => *default.get_or_insert_with(|| self.default_material()),
                 };
             }
             self.meshes.push(mesh);

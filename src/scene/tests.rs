@@ -4,6 +4,7 @@
 use std::path::{Path, PathBuf};
 
 use super::*;
+use crate::math::Vec2;
 use crate::shading::MaterialKind;
 
 /// A fresh directory under the system temp dir for one test's files,
@@ -32,6 +33,7 @@ v 1 0 0
 v 1 1 0
 v 0 1 0
 v 2 0 0
+vt 0 0
 o first
 usemtl red
 f 1 2 3 4
@@ -64,7 +66,9 @@ fn objects_fans_and_materials() {
     };
     assert_eq!(first.name, "first");
     // The quad fans into (0,1,2), (0,2,3); `usemtl` does not start a new object.
-    assert_eq!(first.triangles, vec![[0, 1, 2], [0, 2, 3], [1, 4, 2]]);
+    // The pentagon's corners carry a uv, so they are vertices of their own.
+    assert_eq!(first.triangles, vec![[0, 1, 2], [0, 2, 3], [4, 5, 6]]);
+    assert_eq!(first.positions[4], first.positions[1]);
     let kinds: Vec<_> = first
         .materials
         .iter()
@@ -143,8 +147,7 @@ fn obj_errors_name_the_line() {
         ),
         ("v 0 0 0\nf 1 1\n", ":2: a face needs at least 3 vertices"),
         ("v 0 0 0\nf 1 a 1\n", ":2: expected a vertex index"),
-        ("mtllib nothere.mtl\n", "nothere.mtl not found"),
-        ("usemtl ghost\n", ":1: material `ghost` is not defined"),
+        ("usemtl\n", ":1: expected a material name after `usemtl`"),
     ];
     for (text, expected) in cases {
         let path = write(dir, "bad.obj", text);
@@ -158,6 +161,107 @@ fn obj_errors_name_the_line() {
     }
     let err = Scene::load(&dir.join("missing.obj")).unwrap_err();
     assert!(err.is_bad_input() && message(err).contains("missing.obj"));
+}
+
+/// Blender's export of a model whose library was not copied along, with
+/// faces that had no material (`usemtl None`).
+const BLENDER_WITHOUT_LIBRARY: &str = "\
+mtllib gone.mtl
+v 0 0 0
+v 1 0 0
+v 0 1 0
+usemtl Material.001
+f 1 2 3
+usemtl None
+f 3 2 1
+usemtl Material.001
+f 1 3 2
+";
+
+#[test]
+fn a_missing_library_and_undefined_names_warn_once_each_and_render_grey() {
+    let scratch = scratch("blender");
+    let dir = scratch.path();
+    let scene = Scene::load(&write(dir, "b.obj", BLENDER_WITHOUT_LIBRARY)).unwrap();
+    let grey = Material::default_grey();
+    for &m in &scene.meshes[0].materials {
+        assert_eq!(scene.materials[m as usize], grey);
+    }
+    let warnings = scene.warnings.join("\n");
+    assert_eq!(scene.warnings.len(), 3, "{warnings}");
+    assert!(
+        warnings.contains("b.obj:1: material library") && warnings.contains("gone.mtl not found"),
+        "{warnings}"
+    );
+    // One warning per name, at the line that first used it.
+    assert!(
+        warnings.contains("b.obj:5: material `Material.001` is not defined"),
+        "{warnings}"
+    );
+    assert!(
+        warnings.contains("b.obj:7: material `None` is not defined"),
+        "{warnings}"
+    );
+}
+
+#[test]
+fn a_scene_material_replaces_the_obj_material_of_its_name() {
+    let scratch = scratch("override");
+    let dir = scratch.path();
+    write(dir, "m.mtl", MTL);
+    write(dir, "a.obj", QUAD_AND_PENTAGON);
+    write(dir, "b.obj", BLENDER_WITHOUT_LIBRARY);
+    let scene_text = |extra: &str| {
+        format!(
+            "[materials.red]\ntype = \"metal\"\nalbedo = [0.9, 0.2, 0.2]\nroughness = 0.1\n\
+             [materials.None]\ntype = \"diffuse\"\nalbedo = [0.1, 0.2, 0.3]\n\
+             [[objects]]\ntype = \"mesh\"\nfile = \"a.obj\"\n{extra}\
+             [[objects]]\ntype = \"mesh\"\nfile = \"b.obj\"\n"
+        )
+    };
+    let scene = Scene::load(&write(dir, "s.toml", &scene_text(""))).unwrap();
+    let material = |mesh: usize, triangle: usize| {
+        &scene.materials[scene.meshes[mesh].materials[triangle] as usize]
+    };
+    // a.obj's `red` faces take the scene's `red`; `shiny` keeps the MTL's.
+    assert_eq!(
+        (material(0, 0).name.as_str(), material(0, 0).kind),
+        ("red", MaterialKind::Metal)
+    );
+    assert_eq!(material(0, 1).kind, MaterialKind::Metal);
+    assert_eq!(
+        (material(0, 2).name.as_str(), material(0, 2).kind),
+        ("shiny", MaterialKind::Plastic)
+    );
+    // b.obj's `usemtl None` faces take the scene's `None`, with no warning for
+    // it; `Material.001` is still undefined and grey.
+    assert_eq!(material(2, 1).albedo, Vec3::new(0.1, 0.2, 0.3));
+    assert_eq!(*material(2, 0), Material::default_grey());
+    let warnings = scene.warnings.join("\n");
+    assert!(!warnings.contains("`None`"), "{warnings}");
+    assert!(warnings.contains("`Material.001`"), "{warnings}");
+    // An object's own `material` still replaces every one of its faces', quietly.
+    let forced = Scene::load(&write(
+        dir,
+        "f.toml",
+        &scene_text("material = \"None\"\n").replace(
+            "file = \"b.obj\"\n",
+            "file = \"b.obj\"\nmaterial = \"red\"\n",
+        ),
+    ))
+    .unwrap();
+    let forced_material = |mesh: usize, triangle: usize| {
+        &forced.materials[forced.meshes[mesh].materials[triangle] as usize]
+    };
+    assert_eq!(forced_material(0, 0).name, "None");
+    assert_eq!(forced_material(0, 2).name, "None");
+    assert_eq!(forced_material(2, 1).name, "red");
+    // (a.obj's fan has a degenerate triangle, warned as such.)
+    assert!(
+        forced.warnings.iter().all(|w| !w.contains("material")),
+        "{:?}",
+        forced.warnings
+    );
 }
 
 const TOML: &str = r#"
@@ -473,4 +577,77 @@ fn emissive_geometry_becomes_sampled_lights() {
     let bad = LIT.replace("roughness = 0.5", "roughness = 1.5");
     let msg = message(Scene::load(&write(dir, "bad.toml", &bad)).unwrap_err());
     assert!(msg.contains("materials.brushed.roughness"), "{msg}");
+}
+
+#[test]
+fn normals_and_texture_coordinates_follow_each_corner() {
+    let scratch = scratch("attributes");
+    let dir = scratch.path();
+    // Two triangles sharing the edge 2-3: the same positions, but the second
+    // has its own normal at vertex 2 (a crease) and no uv anywhere; a third
+    // triangle has neither.
+    let text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\n\
+                vn 0 0 1\nvn 0 0 2\nvt 0 0\nvt 1 0 0.5\nvt 0.25\n\
+                f 1/1/1 2/2/1 3/3/1\nf 2//2 4//1 3//1\nf 1 2 4\n";
+    let mesh = &load_obj(&write(dir, "a.obj", text)).unwrap().meshes[0];
+    // Nine distinct (v, vt, vn) triples, so nine vertices: a position with
+    // another normal or uv, or with none, is another vertex.
+    assert_eq!(mesh.positions.len(), 9);
+    assert_eq!(mesh.normals.len(), 9);
+    assert_eq!(mesh.uvs.len(), 9);
+    assert_eq!(mesh.triangles, vec![[0, 1, 2], [3, 4, 5], [6, 7, 8]]);
+    assert_eq!(
+        mesh.uvs[..3],
+        [
+            Vec2::new(0.0, 0.0),
+            Vec2::new(1.0, 0.0),
+            Vec2::new(0.25, 0.0)
+        ]
+    );
+    assert_eq!(mesh.normals[3], Vec3::new(0.0, 0.0, 2.0));
+    // Interpolated: unit length; flat (None) where a corner has no normal.
+    assert_eq!(mesh.shading_normal(1, 0.3, 0.3), Some(Vec3::Z));
+    assert_eq!(mesh.shading_normal(2, 0.3, 0.3), None);
+    assert_eq!(mesh.uv(0, 0.5, 0.5), Some(Vec2::new(0.625, 0.0)));
+    // A transform moves normals by the inverse transpose: a stretch along x
+    // tilts a 45° normal towards x less.
+    let mut tilted = Mesh {
+        normals: vec![Vec3::new(1.0, 0.0, 1.0)],
+        positions: vec![Vec3::ZERO],
+        ..Mesh::default()
+    };
+    tilted.transform(&crate::math::Mat4::from_scale(Vec3::new(2.0, 1.0, 1.0)));
+    assert_eq!(tilted.normals[0], Vec3::new(0.5, 0.0, 1.0));
+}
+
+#[test]
+fn bad_normal_and_texture_references_name_the_line() {
+    let scratch = scratch("attrerr");
+    let dir = scratch.path();
+    for (text, expected) in [
+        (
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1//1 2//1 3//1\n",
+            ":4: normal index 1 out of range",
+        ),
+        (
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/2 2/1 3/1\n",
+            ":5: texture coordinate index 2",
+        ),
+        (
+            "vn 0 nan 1\n",
+            ":1: coordinate `nan` is not a finite number",
+        ),
+        ("vn 0 1\n", ":1: expected 3 coordinates after `vn`, found 2"),
+        ("vt\n", ":1: expected 1 coordinates after `vt`, found 0"),
+        ("v 0 0 0\nf 1/1/1/1 1 1\n", ":2: expected a face corner"),
+        (
+            "v 0 0 0\nf 1/x 1 1\n",
+            ":2: expected a texture coordinate index in face",
+        ),
+    ] {
+        let err = Scene::load(&write(dir, "bad.obj", text)).unwrap_err();
+        assert!(err.is_bad_input());
+        let msg = message(err);
+        assert!(msg.contains(expected), "{text:?} gave {msg}");
+    }
 }

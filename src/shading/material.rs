@@ -2,8 +2,8 @@
 
 use std::f32::consts::PI;
 
-use crate::math::Vec3;
-use crate::shading::{Checker, Finish};
+use crate::math::{Vec2, Vec3};
+use crate::shading::{Checker, Finish, Texture};
 
 /// What a surface does with light. The local shading of the foundation
 /// renderer uses albedo, specular and emission; the specular kinds gain their
@@ -50,6 +50,11 @@ pub struct Material {
     /// without one hash as before.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub checker: Option<Checker>,
+    /// An image the albedo follows where the surface has texture
+    /// coordinates (MTL's `map_Kd`, a scene file's `albedo = { texture }`),
+    /// instead of `albedo`; left out of the scene hash when absent.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub albedo_map: Option<Texture>,
 }
 
 impl Material {
@@ -70,6 +75,7 @@ impl Material {
             emission: Vec3::ZERO,
             finish: Finish::default(),
             checker: None,
+            albedo_map: None,
         }
     }
 
@@ -120,6 +126,7 @@ impl Material {
             emission,
             finish: Finish::default(),
             checker: None,
+            albedo_map: None,
         }
     }
 
@@ -128,12 +135,18 @@ impl Material {
         self.kind == MaterialKind::Emissive && self.emission.max_element() > 0.0
     }
 
-    /// The albedo at world point `p`: the checker's colour there if the
-    /// material has one, else `albedo`. Every use of the albedo at a hit goes
-    /// through here; without a checker it costs one branch.
-    pub fn albedo_at(&self, p: Vec3) -> Vec3 {
+    /// The albedo at world point `p` with texture coordinates `uv` (a mesh's
+    /// that has them): the image's colour at `uv` if the material has one
+    /// and the surface has uv, else the checker's colour, in uv where there
+    /// is uv and at `p` in space elsewhere, else `albedo`. Every use of the
+    /// albedo at a hit goes through here; without a pattern it costs two
+    /// branches.
+    pub fn albedo_at(&self, p: Vec3, uv: Option<Vec2>) -> Vec3 {
+        if let (Some(map), Some(uv)) = (&self.albedo_map, uv) {
+            return map.rgb(uv);
+        }
         match &self.checker {
-            Some(checker) => checker.colour_at(p),
+            Some(checker) => checker.colour_at(uv.map_or(p, |uv| uv.extend(0.0))),
             None => self.albedo,
         }
     }
@@ -236,22 +249,31 @@ mod tests {
         let mut m = Material::diffuse("c", Vec3::splat(0.5));
         let (even, odd) = (Vec3::splat(0.5), Vec3::new(1.5, 0.5, 0.5));
         // Without a checker, `albedo` everywhere.
-        assert_eq!((m.albedo_at(even), m.albedo_at(odd)), (m.albedo, m.albedo));
+        assert_eq!(
+            (m.albedo_at(even, None), m.albedo_at(odd, None)),
+            (m.albedo, m.albedo)
+        );
         m.checker = Some(Checker {
             colours: [a, b],
             to_pattern: glam::DAffine3::IDENTITY,
         });
-        assert_eq!((m.albedo_at(even), m.albedo_at(odd)), (a, b));
-        assert_eq!(Bsdf::at(&m, odd), Bsdf::Lambert(Lambert { albedo: b }));
+        assert_eq!((m.albedo_at(even, None), m.albedo_at(odd, None)), (a, b));
+        assert_eq!(
+            Bsdf::at(&m, odd, None),
+            Bsdf::Lambert(Lambert { albedo: b })
+        );
         // The local model at the point: Lambert's albedo/π.
         assert_eq!(
-            m.local_brdf(m.albedo_at(odd), Vec3::Z, Vec3::Z, Vec3::Z),
+            m.local_brdf(m.albedo_at(odd, None), Vec3::Z, Vec3::Z, Vec3::Z),
             b / PI
         );
         m.kind = MaterialKind::Mirror;
-        assert_eq!(Bsdf::at(&m, even), Bsdf::Mirror(Mirror { reflectance: a }));
+        assert_eq!(
+            Bsdf::at(&m, even, None),
+            Bsdf::Mirror(Mirror { reflectance: a })
+        );
         m.kind = MaterialKind::Metal;
-        let Bsdf::Metal(Metal { f0, .. }) = Bsdf::at(&m, odd) else {
+        let Bsdf::Metal(Metal { f0, .. }) = Bsdf::at(&m, odd, None) else {
             panic!("a metal's BSDF");
         };
         assert_eq!(f0, b);

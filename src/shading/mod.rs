@@ -5,6 +5,7 @@ mod finish;
 pub mod fresnel;
 mod material;
 mod pattern;
+mod texture;
 
 pub use bsdf::{
     Bsdf, BsdfSample, COS_EPS, Classic, Dielectric, Lambert, Lobe, MIN_ALPHA, Metal, Mirror,
@@ -13,3 +14,4 @@ pub use bsdf::{
 pub use finish::Finish;
 pub use material::{Material, MaterialKind};
 pub use pattern::Checker;
+pub use texture::{Image, Texture, TextureSource, srgb_to_linear};

@@ -19,6 +19,7 @@ fn mesh_scene(positions: Vec<Vec3>, triangles: Vec<[u32; 3]>) -> Scene {
             materials: vec![0; triangles.len()],
             positions,
             triangles,
+            ..Mesh::default()
         }],
         shapes: Vec::new(),
         lights: Vec::new(),

@@ -25,7 +25,7 @@ pub use radius::{Radius, RadiusFrom};
 use super::tally::{RayKind, RayStats, Tally};
 use crate::accel::Accel;
 use crate::lights::Light;
-use crate::math::{Bounds, Frame, Ray, Vec3, offset};
+use crate::math::{Bounds, Ray, Vec3, offset};
 use crate::sampling::{Discrete, Rng};
 use crate::scene::Scene;
 use crate::shading::{Bsdf, Lambert, Plastic, Transport};
@@ -205,7 +205,7 @@ impl Tracer<'_> {
                 }
             }
             let it = self.scene.interaction(&ray, &hit);
-            let bsdf = Bsdf::at(&self.scene.materials[it.material as usize], it.p);
+            let bsdf = Bsdf::at(&self.scene.materials[it.material as usize], it.p, it.uv);
             let wo = -ray.dir;
             if receives(&bsdf) {
                 // Straight from the light (depth 0) is direct light: not a caustic.
@@ -219,11 +219,14 @@ impl Tracer<'_> {
             if !bsdf.is_delta() || depth >= self.max_depth {
                 return None;
             }
-            let frame = Frame::from_normal(if it.front { it.n } else { -it.n });
+            let frame = it.frame();
             let u = [rng.next_f32(), rng.next_f32(), rng.next_f32()];
             // Glass picks reflection or refraction by Fresnel; flux is not
             // rescaled by refraction (importance transport).
             let s = bsdf.sample_with(&frame, wo, u, Transport::Importance)?;
+            if !it.leaves_as(s.wi, s.kind.is_transmission()) {
+                return None;
+            }
             flux *= s.weight;
             if flux.max_element() <= 0.0 {
                 return None;

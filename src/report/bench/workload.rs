@@ -80,6 +80,7 @@ pub fn bumpy_sphere(triangles: usize) -> Scene {
         materials: vec![0; faces.len()],
         positions,
         triangles: faces,
+        ..Mesh::default()
     };
     let camera = Camera::framing(mesh.bounds(), 640, 480);
     let light = Light::Point {

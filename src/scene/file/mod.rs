@@ -8,6 +8,7 @@ mod schema;
 mod shapes;
 mod tree;
 
+use std::cell::RefCell;
 use std::collections::BTreeMap;
 use std::path::Path;
 
@@ -25,6 +26,7 @@ use shapes::{Body, Built};
 use tree::Parent;
 
 use super::obj::MAX_COORDINATE;
+use super::textures::{Placement, Textures};
 use super::{
     Adaptive, Camera, CameraKey, Integrator, PhotonSettings, RenderSettings, Scene, headlight,
     load_obj,
@@ -49,13 +51,28 @@ pub(super) fn load(path: &Path) -> Result<Scene> {
     check.render(&render)?;
     let background = check.colour("background", file.background.unwrap_or([0.0; 3]))?;
     let mut scene = Scene::empty(path, render, background);
+    let dir = path.parent().unwrap_or(Path::new("."));
+    let mut textures = Textures::default();
     for (name, m) in &file.materials {
-        scene.materials.push(material(&check, name, m)?);
+        let mut material = material(&check, name, m)?;
+        if let Some(AlbedoFile::Texture(t)) = &m.albedo {
+            let key = format!("materials.{name}.albedo.texture");
+            let asked_by = format!("{}: {key}", path.display());
+            material.albedo_map = textures.texture(
+                &dir.join(&t.texture),
+                true,
+                &Placement::default(),
+                &asked_by,
+                &mut scene.warnings,
+            );
+        }
+        scene.materials.push(material);
     }
     let solver = solver(&check, &file.render)?;
     let objects = Objects {
         check: &check,
-        dir: path.parent().unwrap_or(Path::new(".")),
+        dir,
+        textures: RefCell::new(textures),
         constants: file
             .constants
             .iter()
@@ -246,7 +263,7 @@ fn material(check: &Check, name: &str, m: &MaterialFile) -> Result<Material> {
     let (albedo, checker) = match &m.albedo {
         Some(AlbedoFile::Checker(c)) => (Vec3::splat(0.7), Some(checker(check, name, c)?)),
         Some(AlbedoFile::Colour(v)) => (colour("albedo", Some(*v), 0.7)?, None),
-        None => (Vec3::splat(0.7), None),
+        Some(AlbedoFile::Texture(_)) | None => (Vec3::splat(0.7), None),
     };
     Ok(Material {
         name: name.to_owned(),
@@ -259,6 +276,8 @@ fn material(check: &Check, name: &str, m: &MaterialFile) -> Result<Material> {
         ior,
         emission: colour("radiance", m.radiance, 0.0)?,
         finish,
+        // Read by `load`, which keeps the scene's textures.
+        albedo_map: None,
     })
 }
 
@@ -372,6 +391,8 @@ struct Objects<'a> {
     check: &'a Check<'a>,
     /// The scene file's folder, which OBJ paths are relative to.
     dir: &'a Path,
+    /// The scene's images, shared by every object's materials.
+    textures: RefCell<Textures>,
     constants: Vec<(&'a str, f64)>,
     materials: &'a BTreeMap<String, MaterialFile>,
     solver: Solver,
@@ -473,7 +494,15 @@ impl Objects<'_> {
             Error::Io { .. } => check.error(&format!("objects[{index}].file"), e),
             other => other,
         })?;
-        scene.add_obj(&obj_path, obj, material);
+        // A scene material of a name the OBJ uses replaces the OBJ's own.
+        let named = |name: &str| {
+            self.materials
+                .keys()
+                .position(|k| k == name)
+                .map(|i| i as u32)
+        };
+        let textures = &mut self.textures.borrow_mut();
+        scene.add_obj(&obj_path, obj, material, named, textures);
         let matrix = DMat4::from(transform).as_mat4();
         for m in &mut scene.meshes[first..] {
             m.transform(&matrix);
@@ -593,6 +622,7 @@ fn light(
                 ],
                 triangles: vec![[0, 1, 2], [0, 2, 3]],
                 materials: vec![material; 2],
+                ..Mesh::default()
             });
             check.bounds(&key("corner"), scene.bounds())?;
         }

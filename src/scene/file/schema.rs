@@ -136,15 +136,25 @@ pub(super) enum SpecularFile {
     Amount(f32),
 }
 
-/// `albedo`: a colour, or POV-Ray's checker of two colours.
+/// `albedo`: a colour, POV-Ray's checker of two colours, or an image.
 #[derive(Deserialize)]
 #[serde(
     untagged,
-    expecting = "a colour [r, g, b] or { checker = [[r, g, b], [r, g, b]], scale = s }"
+    expecting = "a colour [r, g, b], { checker = [[r, g, b], [r, g, b]], scale = s } or \
+                 { texture = \"file.png\" }"
 )]
 pub(super) enum AlbedoFile {
     Colour([f32; 3]),
     Checker(CheckerFile),
+    Texture(TextureFile),
+}
+
+/// `albedo = { texture = "wood.png" }`: an image (relative to the scene
+/// file) the albedo follows in a mesh's texture coordinates.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct TextureFile {
+    pub texture: String,
 }
 
 /// `albedo = { checker = [A, B], scale = s }`: cubes of side s (default 1)

@@ -7,19 +7,26 @@
 
 mod mtl;
 
+pub(crate) use mtl::AlbedoMap;
+
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
 use crate::error::{Error, Result};
 use crate::geometry::Mesh;
-use crate::math::{INVALID_ID, Vec3};
+use crate::math::{INVALID_ID, Vec2, Vec3};
 use crate::shading::Material;
 
-/// The meshes of one OBJ file with the materials of its MTL libraries.
+/// The meshes of one OBJ file with the materials its faces name.
 /// A triangle without a material has material index `INVALID_ID`.
 pub struct ObjFile {
     pub meshes: Vec<Mesh>,
-    pub materials: Vec<Material>,
+    /// Every name a `usemtl` or a library gave, in order of first appearance;
+    /// a triangle's material index points here.
+    pub materials: Vec<ObjMaterial>,
+    /// `mtllib` files that are not there: a warning each, not an error, as
+    /// Blender writes the line whether or not it wrote the file.
+    pub missing_libraries: Vec<(usize, PathBuf)>,
     /// Triangles of zero area (repeated or collinear corners). They stay in the
     /// meshes, so triangle numbers never shift, and Embree never hits them.
     pub degenerate: usize,
@@ -33,21 +40,40 @@ pub struct ObjFile {
 /// (t = v0 · (e1 × e2), a hit at t = inf beyond about 1e12), light areas and
 /// powers two of them times a colour, and a framing camera stands several
 /// scene sizes away. At 1e9 every such product stays within f32 (3.4e38).
+/// A material name of an OBJ file: what its library defines, or `None`
+/// where no library loaded so far defines it (Blender's `usemtl None` for
+/// faces without a material). A scene file's material of the same name
+/// replaces either; an undefined one without it renders as the default grey.
+pub struct ObjMaterial {
+    pub name: String,
+    pub defined: Option<Material>,
+    /// Its `map_Kd`, read when the scene takes the material.
+    pub(crate) albedo_map: Option<AlbedoMap>,
+    /// The line that first named it: its `usemtl`, for the warning.
+    pub line: usize,
+}
+
 pub(super) const MAX_COORDINATE: f64 = 1e9;
 
 struct Reader<'a> {
     path: &'a Path,
     line: usize,
     positions: Vec<Vec3>,
-    materials: Vec<Material>,
+    materials: Vec<ObjMaterial>,
     material_names: HashMap<String, u32>,
+    missing_libraries: Vec<(usize, PathBuf)>,
     current_material: u32,
     meshes: Vec<Mesh>,
     mesh: Mesh,
     /// Global vertex index → index in the current mesh, `INVALID_ID` if unused.
     local: Vec<u32>,
-    /// The inverse for the current mesh: local index → global index.
+    /// (vertex, texture coordinate, normal) → index in the current mesh, for
+    /// corners with a `vt` or `vn`.
+    attributed: HashMap<(u32, u32, u32), u32>,
+    /// The global vertex indices the current mesh uses.
     globals: Vec<u32>,
+    normals: Vec<Vec3>,
+    uvs: Vec<Vec2>,
     degenerate: usize,
     /// The material libraries read.
     libraries: Vec<PathBuf>,
@@ -62,13 +88,26 @@ impl Reader<'_> {
         }
     }
 
-    fn vertex<'w>(&self, words: impl Iterator<Item = &'w str>) -> Result<Vec3> {
-        let mut xyz = [0.0f32; 3];
+    /// The `n` numbers after `keyword` (the rest optional, 0 when absent:
+    /// `vt u` alone is a 1D texture coordinate), each finite and within the
+    /// coordinate limit.
+    fn numbers<'w, const N: usize>(
+        &self,
+        keyword: &str,
+        required: usize,
+        words: impl Iterator<Item = &'w str>,
+    ) -> Result<[f32; N]> {
+        let mut values = [0.0f32; N];
         let mut words = words;
-        for (axis, value) in xyz.iter_mut().enumerate() {
-            let word = words.next().ok_or_else(|| {
-                self.error(format!("expected 3 coordinates after `v`, found {axis}"))
-            })?;
+        for (axis, value) in values.iter_mut().enumerate() {
+            let Some(word) = words.next() else {
+                if axis < required {
+                    return Err(self.error(format!(
+                        "expected {required} coordinates after `{keyword}`, found {axis}"
+                    )));
+                }
+                break;
+            };
             *value = word
                 .parse::<f32>()
                 .map_err(|_| self.error(format!("expected a number, found `{word}`")))?;
@@ -78,28 +117,65 @@ impl Reader<'_> {
                 )));
             }
         }
-        Ok(Vec3::from(xyz))
+        Ok(values)
     }
 
-    /// Resolves one `v`, `v/t`, `v//n` or `v/t/n` reference to a mesh-local index.
-    fn reference(&mut self, word: &str) -> Result<u32> {
-        let v = word.split('/').next().unwrap_or("");
-        let count = self.positions.len() as i64;
-        let index: i64 = v
+    /// One index of a face corner, 1-based or negative (counting back from
+    /// the last of the `count` defined so far), as a 0-based index.
+    fn index(&self, word: &str, part: &str, what: &str, count: usize) -> Result<u32> {
+        let index: i64 = part
             .parse()
-            .map_err(|_| self.error(format!("expected a vertex index in face, found `{word}`")))?;
-        // OBJ indices are 1-based; negative ones count back from the last vertex.
+            .map_err(|_| self.error(format!("expected a {what} index in face, found `{word}`")))?;
+        let count = count as i64;
         let global = if index > 0 { index - 1 } else { count + index };
         if index == 0 || global < 0 || global >= count {
             return Err(self.error(format!(
-                "vertex index {index} out of range: {count} vertices defined so far"
+                "{what} index {index} out of range: {count} {what}s defined so far"
             )));
         }
-        let slot = &mut self.local[global as usize];
+        Ok(global as u32)
+    }
+
+    /// Resolves one `v`, `v/t`, `v//n` or `v/t/n` reference to a mesh-local
+    /// vertex: one per distinct triple, so a position with two normals (a
+    /// crease) or two texture coordinates (a seam) is two vertices.
+    fn reference(&mut self, word: &str) -> Result<u32> {
+        if word.matches('/').count() > 2 {
+            return Err(self.error(format!(
+                "expected a face corner v, v/t, v//n or v/t/n, found `{word}`"
+            )));
+        }
+        let mut parts = word.split('/');
+        let v = parts.next().unwrap_or("");
+        let v = self.index(word, v, "vertex", self.positions.len())?;
+        let optional = |part: Option<&str>, what, count| match part {
+            None | Some("") => Ok(INVALID_ID),
+            Some(part) => self.index(word, part, what, count),
+        };
+        let t = optional(parts.next(), "texture coordinate", self.uvs.len())?;
+        let n = optional(parts.next(), "normal", self.normals.len())?;
+        let slot = if t == INVALID_ID && n == INVALID_ID {
+            &mut self.local[v as usize]
+        } else {
+            self.attributed.entry((v, t, n)).or_insert(INVALID_ID)
+        };
         if *slot == INVALID_ID {
             *slot = self.mesh.positions.len() as u32;
-            self.mesh.positions.push(self.positions[global as usize]);
-            self.globals.push(global as u32);
+            self.mesh.positions.push(self.positions[v as usize]);
+            self.globals.push(v);
+            // Corners without a normal or uv get zero: a triangle with a zero
+            // normal at a corner is shaded flat (`Mesh::shading_normal`).
+            let mesh = &mut self.mesh;
+            if n != INVALID_ID || !mesh.normals.is_empty() {
+                mesh.normals.resize(mesh.positions.len() - 1, Vec3::ZERO);
+                mesh.normals
+                    .push(self.normals.get(n as usize).copied().unwrap_or(Vec3::ZERO));
+            }
+            if t != INVALID_ID || !mesh.uvs.is_empty() {
+                mesh.uvs.resize(mesh.positions.len() - 1, Vec2::ZERO);
+                mesh.uvs
+                    .push(self.uvs.get(t as usize).copied().unwrap_or(Vec2::ZERO));
+            }
         }
         Ok(*slot)
     }
@@ -144,6 +220,7 @@ impl Reader<'_> {
         for g in self.globals.drain(..) {
             self.local[g as usize] = INVALID_ID;
         }
+        self.attributed.clear();
         if !mesh.triangles.is_empty() {
             self.meshes.push(mesh);
         }
@@ -157,36 +234,54 @@ impl Reader<'_> {
         }
         let file: PathBuf = dir.join(name);
         if !file.exists() {
-            return Err(self.error(format!("material library {} not found", file.display())));
+            self.missing_libraries.push((self.line, file));
+            return Ok(());
         }
         // A library that cannot be read is named with the line that asks for it.
-        let materials = mtl::load(&file).map_err(|e| match e {
+        let (materials, mut maps) = mtl::load(&file).map_err(|e| match e {
             Error::Io { .. } => self.error(e.to_string()),
             other => other,
         })?;
         self.libraries.push(file);
         for m in &materials {
-            let index = self.materials.len() as u32;
-            self.material_names.insert(m.name.clone(), index);
-            self.materials.push(Material::from_mtl(m));
+            let material = ObjMaterial {
+                name: m.name.clone(),
+                defined: Some(Material::from_mtl(m)),
+                albedo_map: maps.remove(&m.name),
+                line: self.line,
+            };
+            // A later library's definition of a name replaces the earlier one.
+            match self.material_names.get(&m.name) {
+                Some(&i) => self.materials[i as usize] = material,
+                None => {
+                    let index = self.materials.len() as u32;
+                    self.material_names.insert(m.name.clone(), index);
+                    self.materials.push(material);
+                }
+            }
         }
         Ok(())
     }
 
     fn use_material(&mut self, name: &str) -> Result<()> {
         let name = name.trim();
-        self.current_material = *self.material_names.get(name).ok_or_else(|| {
-            let mut known: Vec<&str> = self.material_names.keys().map(String::as_str).collect();
-            known.sort_unstable();
-            self.error(format!(
-                "material `{name}` is not defined in any mtllib loaded so far (known: {})",
-                if known.is_empty() {
-                    "none".into()
-                } else {
-                    known.join(", ")
-                }
-            ))
-        })?;
+        if name.is_empty() {
+            return Err(self.error("expected a material name after `usemtl`"));
+        }
+        self.current_material = match self.material_names.get(name) {
+            Some(&i) => i,
+            None => {
+                let index = self.materials.len() as u32;
+                self.material_names.insert(name.to_owned(), index);
+                self.materials.push(ObjMaterial {
+                    name: name.to_owned(),
+                    defined: None,
+                    albedo_map: None,
+                    line: self.line,
+                });
+                index
+            }
+        };
         Ok(())
     }
 }
@@ -203,6 +298,7 @@ pub fn load_obj(path: &Path) -> Result<ObjFile> {
         positions: Vec::new(),
         materials: Vec::new(),
         material_names: HashMap::new(),
+        missing_libraries: Vec::new(),
         current_material: INVALID_ID,
         meshes: Vec::new(),
         mesh: Mesh {
@@ -210,7 +306,10 @@ pub fn load_obj(path: &Path) -> Result<ObjFile> {
             ..Mesh::default()
         },
         local: Vec::new(),
+        attributed: HashMap::new(),
         globals: Vec::new(),
+        normals: Vec::new(),
+        uvs: Vec::new(),
         degenerate: 0,
         libraries: Vec::new(),
     };
@@ -224,9 +323,18 @@ pub fn load_obj(path: &Path) -> Result<ObjFile> {
         let rest = line[keyword.len()..].trim_start();
         match keyword {
             "v" => {
-                let v = r.vertex(rest.split_whitespace())?;
-                r.positions.push(v);
+                let v = r.numbers::<3>("v", 3, rest.split_whitespace())?;
+                r.positions.push(Vec3::from(v));
                 r.local.push(INVALID_ID);
+            }
+            "vn" => {
+                let n = r.numbers::<3>("vn", 3, rest.split_whitespace())?;
+                r.normals.push(Vec3::from(n));
+            }
+            "vt" => {
+                // A third (w) coordinate of 3D textures is read and dropped.
+                let [u, v, _] = r.numbers::<3>("vt", 1, rest.split_whitespace())?;
+                r.uvs.push(Vec2::new(u, v));
             }
             "f" => r.face(rest.split_whitespace())?,
             "o" | "g" => {
@@ -238,8 +346,8 @@ pub fn load_obj(path: &Path) -> Result<ObjFile> {
             }
             "mtllib" => r.material_library(rest)?,
             "usemtl" => r.use_material(rest)?,
-            // Normals, texture coordinates, smoothing groups, lines, points, comments and
-            // free-form geometry do not change the triangles.
+            // Smoothing groups (Blender writes `vn` anyway), lines, points and
+            // free-form geometry are not rendered.
             _ => {}
         }
     }
@@ -250,6 +358,7 @@ pub fn load_obj(path: &Path) -> Result<ObjFile> {
     Ok(ObjFile {
         meshes: r.meshes,
         materials: r.materials,
+        missing_libraries: r.missing_libraries,
         degenerate: r.degenerate,
         sources,
     })

@@ -5,10 +5,22 @@
 //! negative colours, an index of refraction <= 0). Every statement tobj
 //! reads is checked first, so each of those names its line.
 
-use std::path::Path;
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
 
 use crate::error::{Error, Result};
 use crate::scene::MAX_COLOUR;
+use crate::scene::textures::{Placement, statement};
+
+/// A material's `map_Kd`: where it is asked for, its placement, and the
+/// image file (relative to the library's folder).
+#[derive(Clone, Debug)]
+pub(crate) struct AlbedoMap {
+    pub library: PathBuf,
+    pub line: usize,
+    pub placement: Placement,
+    pub file: PathBuf,
+}
 
 /// What the numbers of a statement must be.
 enum Expect {
@@ -79,14 +91,18 @@ fn problem(keyword: &str, args: &[&str], expect: &Expect) -> Option<String> {
     }
 }
 
-/// Reads the materials of an MTL file, refusing bad statements by line.
-pub(super) fn load(path: &Path) -> Result<Vec<tobj::Material>> {
+/// Reads the materials of an MTL file, refusing bad statements by line,
+/// with each material's `map_Kd` by name.
+pub(super) fn load(path: &Path) -> Result<(Vec<tobj::Material>, HashMap<String, AlbedoMap>)> {
     let text = crate::io::input::read_text(path)?;
     let error = |line: usize, message: String| Error::Mesh {
         path: path.to_owned(),
         line,
         message,
     };
+    let dir = path.parent().unwrap_or(Path::new("."));
+    let mut maps = HashMap::new();
+    let mut current = None;
     for (number, line) in text.lines().enumerate() {
         let mut words = line.split_whitespace();
         let Some(keyword) = words.next() else {
@@ -98,8 +114,25 @@ pub(super) fn load(path: &Path) -> Result<Vec<tobj::Material>> {
         {
             return Err(error(number + 1, message));
         }
+        match keyword {
+            "newmtl" => current = Some(args.join(" ")),
+            "map_Kd" => {
+                let (placement, file) = statement(&args.join(" "))
+                    .map_err(|m| error(number + 1, format!("`map_Kd`: {m}")))?;
+                if let Some(name) = &current {
+                    let map = AlbedoMap {
+                        library: path.to_owned(),
+                        line: number + 1,
+                        placement,
+                        file: dir.join(file),
+                    };
+                    maps.insert(name.clone(), map);
+                }
+            }
+            _ => {}
+        }
     }
     let (materials, _) = tobj::load_mtl_buf(&mut text.as_bytes())
         .map_err(|e| error(0, format!("malformed material library: {e}")))?;
-    Ok(materials)
+    Ok((materials, maps))
 }

@@ -377,6 +377,7 @@ impl Builder<'_> {
             emission: Vec3::ZERO,
             finish,
             checker,
+            albedo_map: None,
         };
         let same = |m: &Material| Material {
             name: String::new(),

@@ -48,7 +48,7 @@ pub use metal::Metal;
 pub use mirror::Mirror;
 pub use plastic::Plastic;
 
-use crate::math::{Frame, Vec3};
+use crate::math::{Frame, Vec2, Vec3};
 use crate::shading::{Material, MaterialKind};
 
 /// Cosines smaller than this count as grazing: such directions get f = 0,
@@ -148,10 +148,10 @@ pub enum Bsdf {
 }
 
 impl Bsdf {
-    /// The scattering function of a material at world point `p`, where its
-    /// albedo may follow a pattern.
-    pub fn at(m: &Material, p: Vec3) -> Bsdf {
-        Bsdf::with_albedo(m, m.albedo_at(p))
+    /// The scattering function of a material at world point `p` with
+    /// texture coordinates `uv`, where its albedo may follow a pattern or an image.
+    pub fn at(m: &Material, p: Vec3, uv: Option<Vec2>) -> Bsdf {
+        Bsdf::with_albedo(m, m.albedo_at(p, uv))
     }
 
     /// The scattering function of a material away from any pattern: for the
