@@ -151,10 +151,12 @@ sampler-study: setup
 # services (munge, slurmctld, slurmd, ssh) where systemd runs; the test uses
 # none of them, nor their ports. Not part of `make test`; .ci/run runs it.
 APT_FARM_PACKAGES := slurm-wlm munge parallel openssh-server rsync
+# The dev binary `make test` already built (`cargo test --no-run`, as
+# test-python): a release build here added minutes to CI for small images.
 test-farm: setup
 	$(call apt_install,$(APT_FARM_PACKAGES))
-	cargo build --release
-	tools/farm/test_cluster.sh $(RELEASE_BIN) $(PYTHON)
+	cargo test --no-run
+	tools/farm/test_cluster.sh $(DEV_BIN) $(PYTHON)
 
 # Property-based fuzzing (proptest on stable Rust), not part of `make test` or
 # CI: each target runs FUZZ_CASES fresh random cases, or stops after
