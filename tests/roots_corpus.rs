@@ -58,6 +58,9 @@ const NUMPY: &str = "numpy, numpy/polynomial/tests/test_polynomial.py (test_poly
 const MULTROOT: &str =
     "MultRoot (Zeng, ACM TOMS 2005) as in JuliaMath/Roots.jl test/tests_multroot.jl";
 const MULTROOT_CALGO: &str = "MultRoot test suite, CALGO 835 Drivers/near03.m";
+const BOOST_CUBIC: &str = "Boost.Math, test/cubic_roots_test.cpp (its fixed cases; the random \
+                           trials draw from std::mt19937 through libstdc++'s distribution)";
+const BOOST_QUARTIC: &str = "Boost.Math, test/quartic_roots_test.cpp (its fixed cases, as above)";
 const WILKINSON: &str = "Wilkinson-type products (Wilkinson 1959; GSL's and VTK's degree 5 and 19)";
 
 /// VTK's P84, highest degree first: 55x^84 − 79x^72 + 90x^71 + 37x^44 + 49x^21 − 12.
@@ -742,6 +745,133 @@ fn cases() -> Vec<Case> {
             &[],
             &[-1.0923995943740010262, 0.92872986290603876114],
             1e-7,
+        ),
+        // Boost.Math's cubic and quartic solver tests, their fixed cases.
+        case(
+            BOOST_CUBIC,
+            "x^3",
+            Printed(&[1.0, 0.0, 0.0, 0.0]),
+            ALL,
+            &[("0", 3)],
+            &[],
+            1e-15,
+        ),
+        case(
+            BOOST_CUBIC,
+            "x^3 + 1",
+            Printed(&[1.0, 0.0, 0.0, 1.0]),
+            ALL,
+            &[],
+            &[-1.0],
+            1e-15,
+        ),
+        case(
+            BOOST_CUBIC,
+            "x^3 - 1",
+            Printed(&[1.0, 0.0, 0.0, -1.0]),
+            ALL,
+            &[],
+            &[1.0],
+            1e-15,
+        ),
+        case(
+            BOOST_CUBIC,
+            "x^3 - 2 (to 2 ulp)",
+            Printed(&[1.0, 0.0, 0.0, -2.0]),
+            ALL,
+            &[],
+            &[1.2599210498948731648],
+            4.5e-16,
+        ),
+        case(
+            BOOST_CUBIC,
+            "x^3 - 8",
+            Printed(&[1.0, 0.0, 0.0, -8.0]),
+            ALL,
+            &[],
+            &[2.0],
+            1e-15,
+        ),
+        case(
+            BOOST_CUBIC,
+            "(x-1)(x-2)(x-3)",
+            Printed(&[1.0, -6.0, 11.0, -6.0]),
+            ALL,
+            &[("1", 1), ("2", 1), ("3", 1)],
+            &[],
+            4.5e-16,
+        ),
+        case(
+            BOOST_CUBIC,
+            "(x+1)^2 (x-2), 'unstable wrt perturbations'",
+            Printed(&[1.0, 0.0, -3.0, -2.0]),
+            ALL,
+            &[("-1", 2), ("2", 1)],
+            &[],
+            4.5e-16,
+        ),
+        case(
+            BOOST_QUARTIC,
+            "x^3 + 1 as a quartic with a zero leading coefficient",
+            Printed(&[0.0, 1.0, 0.0, 0.0, 1.0]),
+            ALL,
+            &[],
+            &[-1.0],
+            1e-15,
+        ),
+        case(
+            BOOST_QUARTIC,
+            "x^3 - 2 as a quartic with a zero leading coefficient",
+            Printed(&[0.0, 1.0, 0.0, 0.0, -2.0]),
+            ALL,
+            &[],
+            &[1.2599210498948731648],
+            4.5e-16,
+        ),
+        case(
+            BOOST_QUARTIC,
+            "x^4 - 1",
+            Printed(&[1.0, 0.0, 0.0, 0.0, -1.0]),
+            ALL,
+            &[],
+            &[-1.0, 1.0],
+            7e-16,
+        ),
+        case(
+            BOOST_QUARTIC,
+            "x^4 - 2 (to 3 ulp)",
+            Printed(&[1.0, 0.0, 0.0, 0.0, -2.0]),
+            ALL,
+            &[],
+            &[-1.1892071150027210667, 1.1892071150027210667],
+            7e-16,
+        ),
+        case(
+            BOOST_QUARTIC,
+            "x(x-1)(x-2)(x-3)",
+            Printed(&[1.0, -6.0, 11.0, -6.0, 0.0]),
+            ALL,
+            &[("0", 1), ("1", 1), ("2", 1), ("3", 1)],
+            &[],
+            4.5e-16,
+        ),
+        case(
+            BOOST_QUARTIC,
+            "(x-1)(x-2)(x-3)(x-4)",
+            Printed(&[1.0, -10.0, 35.0, -50.0, 24.0]),
+            ALL,
+            &[("1", 1), ("2", 1), ("3", 1), ("4", 1)],
+            &[],
+            4.5e-16,
+        ),
+        case(
+            BOOST_QUARTIC,
+            "(x+1)^2 (x-2)(x-3), 'unstable wrt perturbations'",
+            Printed(&[1.0, -3.0, -3.0, 7.0, 6.0]),
+            ALL,
+            &[("-1", 2), ("2", 1), ("3", 1)],
+            &[],
+            4.5e-16,
         ),
         // GSL's quadratic, cubic and complex solver tests.
         case(
