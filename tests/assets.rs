@@ -151,26 +151,33 @@ fn a_coarse_sphere_with_vertex_normals_shades_as_the_analytic_one() {
 const UV_SQUARE: &str = "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\n\
                          vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nf 1/1 2/2 3/3 4/4\n";
 
-/// The square filling a 32 × 32 image seen head-on, lit head-on by an
-/// irradiance of π (so a Lambert surface's radiance is its albedo), with
-/// `material` as its `[materials.m]` table and `extra_files` beside it.
-fn render_uv_square(name: &str, material: &str, files: &[(&str, &[u8])]) -> Vec<[f32; 3]> {
+/// The square `mesh` (a file name and its bytes) filling a 32 × 32 image
+/// seen head-on, lit head-on by an irradiance of π (so a Lambert surface's
+/// radiance is its albedo), with `material` as its `[materials.m]` table,
+/// `settings` added to its `[render]` table and `files` beside it.
+fn render_square(
+    name: &str,
+    material: &str,
+    settings: &str,
+    mesh: (&str, &[u8]),
+    files: &[(&str, &[u8])],
+) -> Vec<[f32; 3]> {
     use sturmray::accel::{Accel, Backend};
     use sturmray::render::{RenderOptions, render};
     use sturmray::scene::Scene;
     let dir = scratch(name);
-    write(&dir, "square.obj", UV_SQUARE);
-    for (file, bytes) in files {
+    for (file, bytes) in files.iter().chain([&mesh]) {
         std::fs::write(dir.join(file), bytes).unwrap();
     }
     // tan(fov / 2) = 1/4: the square's edges are the image's.
     let fov = 2.0 * 0.25f64.atan().to_degrees();
     let text = format!(
         "[camera]\neye = [0, 0, 4]\nlook_at = [0, 0, 0]\nfov = {fov}\nwidth = 32\nheight = 32\n\
-         [render]\nspp = 1\n[materials.m]\n{material}\n\
-         [[objects]]\ntype = \"mesh\"\nfile = \"square.obj\"\nmaterial = \"m\"\n\
+         [render]\nspp = 1\n{settings}\n[materials.m]\n{material}\n\
+         [[objects]]\ntype = \"mesh\"\nfile = \"{}\"\nmaterial = \"m\"\n\
          [[lights]]\ntype = \"directional\"\ndirection = [0, 0, -1]\n\
-         irradiance = [3.14159265, 3.14159265, 3.14159265]\n"
+         irradiance = [3.14159265, 3.14159265, 3.14159265]\n",
+        mesh.0
     );
     let scene = Scene::load(&write(&dir, "s.toml", &text)).unwrap();
     assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
@@ -210,9 +217,11 @@ fn close(a: sturmray::math::Vec3, b: sturmray::math::Vec3) -> bool {
 
 #[test]
 fn a_uv_checker_lands_on_the_right_squares() {
-    let image = render_uv_square(
+    let image = render_square(
         "checker",
         "type = \"diffuse\"\nalbedo = { checker = [[0.8, 0.1, 0.1], [0.1, 0.1, 0.8]], scale = 0.25 }",
+        "",
+        ("square.obj", UV_SQUARE.as_bytes()),
         &[],
     );
     let (a, b) = (
@@ -261,9 +270,11 @@ fn an_image_texture_is_srgb_decoded_and_lands_on_its_texels() {
     use sturmray::math::Vec3;
     let png = quadrants_png();
     // The scene file's own texture, and the same image through an MTL's map_Kd.
-    let toml = render_uv_square(
+    let toml = render_square(
         "texture",
         "type = \"diffuse\"\nalbedo = { texture = \"q.png\" }",
+        "",
+        ("square.obj", UV_SQUARE.as_bytes()),
         &[("q.png", &png)],
     );
     // sRGB 188 is linear 0.503.
@@ -313,4 +324,155 @@ fn map_kd_is_read_once_and_a_missing_texture_is_a_warning() {
         "{warnings}"
     );
     assert_eq!(c.albedo, sturmray::math::Vec3::splat(0.3));
+}
+
+/// `mesh` as a PLY file in `format` (ascii, binary_little_endian or
+/// binary_big_endian), with its normals; each pair of triangles that is the
+/// fan of a quad (a, b, c), (a, c, d) is written as that quad, so the
+/// reader's fan triangulation is tested too.
+fn ply_bytes(mesh: &sturmray::geometry::Mesh, format: &str) -> Vec<u8> {
+    let mut faces: Vec<Vec<u32>> = Vec::new();
+    let mut triangles = mesh.triangles.iter().peekable();
+    while let Some(&[a, b, c]) = triangles.next() {
+        match triangles.peek() {
+            Some(&&[a2, c2, d]) if a2 == a && c2 == c => {
+                triangles.next();
+                faces.push(vec![a, b, c, d]);
+            }
+            _ => faces.push(vec![a, b, c]),
+        }
+    }
+    assert!(faces.iter().any(|f| f.len() == 4));
+    let mut out = format!(
+        "ply\nformat {format} 1.0\nelement vertex {}\n\
+         property float x\nproperty float y\nproperty float z\n\
+         property float nx\nproperty float ny\nproperty float nz\n\
+         element face {}\nproperty list uchar int vertex_indices\nend_header\n",
+        mesh.positions.len(),
+        faces.len()
+    )
+    .into_bytes();
+    let floats = |v: [f32; 3], out: &mut Vec<u8>| match format {
+        "ascii" => out.extend(format!("{} {} {} ", v[0], v[1], v[2]).bytes()),
+        "binary_little_endian" => v.iter().for_each(|x| out.extend(x.to_le_bytes())),
+        _ => v.iter().for_each(|x| out.extend(x.to_be_bytes())),
+    };
+    for (p, n) in mesh.positions.iter().zip(&mesh.normals) {
+        floats(p.to_array(), &mut out);
+        floats(n.to_array(), &mut out);
+        if format == "ascii" {
+            out.push(b'\n');
+        }
+    }
+    for face in faces {
+        if format == "ascii" {
+            let list: Vec<String> = face.iter().map(u32::to_string).collect();
+            out.extend(format!("{} {}\n", face.len(), list.join(" ")).bytes());
+            continue;
+        }
+        out.push(face.len() as u8);
+        for i in face {
+            let i = i as i32;
+            out.extend(if format == "binary_little_endian" {
+                i.to_le_bytes()
+            } else {
+                i.to_be_bytes()
+            });
+        }
+    }
+    out
+}
+
+#[test]
+fn the_same_mesh_as_obj_and_as_ply_gives_the_same_hits_on_every_backend() {
+    use sturmray::accel::{Accel, Backend};
+    use sturmray::math::{Ray, Vec3};
+    use sturmray::scene::Scene;
+    let dir = scratch("ply");
+    let obj = Scene::load(&write(&dir, "sphere.obj", &uv_sphere(8, 16, true))).unwrap();
+    let reference = &obj.meshes[0];
+    // A grid of rays from +z over the sphere and past its edge.
+    let rays: Vec<Ray> = (0..24 * 24)
+        .map(|k| {
+            let (x, y) = ((k % 24) as f32 / 10.0 - 1.15, (k / 24) as f32 / 10.0 - 1.15);
+            Ray::new(Vec3::new(x, y, 5.0), Vec3::new(0.01, 0.02, -1.0))
+        })
+        .collect();
+    for format in ["ascii", "binary_little_endian", "binary_big_endian"] {
+        let name = format!("{format}.ply");
+        std::fs::write(dir.join(&name), ply_bytes(reference, format)).unwrap();
+        // The bare file, and the same file as a TOML mesh object.
+        let bare = Scene::load(&dir.join(&name)).unwrap();
+        let toml = format!("[[objects]]\ntype = \"mesh\"\nfile = \"{name}\"\n");
+        let placed = Scene::load(&write(&dir, &format!("{format}.toml"), &toml)).unwrap();
+        for ply in [&bare, &placed] {
+            let mesh = &ply.meshes[0];
+            assert_eq!(mesh.positions, reference.positions, "{format}");
+            assert_eq!(mesh.normals, reference.normals, "{format}");
+            assert_eq!(mesh.triangles, reference.triangles, "{format}");
+            // The poles' zero-area triangles, counted as the OBJ's are.
+            let expected: Vec<String> = obj
+                .warnings
+                .iter()
+                .map(|w| w.replace("sphere.obj", &name))
+                .collect();
+            assert!(expected[0].contains("28 degenerate"), "{expected:?}");
+            assert_eq!(ply.warnings, expected, "{format}");
+        }
+        for backend in Backend::ALL {
+            let (a, b) = (
+                Accel::build(&obj, backend, None).unwrap(),
+                Accel::build(&bare, backend, None).unwrap(),
+            );
+            let mut hits = 0;
+            for ray in &rays {
+                let (ha, hb) = (a.intersect(ray), b.intersect(ray));
+                assert_eq!(ha, hb, "{format}, {backend:?}, {ray:?}");
+                hits += usize::from(ha.is_hit());
+            }
+            assert!(hits > 200 && hits < rays.len(), "{hits} hits");
+        }
+    }
+}
+
+#[test]
+fn per_vertex_colours_of_a_ply_shade_as_its_albedo() {
+    // The square of UV_SQUARE, red on the left (x = -1), blue on the right;
+    // 188 is sRGB for a linear 0.5.
+    let ply = "ply\nformat ascii 1.0\nelement vertex 4\n\
+               property float x\nproperty float y\nproperty float z\n\
+               property uchar red\nproperty uchar green\nproperty uchar blue\n\
+               element face 1\nproperty list uchar uint vertex_indices\nend_header\n\
+               -1 -1 0 188 0 0\n1 -1 0 0 0 188\n1 1 0 0 0 188\n-1 1 0 188 0 0\n4 0 1 2 3\n";
+    for integrator in ["whitted", "path"] {
+        let image = render_square(
+            &format!("colours_{integrator}"),
+            "type = \"diffuse\"\nalbedo = [0.8, 0.8, 0.8]",
+            &format!("integrator = \"{integrator}\"\nmax_depth = 0"),
+            ("square.ply", ply.as_bytes()),
+            &[],
+        );
+        let (left, middle, right) = (
+            at(&image, 0.02, 0.5),
+            at(&image, 0.5, 0.5),
+            at(&image, 0.98, 0.5),
+        );
+        // The material's grey is replaced, and the colours blend linearly
+        // across: red at the left edge, blue at the right (the edge pixels'
+        // centres are 1/64 in, hence the 0.01 allowed).
+        let half = ((188.0 / 255.0 + 0.055) / 1.055f32).powf(2.4);
+        assert!(
+            (left.x - half).abs() < 0.01 && left.z < 0.01,
+            "{integrator}: {left}"
+        );
+        assert!(
+            (right.z - half).abs() < 0.01 && right.x < 0.01,
+            "{integrator}: {right}"
+        );
+        assert!(left.y == 0.0 && middle.y == 0.0, "{integrator}: {middle}");
+        assert!(
+            (middle.x + middle.z - half).abs() < 1e-3 && middle.x > 0.2 && middle.z > 0.2,
+            "{integrator}: {middle}"
+        );
+    }
 }

@@ -95,9 +95,14 @@ fn bad_input_exits_with_2_and_names_the_problem() {
     write(&dir, "s.toml", &plane_scene(""));
     write(&dir, "typo.toml", &plane_scene("").replace("fov", "fvo"));
     write(&dir, "broken.obj", "v 0 0 0\nf 1 2 3\n");
+    write(
+        &dir,
+        "broken.ply",
+        "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nend_header\nzero\n",
+    );
     write(&dir, "rays.npy", "not a numpy file");
     write(&dir, "file", "");
-    let cases: [(&[&str], &str); 9] = [
+    let cases: [(&[&str], &str); 10] = [
         (&["render", "missing.toml"], "missing.toml"),
         (
             &["render", "s.toml", "--sampler", "sobl"],
@@ -105,6 +110,10 @@ fn bad_input_exits_with_2_and_names_the_problem() {
         ),
         (&["render", "typo.toml"], "did you mean `fov`?"),
         (&["render", "broken.obj"], "broken.obj:2"),
+        (
+            &["render", "broken.ply"],
+            "broken.ply:6: vertex 0: expected the numbers of x, found `zero`",
+        ),
         (&["render", "s.toml", "-o", "file/x.exr"], "file"),
         (&["render", "s.toml", "--spp", "0"], "spp"),
         (
@@ -113,7 +122,7 @@ fn bad_input_exits_with_2_and_names_the_problem() {
         ),
         (
             &["info", "scene.txt"],
-            "expected a scene file ending in .toml, .obj or .pov",
+            "expected a scene file ending in .toml, .obj, .ply or .pov",
         ),
         (&["frobnicate"], "unrecognized subcommand"),
     ];

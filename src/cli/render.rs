@@ -18,7 +18,7 @@ use super::shared::{
 };
 use super::signals::{Interrupted, Signals};
 
-/// Render a scene (.toml, a bare .obj, or .pov) to an EXR with a PNG preview beside it.
+/// Render a scene (.toml, a bare .obj or .ply, or .pov) to an EXR with a PNG preview beside it.
 #[derive(clap::Args)]
 pub struct Args {
     scene: PathBuf,

@@ -20,6 +20,10 @@ pub struct Mesh {
     /// Per vertex, the texture coordinates (OBJ's `vt`), or none at all.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub uvs: Vec<Vec2>,
+    /// Per vertex, a linear RGB colour (a PLY's `red`, `green`, `blue`), or
+    /// none at all: where present it is the surface's albedo.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub colours: Vec<Vec3>,
 }
 
 impl Mesh {
@@ -60,11 +64,25 @@ impl Mesh {
     /// The interpolated texture coordinates at barycentrics (b1, b2) of a
     /// triangle, if the mesh has them.
     pub fn uv(&self, prim: u32, b1: f32, b2: f32) -> Option<Vec2> {
-        if self.uvs.is_empty() {
+        self.interpolate(&self.uvs, prim, b1, b2)
+    }
+
+    /// The interpolated vertex colour at barycentrics (b1, b2) of a
+    /// triangle, if the mesh has colours.
+    pub fn colour(&self, prim: u32, b1: f32, b2: f32) -> Option<Vec3> {
+        self.interpolate(&self.colours, prim, b1, b2)
+    }
+
+    /// A per-vertex attribute at barycentrics (b1, b2), if the mesh has it.
+    fn interpolate<T>(&self, values: &[T], prim: u32, b1: f32, b2: f32) -> Option<T>
+    where
+        T: Copy + std::ops::Add<Output = T> + std::ops::Mul<f32, Output = T>,
+    {
+        if values.is_empty() {
             return None;
         }
-        let [t0, t1, t2] = self.triangles[prim as usize].map(|i| self.uvs[i as usize]);
-        Some((1.0 - b1 - b2) * t0 + b1 * t1 + b2 * t2)
+        let [t0, t1, t2] = self.triangles[prim as usize].map(|i| values[i as usize]);
+        Some(t0 * (1.0 - b1 - b2) + t1 * b1 + t2 * b2)
     }
 
     /// The unit geometric normal of a triangle, (p1 − p0) × (p2 − p0) normalised,

@@ -102,7 +102,7 @@ impl PathTracer<'_> {
             let u = Bounce::draw(sampler);
             let material = &self.scene.materials[it.material as usize];
             if depth == 0 {
-                first = Some((hit.t, it.ns, material.albedo_at(it.p, it.uv)));
+                first = Some((hit.t, it.ns, it.albedo(material)));
             }
             let mut add = Vec3::ZERO;
             // Emitters shine from their front side only.
@@ -119,7 +119,7 @@ impl PathTracer<'_> {
                     add += beta * material.emission * weight;
                 }
             }
-            let bsdf = Bsdf::at(material, it.p, it.uv);
+            let bsdf = Bsdf::with_albedo(material, it.albedo(material));
             let frame = it.frame();
             let wo = -ray.dir;
             if let Some(map) = self.caustics

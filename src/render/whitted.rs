@@ -62,7 +62,7 @@ impl Whitted<'_> {
             weight: 1.0,
             depth: hit.t,
             normal: it.ns,
-            albedo: self.scene.materials[it.material as usize].albedo_at(it.p, it.uv),
+            albedo: it.albedo(&self.scene.materials[it.material as usize]),
         }
     }
 
@@ -121,7 +121,7 @@ impl Whitted<'_> {
         match material.kind {
             MaterialKind::Mirror => {
                 if self.plan.reflection {
-                    let r = material.reflectance(material.albedo_at(it.p, it.uv));
+                    let r = material.reflectance(it.albedo(material));
                     let dir = fresnel::reflect(ray.dir, it.ns);
                     radiance +=
                         r * self.spawn(it, dir, depth, weight * r, RayKind::Reflection, walk);
@@ -150,7 +150,7 @@ impl Whitted<'_> {
             | MaterialKind::Plastic
             | MaterialKind::Metal
             | MaterialKind::Emissive => {
-                let albedo = material.albedo_at(it.p, it.uv);
+                let albedo = it.albedo(material);
                 let brdf = |wi| material.local_brdf(albedo, it.ns, wo, wi);
                 if self.plan.shadow {
                     radiance += self.direct(it, brdf, depth, weight, walk);
@@ -206,7 +206,7 @@ impl Whitted<'_> {
     ) -> Vec3 {
         let finish = &material.finish;
         let wo = -ray.dir;
-        let albedo = material.albedo_at(it.p, it.uv);
+        let albedo = it.albedo(material);
         let mut radiance = finish.ambient_colour(albedo);
         if self.plan.shadow {
             let brdf = |wi| material.local_brdf(albedo, it.ns, wo, wi);

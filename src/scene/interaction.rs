@@ -3,6 +3,7 @@
 
 use super::Scene;
 use crate::math::{Frame, Hit, Ray, Vec2, Vec3, gamma};
+use crate::shading::Material;
 
 /// The least cosine between the viewer and a shading normal: an
 /// interpolated normal the viewer is behind is bent towards the viewer until
@@ -22,6 +23,9 @@ pub struct Interaction {
     pub ns: Vec3,
     /// The texture coordinates of a mesh that has them.
     pub uv: Option<Vec2>,
+    /// The interpolated vertex colour of a mesh that has colours: the
+    /// albedo there, in place of the material's.
+    pub colour: Option<Vec3>,
     /// Whether the ray hit the side the surface's own normal points to (the
     /// outside of a closed analytic shape, the counter-clockwise side of a triangle).
     pub front: bool,
@@ -44,6 +48,7 @@ impl Scene {
     pub fn interaction(&self, ray: &Ray, hit: &Hit) -> Interaction {
         let mut shading = None;
         let mut uv = None;
+        let mut colour = None;
         let (p, error) = if hit.geom_id == self.shapes_geom_id() {
             let p = ray.at(hit.t);
             // The root's own error bound, which a shape's hit carries in v
@@ -63,6 +68,7 @@ impl Scene {
             let b0 = 1.0 - b1 - b2;
             shading = mesh.shading_normal(hit.prim_id, b1, b2);
             uv = mesh.uv(hit.prim_id, b1, b2);
+            colour = mesh.colour(hit.prim_id, b1, b2);
             let p = b0 * p0 + b1 * p1 + b2 * p2;
             // pbrt bounds each axis by that axis's own terms, which is zero on an axis
             // plane such as x = 0. Embree's triangle test mixes the axes (it works
@@ -85,12 +91,20 @@ impl Scene {
             n,
             ns,
             uv,
+            colour,
             material: self.material_of(hit),
         }
     }
 }
 
 impl Interaction {
+    /// The albedo of material `m` here: the vertex colour where the mesh has
+    /// colours (as meshlab and trimesh show a coloured PLY; the material
+    /// keeps its kind), else the material's own ([`Material::albedo_at`]).
+    pub fn albedo(&self, m: &Material) -> Vec3 {
+        self.colour.unwrap_or_else(|| m.albedo_at(self.p, self.uv))
+    }
+
     /// The BSDF's frame: around the shading normal, out of the material
     /// (the BSDF tells inside from outside by the surface's own normal).
     pub fn frame(&self) -> Frame {
@@ -139,6 +153,7 @@ mod tests {
             n: Vec3::Z,
             ns,
             uv: None,
+            colour: None,
             front: true,
             material: 0,
         }

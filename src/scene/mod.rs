@@ -8,6 +8,7 @@ mod hash;
 mod interaction;
 mod locate;
 mod obj;
+mod ply;
 mod pov;
 mod size;
 mod solids;
@@ -19,6 +20,7 @@ pub use camera::{Camera, CameraFrame, CameraKey, CameraProblem, ImagePlane};
 pub use interaction::Interaction;
 use obj::MAX_COORDINATE;
 pub use obj::{ObjFile, load_obj};
+
 pub use size::SizeRequest;
 use textures::Textures;
 
@@ -198,6 +200,7 @@ pub struct LoadOptions {
 enum SceneKind {
     Toml,
     Obj,
+    Ply,
     Pov,
 }
 
@@ -207,13 +210,14 @@ impl SceneKind {
         [
             ("toml", SceneKind::Toml),
             ("obj", SceneKind::Obj),
+            ("ply", SceneKind::Ply),
             ("pov", SceneKind::Pov),
         ]
         .into_iter()
         .find_map(|(name, kind)| ext.eq_ignore_ascii_case(name).then_some(kind))
         .ok_or_else(|| {
             Error::Input(format!(
-                "{}: expected a scene file ending in .toml, .obj or .pov",
+                "{}: expected a scene file ending in .toml, .obj, .ply or .pov",
                 path.display()
             ))
         })
@@ -221,7 +225,7 @@ impl SceneKind {
 }
 
 impl Scene {
-    /// Loads a `.toml` scene, a bare `.obj` file or a `.pov` scene.
+    /// Loads a `.toml` scene, a bare `.obj` or `.ply` file or a `.pov` scene.
     pub fn load(path: &Path) -> Result<Scene> {
         Scene::load_with(path, &LoadOptions::default())
     }
@@ -238,7 +242,7 @@ impl Scene {
         }
         let mut scene = match kind {
             SceneKind::Toml => file::load(path)?,
-            SceneKind::Obj => Scene::from_obj(path)?,
+            SceneKind::Obj | SceneKind::Ply => Scene::from_mesh_file(path)?,
             SceneKind::Pov => pov::load(path, options)?,
         };
         // A .pov scene's camera (an image plane, perhaps) was made for this
@@ -268,13 +272,13 @@ impl Scene {
         }
     }
 
-    /// A bare OBJ as a scene: a camera framing its bounds, a point light near
-    /// the camera, grey diffuse for faces without a material.
-    fn from_obj(path: &Path) -> Result<Scene> {
+    /// A bare OBJ or PLY as a scene: a camera framing its bounds, a point
+    /// light near the camera, grey diffuse for faces without a material.
+    fn from_mesh_file(path: &Path) -> Result<Scene> {
         let mut scene = Scene::empty(path, RenderSettings::default(), Vec3::splat(0.05));
         scene.add_obj(
             path,
-            load_obj(path)?,
+            load_mesh(path)?,
             None,
             |_| None,
             &mut Textures::default(),
@@ -415,6 +419,18 @@ impl Scene {
 
     pub fn triangle_count(&self) -> usize {
         self.meshes.iter().map(|m| m.triangles.len()).sum()
+    }
+}
+
+/// Reads a mesh file: PLY by its extension (in any case), OBJ otherwise.
+pub fn load_mesh(path: &Path) -> Result<ObjFile> {
+    let ply = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("ply"));
+    if ply {
+        ply::load_ply(path)
+    } else {
+        load_obj(path)
     }
 }
 

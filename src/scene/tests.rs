@@ -412,7 +412,7 @@ fn toml_errors_name_line_and_suggest() {
         }
     }
     let err = Scene::load(&write(dir, "scene.txt", "")).unwrap_err();
-    assert!(message(err).contains("expected a scene file ending in .toml, .obj or .pov"));
+    assert!(message(err).contains("expected a scene file ending in .toml, .obj, .ply or .pov"));
 }
 
 const SHAPES: &str = r#"

@@ -259,7 +259,7 @@ mod tests {
         });
         assert_eq!((m.albedo_at(even, None), m.albedo_at(odd, None)), (a, b));
         assert_eq!(
-            Bsdf::at(&m, odd, None),
+            Bsdf::with_albedo(&m, m.albedo_at(odd, None)),
             Bsdf::Lambert(Lambert { albedo: b })
         );
         // The local model at the point: Lambert's albedo/π.
@@ -269,11 +269,11 @@ mod tests {
         );
         m.kind = MaterialKind::Mirror;
         assert_eq!(
-            Bsdf::at(&m, even, None),
+            Bsdf::with_albedo(&m, m.albedo_at(even, None)),
             Bsdf::Mirror(Mirror { reflectance: a })
         );
         m.kind = MaterialKind::Metal;
-        let Bsdf::Metal(Metal { f0, .. }) = Bsdf::at(&m, odd, None) else {
+        let Bsdf::Metal(Metal { f0, .. }) = Bsdf::with_albedo(&m, m.albedo_at(odd, None)) else {
             panic!("a metal's BSDF");
         };
         assert_eq!(f0, b);

@@ -205,7 +205,8 @@ impl Tracer<'_> {
                 }
             }
             let it = self.scene.interaction(&ray, &hit);
-            let bsdf = Bsdf::at(&self.scene.materials[it.material as usize], it.p, it.uv);
+            let material = &self.scene.materials[it.material as usize];
+            let bsdf = Bsdf::with_albedo(material, it.albedo(material));
             let wo = -ray.dir;
             if receives(&bsdf) {
                 // Straight from the light (depth 0) is direct light: not a caustic.

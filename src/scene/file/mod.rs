@@ -29,7 +29,7 @@ use super::obj::MAX_COORDINATE;
 use super::textures::{Placement, Textures};
 use super::{
     Adaptive, Camera, CameraKey, Integrator, PhotonSettings, RenderSettings, Scene, headlight,
-    load_obj,
+    load_mesh,
 };
 use crate::error::{Error, Result};
 use crate::geometry::{Box3, Csg, Mesh, Shape, Surface};
@@ -481,7 +481,7 @@ impl Objects<'_> {
         }))
     }
 
-    /// A `type = "mesh"` object: the meshes of an OBJ file, placed.
+    /// A `type = "mesh"` object: the meshes of an OBJ or PLY file, placed.
     fn mesh(&self, scene: &mut Scene, index: usize, mesh: &MeshFile) -> Result<()> {
         let check = self.check;
         let key = format!("objects[{index}]");
@@ -490,7 +490,7 @@ impl Objects<'_> {
         let first = scene.meshes.len();
         let obj_path = self.dir.join(&mesh.file);
         // A file that cannot be read is named with the line that asks for it.
-        let obj = load_obj(&obj_path).map_err(|e| match e {
+        let obj = load_mesh(&obj_path).map_err(|e| match e {
             Error::Io { .. } => check.error(&format!("objects[{index}].file"), e),
             other => other,
         })?;

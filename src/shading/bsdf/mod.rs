@@ -48,7 +48,7 @@ pub use metal::Metal;
 pub use mirror::Mirror;
 pub use plastic::Plastic;
 
-use crate::math::{Frame, Vec2, Vec3};
+use crate::math::{Frame, Vec3};
 use crate::shading::{Material, MaterialKind};
 
 /// Cosines smaller than this count as grazing: such directions get f = 0,
@@ -148,12 +148,6 @@ pub enum Bsdf {
 }
 
 impl Bsdf {
-    /// The scattering function of a material at world point `p` with
-    /// texture coordinates `uv`, where its albedo may follow a pattern or an image.
-    pub fn at(m: &Material, p: Vec3, uv: Option<Vec2>) -> Bsdf {
-        Bsdf::with_albedo(m, m.albedo_at(p, uv))
-    }
-
     /// The scattering function of a material away from any pattern: for the
     /// plan's questions about its lobes, which the albedo does not change.
     pub fn from_material(m: &Material) -> Bsdf {
