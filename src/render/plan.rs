@@ -44,6 +44,21 @@ impl Plan {
         for m in meshes.chain(scene.shapes.iter().flat_map(Shape::materials)) {
             used[m as usize] = true;
         }
+        for instance in &scene.instances {
+            let prototype = &scene.prototypes[instance.prototype as usize];
+            match instance.material {
+                Some(m) => used[m as usize] = true,
+                None => {
+                    let meshes = prototype.meshes.iter().flat_map(|m| m.materials.iter());
+                    for m in meshes
+                        .copied()
+                        .chain(prototype.shapes.iter().flat_map(Shape::materials))
+                    {
+                        used[m as usize] = true;
+                    }
+                }
+            }
+        }
         let uses_where = |test: &dyn Fn(&Material) -> bool| {
             scene
                 .materials
