@@ -11,9 +11,12 @@ use sturmray::math::{Hit, INVALID_ID, Ray};
 use sturmray::render::{RenderOptions, render};
 use sturmray::scene::Scene;
 
-/// A tetrahedron, closed, so a mirrored copy shows which way its normals turn.
+/// A tetrahedron, closed, so a mirrored copy shows which way its normals
+/// turn, with vertex normals, so its shading normals go through the
+/// instance's transform too.
 const TETRA: &str = "v 0 0.6 0\nv -0.5 -0.3 0.4\nv 0.5 -0.3 0.4\nv 0 -0.3 -0.5\n\
-                     f 1 2 3\nf 1 3 4\nf 1 4 2\nf 2 4 3\n";
+                     vn 0 1 0\nvn -0.5 -0.3 0.4\nvn 0.5 -0.3 0.4\nvn 0 -0.3 -0.5\n\
+                     f 1//1 2//2 3//3\nf 1//1 3//3 4//4\nf 1//1 4//4 2//2\nf 2//2 4//4 3//3\n";
 
 const HEAD: &str = r#"[camera]
 eye = [0, 3, 9]

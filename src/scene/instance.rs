@@ -17,9 +17,24 @@ pub struct Prototype {
     pub name: String,
     pub meshes: Vec<Mesh>,
     pub shapes: Vec<Shape>,
+    /// Found once: every instance's box starts from it.
+    #[serde(skip)]
+    bounds: Bounds,
 }
 
 impl Prototype {
+    pub fn new(name: String, meshes: Vec<Mesh>, shapes: Vec<Shape>) -> Prototype {
+        let bounds = (meshes.iter().map(Mesh::bounds))
+            .chain(shapes.iter().map(Shape::bounds))
+            .fold(Bounds::EMPTY, Bounds::union);
+        Prototype {
+            name,
+            meshes,
+            shapes,
+            bounds,
+        }
+    }
+
     /// The geometry id of the prototype's analytic shapes.
     pub fn shapes_geom_id(&self) -> u32 {
         self.meshes.len() as u32
@@ -27,9 +42,7 @@ impl Prototype {
 
     /// The box of the prototype's geometry in its own space.
     pub fn bounds(&self) -> Bounds {
-        let meshes = self.meshes.iter().map(Mesh::bounds);
-        let shapes = self.shapes.iter().map(Shape::bounds);
-        meshes.chain(shapes).fold(Bounds::EMPTY, Bounds::union)
+        self.bounds
     }
 
     pub fn triangle_count(&self) -> usize {

@@ -546,11 +546,11 @@ impl Objects<'_> {
                 }
             }
         }
-        let prototype = Prototype {
-            name: name.to_owned(),
-            meshes: scene.meshes.split_off(first_mesh),
-            shapes: scene.shapes.split_off(first_shape),
-        };
+        let prototype = Prototype::new(
+            name.to_owned(),
+            scene.meshes.split_off(first_mesh),
+            scene.shapes.split_off(first_shape),
+        );
         let key = format!("prototypes.{name}");
         if prototype.meshes.is_empty() && prototype.shapes.is_empty() {
             return Err(check.error(
