@@ -69,8 +69,10 @@ radius = 0.3"#,
     ),
 ];
 
-/// The instances: translation, rotation about y (degrees), scale, material.
-const PLACES: [([f64; 3], f64, [f64; 3], Option<&str>); 3] = [
+/// An instance: translation, rotation about y (degrees), scale, material.
+type Place = ([f64; 3], f64, [f64; 3], Option<&'static str>);
+
+const PLACES: [Place; 3] = [
     ([-2.5, 0.0, 0.0], 37.0, [0.8, 0.8, 0.8], None),
     ([0.0, 0.0, 0.0], -20.0, [-1.0, 1.0, 1.0], Some("red")),
     ([2.5, 0.5, -1.0], 0.0, [1.0, 0.5, 1.5], None),

@@ -69,24 +69,29 @@ def torus_t(o, d, c, big, small):
     return out
 
 
-def test_trace_hits_analytic_shapes(sturmray, tmp_path):
+def trace_random_rays(sturmray, tmp_path, text, seed, n, target_z):
+    """Traces `n` rays from random points of z = 3 towards random points
+    around the shapes with z in `target_z` through the scene `text` (with
+    the quad behind); returns the hits and the rays as sturmray reads them
+    (float32 values), in float64, for the references."""
     (tmp_path / "quad.obj").write_text(QUAD)
     scene = tmp_path / "s.toml"
-    scene.write_text(SCENE)
-    rng = np.random.default_rng(7)
-    n = 4000
-    # Rays from z = 3 towards random points of the z = 0 plane around both shapes.
+    scene.write_text(text)
+    rng = np.random.default_rng(seed)
     origin = np.column_stack([rng.uniform(-2, 2, n), rng.uniform(-1.2, 1.2, n), np.full(n, 3.0)])
-    target = np.column_stack([rng.uniform(-2, 2, n), rng.uniform(-1.2, 1.2, n), rng.uniform(-0.3, 0.3, n)])
+    target = np.column_stack([rng.uniform(-2, 2, n), rng.uniform(-1.2, 1.2, n), rng.uniform(*target_z, n)])
     d = target - origin
     d /= np.linalg.norm(d, axis=1)[:, None]
     rays = np.hstack([origin, d]).astype(np.float32)
     np.save(tmp_path / "rays.npy", rays)
     sturmray("trace", scene, "--rays", tmp_path / "rays.npy", "--out", tmp_path / "hits.npy")
     hits = np.load(tmp_path / "hits.npy")
+    return hits, rays[:, :3].astype(np.float64), rays[:, 3:].astype(np.float64)
 
-    # The reference uses the rays as sturmray reads them: float32 values, in float64.
-    o64, d64 = rays[:, :3].astype(np.float64), rays[:, 3:].astype(np.float64)
+
+def test_trace_hits_analytic_shapes(sturmray, tmp_path):
+    # Rays towards the z = 0 plane around both shapes.
+    hits, o64, d64 = trace_random_rays(sturmray, tmp_path, SCENE, 7, 4000, (-0.3, 0.3))
     ts = sphere_t(o64, d64, np.array([-1.0, 0, 0]), 0.75)
     tt = torus_t(o64, d64, np.array([1.0, 0, 0]), 0.6, 0.2)
     nearest = np.minimum(ts, tt)
@@ -155,22 +160,9 @@ def test_trace_reports_instances(sturmray, tmp_path):
     """The sphere and torus of one prototype placed twice (the second 3 behind
     the first), in front of a quad: inst_id names the copy hit, geom_id and
     prim_id the prototype's shape, t agrees with the closed forms."""
-    (tmp_path / "quad.obj").write_text(QUAD)
-    scene = tmp_path / "s.toml"
-    scene.write_text(INSTANCED)
-    rng = np.random.default_rng(11)
-    n = 3000
-    origin = np.column_stack([rng.uniform(-2, 2, n), rng.uniform(-1.2, 1.2, n), np.full(n, 3.0)])
-    target = np.column_stack([rng.uniform(-2, 2, n), rng.uniform(-1.2, 1.2, n), np.full(n, -3.0)])
-    d = target - origin
-    d /= np.linalg.norm(d, axis=1)[:, None]
-    rays = np.hstack([origin, d]).astype(np.float32)
-    np.save(tmp_path / "rays.npy", rays)
-    sturmray("trace", scene, "--rays", tmp_path / "rays.npy", "--out", tmp_path / "hits.npy")
-    hits = np.load(tmp_path / "hits.npy")
+    # Rays towards the z = -3 plane: through both copies' gaps.
+    hits, o64, d64 = trace_random_rays(sturmray, tmp_path, INSTANCED, 11, 3000, (-3.0, -3.0))
     assert hits.dtype["inst_id"] == np.uint32
-
-    o64, d64 = rays[:, :3].astype(np.float64), rays[:, 3:].astype(np.float64)
     # Each (instance, shape) pair's t, in the order inst_id * 2 + prim_id.
     candidates = []
     for z in (0.0, -3.0):
