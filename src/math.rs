@@ -85,12 +85,16 @@ pub const INVALID_ID: u32 = u32::MAX;
 pub const LUMINANCE: Vec3 = Vec3::new(0.2126, 0.7152, 0.0722);
 
 /// The nearest hit of a ray: distance, which geometry and primitive, the
-/// barycentric (u, v) and the unnormalised geometric normal.
+/// barycentric (u, v) and the unnormalised geometric normal, in world space.
+/// A hit on an instance names the instance (`inst_id`, its index in
+/// `Scene::instances`) and its prototype's geometry and primitive.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Hit {
     pub t: f32,
     pub geom_id: u32,
     pub prim_id: u32,
+    /// [`INVALID_ID`] for geometry that is not instanced.
+    pub inst_id: u32,
     pub u: f32,
     pub v: f32,
     pub ng: Vec3,
@@ -102,6 +106,7 @@ impl Hit {
         t: f32::INFINITY,
         geom_id: INVALID_ID,
         prim_id: INVALID_ID,
+        inst_id: INVALID_ID,
         u: 0.0,
         v: 0.0,
         ng: Vec3::ZERO,

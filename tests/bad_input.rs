@@ -293,6 +293,54 @@ fn cases() -> Vec<Case> {
             &["line 2, camera", "512.0 GiB", "128 bytes per pixel"],
         ),
         case(
+            "an instance of an unknown prototype",
+            scene_plus(
+                "[[prototypes.tree.objects]]\ntype = \"sphere\"\nradius = 1\n\
+                 [[objects]]\ntype = \"instance\"\nprototype = \"tre\"\n",
+            ),
+            RENDER,
+            &[
+                "line 26, objects[1].prototype",
+                "no prototype named `tre`",
+                "`tree`",
+            ],
+        ),
+        case(
+            "an instance inside a prototype (instancing is one level deep)",
+            scene_plus("[[prototypes.a.objects]]\ntype = \"instance\"\nprototype = \"a\"\n"),
+            RENDER,
+            &["line 21, prototypes.a.objects[0]", "one level"],
+        ),
+        case(
+            "an instance inside a csg",
+            scene_plus(
+                "[[prototypes.a.objects]]\ntype = \"sphere\"\nradius = 1\n[[objects]]\n\
+                 type = \"csg\"\nop = \"union\"\n\
+                 children = [{ type = \"instance\", prototype = \"a\" }]\n",
+            ),
+            RENDER,
+            &["line 27, objects[1].children[0]", "csg"],
+        ),
+        case(
+            "an unknown key in an instance",
+            scene_plus(
+                "[[prototypes.a.objects]]\ntype = \"sphere\"\nradius = 1\n\
+                 [[objects]]\ntype = \"instance\"\nprototype = \"a\"\nmaterail = \"x\"\n",
+            ),
+            RENDER,
+            &["s.toml", "materail", "material"],
+        ),
+        case(
+            "an emissive prototype",
+            scene_plus(
+                "[materials.glow]\ntype = \"emissive\"\nradiance = [1, 1, 1]\n\
+                 [[prototypes.lamp.objects]]\ntype = \"sphere\"\nradius = 1\n\
+                 material = \"glow\"\n[[objects]]\ntype = \"instance\"\nprototype = \"lamp\"\n",
+            ),
+            RENDER,
+            &["prototypes.lamp", "emissive geometry cannot be instanced"],
+        ),
+        case(
             "output under a file",
             scene_plus(""),
             &["render", "s.toml", "-o", "square.obj/x.exr"],

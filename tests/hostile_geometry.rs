@@ -178,6 +178,8 @@ fn square_scene(half: f32) -> Scene {
             ..Mesh::default()
         }],
         shapes: Vec::new(),
+        prototypes: Vec::new(),
+        instances: Vec::new(),
         lights: Vec::new(),
         light_picker: Default::default(),
         warnings: Vec::new(),

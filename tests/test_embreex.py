@@ -132,6 +132,7 @@ def trace_sturmray(sturmray, scene: Path, rays: np.ndarray, tmp_path: Path) -> n
         "t": (np.float32, ()),
         "geom_id": (np.uint32, ()),
         "prim_id": (np.uint32, ()),
+        "inst_id": (np.uint32, ()),
         "u": (np.float32, ()),
         "v": (np.float32, ()),
         "ng": (np.float32, (3,)),
@@ -140,6 +141,8 @@ def trace_sturmray(sturmray, scene: Path, rays: np.ndarray, tmp_path: Path) -> n
     for field, (dtype, shape) in expected.items():
         sub = hits.dtype[field]
         assert sub.base == np.dtype(dtype) and sub.shape == shape, (field, sub)
+    # These scenes have no instances: every record says so.
+    assert (hits["inst_id"] == np.iinfo(np.uint32).max).all()
     return hits
 
 

@@ -4,6 +4,9 @@ geometry computed here in float64 with numpy.
 Contract (ARCHITECTURE.md, .npy rays and hits): the analytic shapes are one geometry whose
 geom_id is the number of meshes, and prim_id is the shape's index in the
 scene's list of shapes; `ng` is the normal from the surface's gradient.
+On an instance, `inst_id` is the instance's index and geom_id and prim_id
+are the prototype's own (its meshes first, its shapes one geometry after
+them); elsewhere inst_id is 4294967295.
 """
 
 from __future__ import annotations
@@ -66,24 +69,29 @@ def torus_t(o, d, c, big, small):
     return out
 
 
-def test_trace_hits_analytic_shapes(sturmray, tmp_path):
+def trace_random_rays(sturmray, tmp_path, text, seed, n, target_z):
+    """Traces `n` rays from random points of z = 3 towards random points
+    around the shapes with z in `target_z` through the scene `text` (with
+    the quad behind); returns the hits and the rays as sturmray reads them
+    (float32 values), in float64, for the references."""
     (tmp_path / "quad.obj").write_text(QUAD)
     scene = tmp_path / "s.toml"
-    scene.write_text(SCENE)
-    rng = np.random.default_rng(7)
-    n = 4000
-    # Rays from z = 3 towards random points of the z = 0 plane around both shapes.
+    scene.write_text(text)
+    rng = np.random.default_rng(seed)
     origin = np.column_stack([rng.uniform(-2, 2, n), rng.uniform(-1.2, 1.2, n), np.full(n, 3.0)])
-    target = np.column_stack([rng.uniform(-2, 2, n), rng.uniform(-1.2, 1.2, n), rng.uniform(-0.3, 0.3, n)])
+    target = np.column_stack([rng.uniform(-2, 2, n), rng.uniform(-1.2, 1.2, n), rng.uniform(*target_z, n)])
     d = target - origin
     d /= np.linalg.norm(d, axis=1)[:, None]
     rays = np.hstack([origin, d]).astype(np.float32)
     np.save(tmp_path / "rays.npy", rays)
     sturmray("trace", scene, "--rays", tmp_path / "rays.npy", "--out", tmp_path / "hits.npy")
     hits = np.load(tmp_path / "hits.npy")
+    return hits, rays[:, :3].astype(np.float64), rays[:, 3:].astype(np.float64)
 
-    # The reference uses the rays as sturmray reads them: float32 values, in float64.
-    o64, d64 = rays[:, :3].astype(np.float64), rays[:, 3:].astype(np.float64)
+
+def test_trace_hits_analytic_shapes(sturmray, tmp_path):
+    # Rays towards the z = 0 plane around both shapes.
+    hits, o64, d64 = trace_random_rays(sturmray, tmp_path, SCENE, 7, 4000, (-0.3, 0.3))
     ts = sphere_t(o64, d64, np.array([-1.0, 0, 0]), 0.75)
     tt = torus_t(o64, d64, np.array([1.0, 0, 0]), 0.6, 0.2)
     nearest = np.minimum(ts, tt)
@@ -117,6 +125,68 @@ def test_trace_hits_analytic_shapes(sturmray, tmp_path):
     ng = hits["ng"][sphere_hits]
     ng = ng / np.linalg.norm(ng, axis=1)[:, None]
     assert np.abs(ng - radial).max() < 1e-4
+
+
+INSTANCED = """
+[[objects]]
+type = "mesh"
+file = "quad.obj"
+
+[[prototypes.pair.objects]]
+type = "sphere"
+radius = 0.75
+transform = { translate = [-1, 0, 0] }
+
+[[prototypes.pair.objects]]
+type = "torus"
+major = 0.6
+minor = 0.2
+transform = { translate = [1, 0, 0] }
+
+[[objects]]
+type = "instance"
+prototype = "pair"
+
+[[objects]]
+type = "instance"
+prototype = "pair"
+transform = { translate = [0, 0, -3] }
+"""
+
+MISS = 4294967295
+
+
+def test_trace_reports_instances(sturmray, tmp_path):
+    """The sphere and torus of one prototype placed twice (the second 3 behind
+    the first), in front of a quad: inst_id names the copy hit, geom_id and
+    prim_id the prototype's shape, t agrees with the closed forms."""
+    # Rays towards the z = -3 plane: through both copies' gaps.
+    hits, o64, d64 = trace_random_rays(sturmray, tmp_path, INSTANCED, 11, 3000, (-3.0, -3.0))
+    assert hits.dtype["inst_id"] == np.uint32
+    # Each (instance, shape) pair's t, in the order inst_id * 2 + prim_id.
+    candidates = []
+    for z in (0.0, -3.0):
+        candidates.append(sphere_t(o64, d64, np.array([-1.0, 0, z]), 0.75))
+        candidates.append(torus_t(o64, d64, np.array([1.0, 0, z]), 0.6, 0.2))
+    candidates = np.stack(candidates)
+    nearest = candidates.min(axis=0)
+    which = candidates.argmin(axis=0)
+    analytic = np.isfinite(nearest)
+    ours = hits["inst_id"] != MISS
+    agree = ours == analytic
+    assert agree.mean() > 0.999, f"hit/miss agreement {agree.mean():.5f}"
+    assert (which[analytic] >= 2).sum() > 100, "the second copy is hit through the first's gaps"
+    both = ours & analytic
+    assert (hits["inst_id"][both] == which[both] // 2).mean() > 0.999
+    # The prototype has no meshes: its shapes are its geometry 0.
+    assert (hits["geom_id"][both] == 0).all()
+    assert (hits["prim_id"][both] == which[both] % 2).mean() > 0.999
+    rel = np.abs(hits["t"][both] - nearest[both]) / nearest[both]
+    assert rel.max() < 1e-6, f"max relative t error {rel.max():.3g}"
+    # The quad is the scene's own geometry 0: no instance.
+    quad = ~analytic & ~ours
+    assert quad.sum() > 100 and (hits["geom_id"][quad] == 0).all()
+    assert (hits["inst_id"][quad] == MISS).all()
 
 
 def test_roots_tool_answers_json_lines(sturmray_bin):

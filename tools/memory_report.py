@@ -5,7 +5,12 @@ prints the peak resident set size, with bytes per triangle for the meshes
 (whole process, and the slope between 1M and 5M triangles). Fails if a
 render fails or needs more than the limit.
 
-Usage: memory_report.py STURMRAY_BINARY [--limit-gib 24]
+With --instances it measures instancing instead: 1,000 instances of the
+1M-triangle mesh against one copy and against 10 copies written out as mesh
+objects (1,000 flattened copies would need about 100 times the 10), and
+1,000 instances of a 10k-triangle mesh against its 1,000 copies flattened.
+
+Usage: memory_report.py STURMRAY_BINARY [--limit-gib 24] [--instances] [--backend B]
 Standard library only.
 """
 
@@ -83,11 +88,46 @@ def shapes_scene(name, count):
     return toml
 
 
-def peak_rss(binary, scene):
+def placed_scene(name, mesh, cols, rows, copies, instanced):
+    """`copies` of the cols x rows grid `mesh`.obj side by side, as instances
+    of one prototype or as mesh objects of their own."""
+    side = math.ceil(math.sqrt(copies))
+    w, h = cols / 100 + 0.5, rows / 100 + 0.5
+    toml = os.path.join(OUT, f"{name}.toml")
+    with open(toml, "w") as f:
+        cx, cy = side * w / 2, side * h / 2
+        f.write(CAMERA.format(ex=cx, ey=-cy, ez=2 * cy, lx=cx, ly=cy))
+        if instanced:
+            f.write(f'[[prototypes.grid.objects]]\ntype = "mesh"\nfile = "{mesh}.obj"\n')
+        for k in range(copies):
+            what = 'type = "instance"\nprototype = "grid"' if instanced else \
+                f'type = "mesh"\nfile = "{mesh}.obj"'
+            f.write(f"[[objects]]\n{what}\n"
+                    f"transform = {{ translate = [{k % side * w}, {k // side * h}, 0] }}\n")
+    return toml
+
+
+def instance_cases():
+    """(name, scene, triangles placed) of the --instances study."""
+    mesh_scene("mesh_1m", 1000, 500)
+    mesh_scene("mesh_10k", 100, 50)
+    return [
+        ("mesh_1m", os.path.join(OUT, "mesh_1m.toml"), 1_000_000),
+        ("inst_1000x1m", placed_scene("inst_1000x1m", "mesh_1m", 1000, 500, 1000, True),
+         1_000_000_000),
+        ("flat_10x1m", placed_scene("flat_10x1m", "mesh_1m", 1000, 500, 10, False), 10_000_000),
+        ("inst_1000x10k", placed_scene("inst_1000x10k", "mesh_10k", 100, 50, 1000, True),
+         10_000_000),
+        ("flat_1000x10k", placed_scene("flat_1000x10k", "mesh_10k", 100, 50, 1000, False),
+         10_000_000),
+    ]
+
+
+def peak_rss(binary, scene, backend="embree"):
     """Peak resident set size in bytes of rendering `scene`, and seconds."""
     out = os.path.join("out", "memory", os.path.basename(scene).replace(".toml", ".exr"))
     run = subprocess.run(
-        ["/usr/bin/time", "-v", binary, "render", scene, "-o", out],
+        ["/usr/bin/time", "-v", binary, "render", scene, "-o", out, "--backend", backend],
         capture_output=True, text=True,
     )
     if run.returncode != 0:
@@ -101,8 +141,17 @@ def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("binary")
     parser.add_argument("--limit-gib", type=float, default=24)
+    parser.add_argument("--instances", action="store_true")
+    parser.add_argument("--backend", default="embree")
     args = parser.parse_args()
     os.makedirs(OUT, exist_ok=True)
+    if args.instances:
+        gib = 1 << 30
+        print(f"{'scene':<14} {'peak RSS':>10} {'wall':>9}  triangles placed")
+        for name, scene, placed in instance_cases():
+            rss, wall = peak_rss(args.binary, scene, args.backend)
+            print(f"{name:<14} {rss / gib:>8.3f} GiB {wall:>9}  {placed:,}")
+        return
     # 2 * 1000 * 500 = 1M and 2 * 2000 * 1250 = 5M triangles.
     cases = [
         ("mesh_1m", mesh_scene("mesh_1m", 1000, 500), 1_000_000),

@@ -12,6 +12,7 @@ pub mod rust_bvh;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
 use crate::error::{Error, Result};
+use crate::geometry::{Mesh, Shape};
 use crate::math::{Hit, Ray};
 use crate::scene::Scene;
 
@@ -65,21 +66,48 @@ pub enum Accel {
     Bvh(rust_bvh::SahScene),
 }
 
+/// Mesh i as Embree geometry i, the shapes as one more geometry after them.
+fn add_geometry(
+    builder: &mut embree::SceneBuilder,
+    meshes: &[Mesh],
+    shapes: &[Shape],
+) -> Result<()> {
+    for (id, mesh) in meshes.iter().enumerate() {
+        builder.add_triangles(id as u32, &mesh.positions, &mesh.triangles)?;
+    }
+    builder.add_user(meshes.len() as u32, shapes.to_vec())
+}
+
 impl Accel {
     /// Builds the BVH of every mesh and shape: mesh i becomes geometry i, the
-    /// shapes one more geometry after them (see `Scene::shapes_geom_id`).
+    /// shapes one more geometry after them (see `Scene::shapes_geom_id`); each
+    /// instance's hits name it (`Hit::inst_id`) and its prototype's geometry,
+    /// numbered the same way. Embree builds a two-level BVH (each prototype
+    /// once); the pure-Rust backends copy each instance's geometry into one
+    /// world-space BVH (`rust_bvh::primitives`).
     /// `threads` bounds the builder's threads (default: all cores).
     pub fn build(scene: &Scene, backend: Backend, threads: Option<usize>) -> Result<Accel> {
         match backend {
             Backend::Embree => {
                 let config = threads.map_or(String::new(), |n| format!("threads={n}"));
                 let device = embree::Device::with_config(&config)?;
-                let mut builder =
-                    embree::SceneBuilder::new(&device, embree::SceneOptions::default())?;
-                for (id, mesh) in scene.meshes.iter().enumerate() {
-                    builder.add_triangles(id as u32, &mesh.positions, &mesh.triangles)?;
+                let options = embree::SceneOptions::default();
+                let mut builder = embree::SceneBuilder::new(&device, options)?;
+                add_geometry(&mut builder, &scene.meshes, &scene.shapes)?;
+                if !scene.instances.is_empty() {
+                    let prototypes = scene
+                        .prototypes
+                        .iter()
+                        .map(|p| {
+                            let mut prototype = builder.prototype(options)?;
+                            add_geometry(&mut prototype, &p.meshes, &p.shapes)?;
+                            Ok((prototype.commit()?, p.shapes_geom_id()))
+                        })
+                        .collect::<Result<Vec<_>>>()?;
+                    // Instance i is the geometry after the shapes' plus i.
+                    let first = scene.shapes_geom_id() + 1;
+                    builder.add_instances(first, prototypes, &scene.instances)?;
                 }
-                builder.add_user(scene.shapes_geom_id(), scene.shapes.clone())?;
                 Ok(Accel::Embree(builder.commit()?))
             }
             // The pure-Rust builders run on rayon: on a pool of `threads` if given.

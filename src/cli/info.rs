@@ -114,6 +114,30 @@ fn describe(scene: &Scene, accel: &Accel) -> String {
             let _ = writeln!(s, "  {i:>3} {:<40} material {material}", shape.describe());
         }
     }
+    if !scene.instances.is_empty() {
+        let _ = writeln!(
+            s,
+            "instances  {} of {} prototypes ({} triangles placed)",
+            scene.instances.len(),
+            scene.prototypes.len(),
+            scene.instanced_triangle_count()
+        );
+        for (i, prototype) in scene.prototypes.iter().enumerate() {
+            let count = scene
+                .instances
+                .iter()
+                .filter(|inst| inst.prototype as usize == i)
+                .count();
+            let _ = writeln!(
+                s,
+                "  {:<24} {} meshes ({} triangles), {} shapes, {count} instances",
+                prototype.name,
+                prototype.meshes.len(),
+                prototype.triangle_count(),
+                prototype.shapes.len()
+            );
+        }
+    }
     let bounds = scene.bounds();
     if !bounds.is_empty() {
         let _ = writeln!(s, "bounds     {} to {}", v(bounds.min), v(bounds.max));

@@ -10,7 +10,7 @@ use sturmray::io::console::note;
 use sturmray::io::output::Role;
 use sturmray::render::RenderOptions;
 use sturmray::render::job::{Job, Part, Written, preview_path, state_path};
-use sturmray::scene::PhotonSettings;
+use sturmray::scene::{PhotonSettings, Scene};
 
 use super::shared::{
     BackendArg, IncludeArgs, SamplerArg, SizeArgs, check_outputs, load_sized, scene_inputs,
@@ -141,7 +141,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let writing = signals.writing();
     let written = rendered.write()?;
     if let Some(path) = args.stats {
-        write_text(&path, &format!("{:#}\n", stats(&written)))?;
+        write_text(&path, &format!("{:#}\n", stats(&scene, &written)))?;
     }
     let result = &written.output;
     // Asked even when the render is incomplete: a yes means this thread,
@@ -182,11 +182,18 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// The `--stats` record: ray counts by kind and depth, time, size, samples.
-fn stats(written: &Written) -> serde_json::Value {
+/// The `--stats` record: ray counts by kind and depth, time, size, samples,
+/// and the scene's instances (how many, of how many prototypes, and the
+/// triangles they place, which the BVH holds once per prototype on Embree).
+fn stats(scene: &Scene, written: &Written) -> serde_json::Value {
     let result = &written.output;
     let r = result.film.region;
     serde_json::json!({
+        "instances": {
+            "count": scene.instances.len(),
+            "prototypes": scene.prototypes.len(),
+            "triangles": scene.instanced_triangle_count(),
+        },
         "rays": result.stats,
         "seconds": result.seconds,
         "width": r.width(),

@@ -44,6 +44,23 @@ impl Plan {
         for m in meshes.chain(scene.shapes.iter().flat_map(Shape::materials)) {
             used[m as usize] = true;
         }
+        // A prototype's own materials count once if any instance keeps them.
+        let mut kept = vec![false; scene.prototypes.len()];
+        for instance in &scene.instances {
+            match instance.material {
+                Some(m) => used[m as usize] = true,
+                None => kept[instance.prototype as usize] = true,
+            }
+        }
+        for (prototype, _) in scene.prototypes.iter().zip(kept).filter(|(_, k)| *k) {
+            let meshes = prototype.meshes.iter().flat_map(|m| m.materials.iter());
+            for m in meshes
+                .copied()
+                .chain(prototype.shapes.iter().flat_map(Shape::materials))
+            {
+                used[m as usize] = true;
+            }
+        }
         let uses_where = |test: &dyn Fn(&Material) -> bool| {
             scene
                 .materials

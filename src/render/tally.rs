@@ -84,16 +84,22 @@ pub struct Node {
 impl Node {
     /// The node of a ray that ended at `hit` (a miss: the background).
     pub fn of_hit(scene: &Scene, hit: &Hit, kind: RayKind, depth: u32, weight: Vec3) -> Node {
-        let (what, material) = if !hit.is_hit() {
-            ("background".to_string(), None)
-        } else if hit.geom_id == scene.shapes_geom_id() {
-            let shape = &scene.shapes[hit.prim_id as usize];
-            let what = format!("shape {} ({})", hit.prim_id, shape.describe());
-            (what, Some(shape.material))
+        let (what, material) = if hit.is_hit() {
+            let (meshes, shapes, _) = scene.hit_geometry(hit);
+            let what = match meshes.get(hit.geom_id as usize) {
+                Some(mesh) => format!("mesh {:?} triangle {}", mesh.name, hit.prim_id),
+                None => {
+                    let shape = &shapes[hit.prim_id as usize];
+                    format!("shape {} ({})", hit.prim_id, shape.describe())
+                }
+            };
+            let what = match scene.instances.get(hit.inst_id as usize) {
+                Some(_) => format!("instance {}: {what}", hit.inst_id),
+                None => what,
+            };
+            (what, Some(scene.material_of(hit)))
         } else {
-            let mesh = &scene.meshes[hit.geom_id as usize];
-            let what = format!("mesh {:?} triangle {}", mesh.name, hit.prim_id);
-            (what, Some(mesh.materials[hit.prim_id as usize]))
+            ("background".to_string(), None)
         };
         Node {
             depth,

@@ -1,7 +1,8 @@
 //! The shading point of a hit: where it is, how far it may be off, which way
 //! the surface faces and what it is made of.
 
-use super::Scene;
+use super::{Instance, Scene};
+use crate::geometry::{Mesh, Shape};
 use crate::math::{Frame, Hit, Ray, Vec2, Vec3, gamma};
 use crate::shading::Material;
 
@@ -33,23 +34,45 @@ pub struct Interaction {
 }
 
 impl Scene {
+    /// The meshes and shapes whose ids `hit` names (the scene's own, or the
+    /// prototype's of the instance it is on), and that instance.
+    pub fn hit_geometry(&self, hit: &Hit) -> (&[Mesh], &[Shape], Option<&Instance>) {
+        match self.instances.get(hit.inst_id as usize) {
+            Some(instance) => {
+                let prototype = &self.prototypes[instance.prototype as usize];
+                (&prototype.meshes, &prototype.shapes, Some(instance))
+            }
+            None => (&self.meshes, &self.shapes, None),
+        }
+    }
+
     /// The material `hit` found, which must be a hit in this scene: what
     /// `interaction` says, without the work of finding the point and normal.
     pub fn material_of(&self, hit: &Hit) -> u32 {
-        if hit.geom_id == self.shapes_geom_id() {
+        let (meshes, shapes, instance) = self.hit_geometry(hit);
+        if let Some(material) = instance.and_then(|i| i.material) {
+            return material;
+        }
+        if hit.geom_id as usize == meshes.len() {
             // A shape's hit carries its CSG part in u (see accel::analytic).
-            self.shapes[hit.prim_id as usize].material_of(hit.u as u32)
+            shapes[hit.prim_id as usize].material_of(hit.u as u32)
         } else {
-            self.meshes[hit.geom_id as usize].materials[hit.prim_id as usize]
+            meshes[hit.geom_id as usize].materials[hit.prim_id as usize]
         }
     }
 
     /// The shading point of `hit`, which must be a hit of `ray` in this scene.
+    /// On an instance the point, its error and the shading normal are found
+    /// in the prototype's space and moved to world space; the hit's own
+    /// geometric normal is in world space already (every backend's contract).
     pub fn interaction(&self, ray: &Ray, hit: &Hit) -> Interaction {
+        let (meshes, _, instance) = self.hit_geometry(hit);
         let mut shading = None;
         let mut uv = None;
         let mut colour = None;
-        let (p, error) = if hit.geom_id == self.shapes_geom_id() {
+        let (p, error) = if hit.geom_id as usize == meshes.len() {
+            // t is the same in the prototype's space and the world's (the ray's
+            // direction is transformed, not normalised), so o + t·d in world space.
             let p = ray.at(hit.t);
             // The root's own error bound, which a shape's hit carries in v
             // (see accel::analytic and `ShapeHit::error`), then t and o + t·d
@@ -59,7 +82,7 @@ impl Scene {
                 t_error * ray.dir.abs() + gamma(3) * (ray.origin.abs() + (hit.t * ray.dir).abs());
             (p, error)
         } else {
-            let mesh = &self.meshes[hit.geom_id as usize];
+            let mesh = &meshes[hit.geom_id as usize];
             let [p0, p1, p2] =
                 mesh.triangles[hit.prim_id as usize].map(|i| mesh.positions[i as usize]);
             // From barycentrics the point is accurate to the triangle's own scale,
@@ -78,7 +101,16 @@ impl Scene {
             let error = Vec3::splat(
                 gamma(7) * ((b0 * p0).abs() + (b1 * p1).abs() + (b2 * p2).abs()).max_element(),
             );
-            (p, error)
+            match instance {
+                Some(instance) => {
+                    shading = shading.and_then(|ns| {
+                        let ns = crate::math::unit(instance.normal_to_world(ns));
+                        (ns != Vec3::ZERO).then_some(ns)
+                    });
+                    instance.point_to_world(p, error)
+                }
+                None => (p, error),
+            }
         };
         let outward = crate::math::unit(hit.ng);
         let front = outward.dot(ray.dir) <= 0.0;

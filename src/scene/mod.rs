@@ -5,6 +5,7 @@ mod camera;
 mod emitters;
 mod file;
 mod hash;
+mod instance;
 mod interaction;
 mod locate;
 mod obj;
@@ -17,6 +18,7 @@ mod textures;
 use std::path::{Path, PathBuf};
 
 pub use camera::{Camera, CameraFrame, CameraKey, CameraProblem, ImagePlane};
+pub use instance::{Instance, Prototype};
 pub use interaction::Interaction;
 use obj::MAX_COORDINATE;
 pub use obj::{ObjFile, load_obj};
@@ -161,6 +163,10 @@ pub struct Scene {
     /// Analytic shapes: together one more geometry, `geom_id` = the number of
     /// meshes, and `prim_id` the shape's index here.
     pub shapes: Vec<Shape>,
+    /// Geometry declared once (`[prototypes.NAME]`), in name order.
+    pub prototypes: Vec<Prototype>,
+    /// Placements of the prototypes: a hit on instance i has `inst_id` i.
+    pub instances: Vec<Instance>,
     /// Point and directional lights first, then the area lights (the emissive
     /// geometry, in geometry order).
     pub lights: Vec<Light>,
@@ -264,6 +270,8 @@ impl Scene {
             materials: Vec::new(),
             meshes: Vec::new(),
             shapes: Vec::new(),
+            prototypes: Vec::new(),
+            instances: Vec::new(),
             lights: Vec::new(),
             light_picker: LightPicker::default(),
             warnings: Vec::new(),
@@ -409,7 +417,14 @@ impl Scene {
     pub fn bounds(&self) -> Bounds {
         let meshes = self.meshes.iter().map(Mesh::bounds);
         let shapes = self.shapes.iter().map(Shape::bounds);
-        meshes.chain(shapes).fold(Bounds::EMPTY, Bounds::union)
+        let instances = self
+            .instances
+            .iter()
+            .map(|i| i.bounds_to_world(self.prototypes[i.prototype as usize].bounds()));
+        meshes
+            .chain(shapes)
+            .chain(instances)
+            .fold(Bounds::EMPTY, Bounds::union)
     }
 
     /// The geometry id of the analytic shapes (one Embree geometry holds them all).
@@ -417,8 +432,22 @@ impl Scene {
         self.meshes.len() as u32
     }
 
+    /// The triangles of the scene's own meshes, each prototype's counted once.
     pub fn triangle_count(&self) -> usize {
-        self.meshes.iter().map(|m| m.triangles.len()).sum()
+        let own: usize = self.meshes.iter().map(|m| m.triangles.len()).sum();
+        own + self
+            .prototypes
+            .iter()
+            .map(Prototype::triangle_count)
+            .sum::<usize>()
+    }
+
+    /// The triangles the scene shows: each instance counts its prototype's.
+    pub fn instanced_triangle_count(&self) -> usize {
+        self.instances
+            .iter()
+            .map(|i| self.prototypes[i.prototype as usize].triangle_count())
+            .sum()
     }
 }
 

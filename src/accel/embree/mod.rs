@@ -10,6 +10,7 @@ mod device;
 mod exit;
 // Crate-visible for `accel::ftz`, the neutral name of its one function.
 pub(crate) mod fpu;
+mod instance;
 mod owned;
 mod query;
 mod scene;

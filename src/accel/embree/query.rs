@@ -46,7 +46,9 @@ pub(super) fn rayhit_record(ray: &Ray) -> sys::RTCRayHit {
     }
 }
 
-/// Reads a finished query back into a `Hit`.
+/// Reads a finished query back into a `Hit`; `inst_id` is still Embree's
+/// (the instance geometry's id in the top-level scene), and the normal in the
+/// space of the geometry hit (see `instance::Instances::to_world`).
 pub(super) fn hit_from_record(record: &sys::RTCRayHit) -> Hit {
     if record.hit.geomID == INVALID {
         return Hit::MISS;
@@ -55,6 +57,7 @@ pub(super) fn hit_from_record(record: &sys::RTCRayHit) -> Hit {
         t: record.ray.tfar,
         geom_id: record.hit.geomID,
         prim_id: record.hit.primID,
+        inst_id: record.hit.instID[0],
         u: record.hit.u,
         v: record.hit.v,
         ng: Vec3::new(record.hit.Ng_x, record.hit.Ng_y, record.hit.Ng_z),

@@ -7,6 +7,7 @@ use std::ptr::NonNull;
 use std::sync::Arc;
 
 use super::device::Device;
+use super::instance::Instances;
 use super::owned::UserPtr;
 use super::query::{self, Coherence};
 use super::sys;
@@ -43,7 +44,7 @@ impl Default for SceneOptions {
 }
 
 /// An owned `RTCScene`, released on drop.
-struct SceneHandle(NonNull<sys::RTCSceneTy>);
+pub(super) struct SceneHandle(pub(super) NonNull<sys::RTCSceneTy>);
 
 impl Drop for SceneHandle {
     fn drop(&mut self) {
@@ -54,7 +55,7 @@ impl Drop for SceneHandle {
 }
 
 /// An owned `RTCGeometry` that is not attached yet, released on drop.
-struct GeometryHandle(NonNull<sys::RTCGeometryTy>);
+pub(super) struct GeometryHandle(pub(super) NonNull<sys::RTCGeometryTy>);
 
 impl Drop for GeometryHandle {
     fn drop(&mut self) {
@@ -106,11 +107,12 @@ type UserStore = Vec<UserPtr<dyn Any + Send + Sync>>;
 /// A scene being built. Not `Sync`: Embree calls on one object are not thread-safe.
 pub struct SceneBuilder {
     // Fields drop in declaration order: Embree's scene is released before the
-    // user primitives it points into, and both before the device.
-    scene: SceneHandle,
+    // instanced scenes and user primitives it points into, and all before the device.
+    pub(super) scene: SceneHandle,
+    pub(super) instances: Instances,
     user_data: UserStore,
-    panics: Arc<PanicSlot>,
-    device: Device,
+    pub(super) panics: Arc<PanicSlot>,
+    pub(super) device: Device,
 }
 
 impl SceneBuilder {
@@ -139,6 +141,7 @@ impl SceneBuilder {
         device.check()?;
         Ok(SceneBuilder {
             scene,
+            instances: Instances::default(),
             user_data: Vec::new(),
             panics: Arc::default(),
             device: device.clone(),
@@ -223,7 +226,7 @@ impl SceneBuilder {
 
     /// Commits a filled geometry, visible to every ray, and attaches it as
     /// `geom_id`; Embree's scene takes its own reference, ours is dropped.
-    fn attach(&mut self, geometry: GeometryHandle, geom_id: u32) -> Result<()> {
+    pub(super) fn attach(&mut self, geometry: GeometryHandle, geom_id: u32) -> Result<()> {
         let g = geometry.0.as_ptr();
         // SAFETY: `g` is a valid geometry not yet attached, so not shared with any thread.
         unsafe { sys::rtcSetGeometryMask(g, u32::MAX) };
@@ -236,7 +239,7 @@ impl SceneBuilder {
     }
 
     /// A new geometry of `kind`, released on drop unless attached.
-    fn new_geometry(&self, kind: sys::RTCGeometryType) -> Result<GeometryHandle> {
+    pub(super) fn new_geometry(&self, kind: sys::RTCGeometryType) -> Result<GeometryHandle> {
         // SAFETY: the device is valid; a null result is checked below.
         let raw = unsafe { sys::rtcNewGeometry(self.device.raw(), kind) };
         match NonNull::new(raw) {
@@ -256,6 +259,7 @@ impl SceneBuilder {
         self.device.check()?;
         let committed = CommittedScene {
             scene: self.scene,
+            instances: self.instances,
             _user_data: self.user_data,
             panics: self.panics,
             device: self.device,
@@ -268,8 +272,10 @@ impl SceneBuilder {
 
 /// A committed, immutable scene. Queries take `&self` and may run on many threads.
 pub struct CommittedScene {
-    // Drop order as in SceneBuilder: Embree's scene, then the user primitives, then the device.
-    scene: SceneHandle,
+    // Drop order as in SceneBuilder: Embree's scene, then the instanced scenes
+    // and the user primitives, then the device.
+    pub(super) scene: SceneHandle,
+    instances: Instances,
     _user_data: UserStore,
     panics: Arc<PanicSlot>,
     device: Device,
@@ -287,7 +293,7 @@ impl CommittedScene {
     pub fn intersect(&self, ray: &Ray) -> Hit {
         let mut record = query::rayhit_record(ray);
         self.intersect_record(&mut record, Coherence::Incoherent);
-        query::hit_from_record(&record)
+        self.instances.to_world(query::hit_from_record(&record))
     }
 
     /// Whether anything blocks the ray in (tnear, tfar).
@@ -329,7 +335,7 @@ impl CommittedScene {
             }
             self.intersect_records(records, coherence);
             for (hit, record) in hits.iter_mut().zip(records.iter()) {
-                *hit = query::hit_from_record(record);
+                *hit = self.instances.to_world(query::hit_from_record(record));
             }
         }
         self.check()

@@ -5,62 +5,88 @@
 use super::triangle;
 use crate::accel::primitive::UserPrimitive;
 use crate::error::{Error, Result};
+use crate::geometry::Mesh;
 use crate::geometry::Shape;
-use crate::math::{Bounds, Hit, Ray, Vec3};
-use crate::scene::Scene;
+use crate::math::{Bounds, Hit, INVALID_ID, Ray, Vec3};
+use crate::scene::{Instance, Scene};
 
 #[derive(Clone, Copy, Debug)]
 enum Primitive {
-    /// The corners are copied, so a test reads one record, not three vertices.
+    /// The corners are copied (in world space, an instance's moved there), so
+    /// a test reads one record, not three vertices.
     Triangle {
         corners: [Vec3; 3],
         geom_id: u32,
         prim_id: u32,
+        inst_id: u32,
     },
-    /// An index into `Primitives::shapes`, which is also its `prim_id`.
-    Shape(u32),
+    /// `Primitives::shapes[index]`, with the ids Embree reports for it; on an
+    /// instance, tested in its prototype's space.
+    Shape {
+        index: u32,
+        geom_id: u32,
+        prim_id: u32,
+        inst_id: u32,
+    },
 }
 
 /// The scene's primitives, in the order a BVH's leaves refer to them.
 pub(super) struct Primitives {
     list: Vec<Primitive>,
+    /// The scene's shapes, then each prototype's (once, however many
+    /// instances place it).
     shapes: Box<[Shape]>,
-    shapes_geom_id: u32,
+    instances: Box<[Instance]>,
 }
 
 impl Primitives {
-    /// Every triangle that can be hit, then every shape. Embree drops
-    /// triangles with a non-finite corner; a degenerate triangle (zero area)
-    /// can never be hit. Leaving both out keeps the BVH free of them while the
-    /// others keep their file-order `prim_id`. A vertex index out of range is
-    /// an error, as in Embree's builder.
+    /// Every triangle that can be hit, then every shape, then each
+    /// instance's. Instances are flattened: each instance's triangles are
+    /// copied into world space (48 bytes a triangle a copy, and the BVH's
+    /// nodes over them), its shapes are one record each that points at the
+    /// prototype's. Embree drops triangles with a non-finite corner; a
+    /// degenerate triangle (zero area) can never be hit. Leaving both out
+    /// keeps the BVH free of them while the others keep their file-order
+    /// `prim_id`. A vertex index out of range is an error, as in Embree's
+    /// builder.
     pub(super) fn from_scene(scene: &Scene) -> Result<Primitives> {
-        let mut list = Vec::with_capacity(scene.triangle_count() + scene.shapes.len());
-        for (geom_id, mesh) in scene.meshes.iter().enumerate() {
-            let count = mesh.positions.len();
-            for (prim_id, triangle) in mesh.triangles.iter().enumerate() {
-                if let Some(bad) = triangle.iter().find(|&&i| i as usize >= count) {
-                    return Err(Error::Input(format!(
-                        "geometry {geom_id}: vertex index {bad} out of range (the mesh has {count} vertices)"
-                    )));
-                }
-                let corners = triangle.map(|i| mesh.positions[i as usize]);
-                let [a, b, c] = corners;
-                if !corners.iter().all(|p| p.is_finite()) || (b - a).cross(c - a) == Vec3::ZERO {
-                    continue;
-                }
-                list.push(Primitive::Triangle {
-                    corners,
-                    geom_id: geom_id as u32,
-                    prim_id: prim_id as u32,
-                });
-            }
+        let count = scene.triangle_count()
+            + scene.instanced_triangle_count()
+            + scene.shapes.len()
+            + scene.instances.len();
+        let mut list = Vec::with_capacity(count);
+        triangles(&mut list, &scene.meshes, None)?;
+        let shapes_geom_id = scene.shapes_geom_id();
+        list.extend((0..scene.shapes.len() as u32).map(|i| Primitive::Shape {
+            index: i,
+            geom_id: shapes_geom_id,
+            prim_id: i,
+            inst_id: INVALID_ID,
+        }));
+        let mut shapes = scene.shapes.clone();
+        let mut first_shape = Vec::with_capacity(scene.prototypes.len());
+        for prototype in &scene.prototypes {
+            first_shape.push(shapes.len() as u32);
+            shapes.extend(prototype.shapes.iter().cloned());
         }
-        list.extend((0..scene.shapes.len() as u32).map(Primitive::Shape));
+        for (inst_id, instance) in scene.instances.iter().enumerate() {
+            let inst_id = inst_id as u32;
+            let p = instance.prototype as usize;
+            let prototype = &scene.prototypes[p];
+            triangles(&mut list, &prototype.meshes, Some((inst_id, instance)))?;
+            list.extend(
+                (0..prototype.shapes.len() as u32).map(|i| Primitive::Shape {
+                    index: first_shape[p] + i,
+                    geom_id: prototype.shapes_geom_id(),
+                    prim_id: i,
+                    inst_id,
+                }),
+            );
+        }
         Ok(Primitives {
             list,
-            shapes: scene.shapes.clone().into_boxed_slice(),
-            shapes_geom_id: scene.shapes_geom_id(),
+            shapes: shapes.into_boxed_slice(),
+            instances: scene.instances.clone().into_boxed_slice(),
         })
     }
 
@@ -96,7 +122,13 @@ impl Primitives {
                 corners.into_iter().for_each(|p| b.grow(p));
                 b
             }
-            Primitive::Shape(i) => self.shapes[i as usize].bounds(),
+            Primitive::Shape { index, inst_id, .. } => {
+                let bounds = self.shapes[index as usize].bounds();
+                match self.instances.get(inst_id as usize) {
+                    Some(instance) => instance.bounds_to_world(bounds),
+                    None => bounds,
+                }
+            }
         }
     }
 
@@ -114,25 +146,35 @@ impl Primitives {
                 corners,
                 geom_id,
                 prim_id,
+                inst_id,
             } => triangle::intersect(&corners, ray).map(|h| Hit {
                 t: h.t,
                 geom_id,
                 prim_id,
+                inst_id,
                 u: h.u,
                 v: h.v,
                 ng: h.ng,
             }),
-            Primitive::Shape(i) => {
-                let hit = UserPrimitive::intersect(&self.shapes[i as usize], ray)?;
+            Primitive::Shape {
+                index,
+                geom_id,
+                prim_id,
+                inst_id,
+            } => {
+                let instance = self.instances.get(inst_id as usize);
+                let local = instance.map_or(*ray, |i| i.ray_to_prototype(ray));
+                let hit = UserPrimitive::intersect(&self.shapes[index as usize], &local)?;
                 // As Embree's callback does: the f64 root rounded to f32 may land
                 // on tfar, which the shape's own interval excluded.
                 (hit.t >= ray.tnear && hit.t < ray.tfar && hit.t.is_finite()).then_some(Hit {
                     t: hit.t,
-                    geom_id: self.shapes_geom_id,
-                    prim_id: i,
+                    geom_id,
+                    prim_id,
+                    inst_id,
                     u: hit.u,
                     v: hit.v,
-                    ng: hit.ng,
+                    ng: instance.map_or(hit.ng, |i| i.ng_to_world(hit.ng, false)),
                 })
             }
         }
@@ -143,15 +185,59 @@ impl Primitives {
     pub(super) fn occludes(&self, index: usize, ray: &Ray) -> bool {
         match self.list[index] {
             Primitive::Triangle { corners, .. } => triangle::intersect(&corners, ray).is_some(),
-            Primitive::Shape(i) => UserPrimitive::occluded(&self.shapes[i as usize], ray),
+            Primitive::Shape { index, inst_id, .. } => {
+                let shape = &self.shapes[index as usize];
+                match self.instances.get(inst_id as usize) {
+                    Some(instance) => {
+                        UserPrimitive::occluded(shape, &instance.ray_to_prototype(ray))
+                    }
+                    None => UserPrimitive::occluded(shape, ray),
+                }
+            }
         }
     }
 
     /// Bytes held: the primitive records plus the shapes' own records (their
     /// polynomials' heap storage, a few hundred bytes a shape, is not counted).
     pub(super) fn memory_bytes(&self) -> usize {
-        self.list.capacity() * size_of::<Primitive>() + self.shapes.len() * size_of::<Shape>()
+        self.list.capacity() * size_of::<Primitive>()
+            + self.shapes.len() * size_of::<Shape>()
+            + self.instances.len() * size_of::<Instance>()
     }
+}
+
+/// Appends the triangles of `meshes` that can be hit, mesh i as geometry i;
+/// an instance's moved to world space and named by it.
+fn triangles(
+    list: &mut Vec<Primitive>,
+    meshes: &[Mesh],
+    instance: Option<(u32, &Instance)>,
+) -> Result<()> {
+    for (geom_id, mesh) in meshes.iter().enumerate() {
+        let count = mesh.positions.len();
+        for (prim_id, triangle) in mesh.triangles.iter().enumerate() {
+            if let Some(bad) = triangle.iter().find(|&&i| i as usize >= count) {
+                return Err(Error::Input(format!(
+                    "geometry {geom_id}: vertex index {bad} out of range (the mesh has {count} vertices)"
+                )));
+            }
+            let corners = triangle.map(|i| {
+                let p = mesh.positions[i as usize];
+                instance.map_or(p, |(_, inst)| inst.to_world.transform_point3(p))
+            });
+            let [a, b, c] = corners;
+            if !corners.iter().all(|p| p.is_finite()) || (b - a).cross(c - a) == Vec3::ZERO {
+                continue;
+            }
+            list.push(Primitive::Triangle {
+                corners,
+                geom_id: geom_id as u32,
+                prim_id: prim_id as u32,
+                inst_id: instance.map_or(INVALID_ID, |(id, _)| id),
+            });
+        }
+    }
+    Ok(())
 }
 
 /// The nearest hit found so far by a traversal, and the ray shortened to it.

@@ -22,6 +22,8 @@ fn mesh_scene(positions: Vec<Vec3>, triangles: Vec<[u32; 3]>) -> Scene {
             ..Mesh::default()
         }],
         shapes: Vec::new(),
+        prototypes: Vec::new(),
+        instances: Vec::new(),
         lights: Vec::new(),
         light_picker: Default::default(),
         warnings: Vec::new(),

@@ -21,7 +21,7 @@ const MAGIC: &[u8; 6] = b"\x93NUMPY";
 const ALIGN: usize = 64;
 
 /// One hit as a NumPy structured record: the field order and types are the
-/// contract, 32 bytes with no padding. npyz derives the dtype from it
+/// contract, 36 bytes with no padding. npyz derives the dtype from it
 /// (`[('t', '<f4'), …, ('ng', '<f4', (3,))]`; npyz's default dtypes are in
 /// the host's byte order, little-endian on every target Embree runs on, which
 /// the header test pins) and writes the records.
@@ -30,6 +30,7 @@ struct HitRecord {
     t: f32,
     geom_id: u32,
     prim_id: u32,
+    inst_id: u32,
     u: f32,
     v: f32,
     ng: [f32; 3],
@@ -45,6 +46,7 @@ impl From<&Hit> for HitRecord {
             t: h.t,
             geom_id: h.geom_id,
             prim_id: h.prim_id,
+            inst_id: h.inst_id,
             u: h.u,
             v: h.v,
             ng: h.ng.to_array(),

@@ -163,6 +163,7 @@ fn hits_file_has_exact_header_and_records() {
             t: 1.5,
             geom_id: 3,
             prim_id: 7,
+            inst_id: 2,
             u: 0.25,
             v: 0.5,
             ng: Vec3::new(0., 0., -2.),
@@ -182,7 +183,7 @@ fn hits_file_has_exact_header_and_records() {
     // The dict text is exactly what np.save writes for this dtype (NumPy
     // 1.x/2.x without the growth padding it adds for appendable arrays).
     let dict = "{'descr': [('t', '<f4'), ('geom_id', '<u4'), ('prim_id', '<u4'), \
-                ('u', '<f4'), ('v', '<f4'), ('ng', '<f4', (3,))], \
+                ('inst_id', '<u4'), ('u', '<f4'), ('v', '<f4'), ('ng', '<f4', (3,))], \
                 'fortran_order': False, 'shape': (2,), }";
     assert_eq!(&bytes[..8], b"\x93NUMPY\x01\x00");
     let hlen = usize::from(u16::from_le_bytes([bytes[8], bytes[9]]));
@@ -195,14 +196,16 @@ fn hits_file_has_exact_header_and_records() {
             .all(|&b| b == b' ')
     );
     assert_eq!(bytes[data_start - 1], b'\n');
-    assert_eq!(bytes.len(), data_start + 2 * 32);
+    assert_eq!(bytes.len(), data_start + 2 * 36);
 
     let mut expect = Vec::new();
     expect.extend(f4(&[1.5]));
     expect.extend(3u32.to_le_bytes());
     expect.extend(7u32.to_le_bytes());
+    expect.extend(2u32.to_le_bytes());
     expect.extend(f4(&[0.25, 0.5, 0., 0., -2.]));
     expect.extend(f4(&[f32::INFINITY]));
+    expect.extend(u32::MAX.to_le_bytes());
     expect.extend(u32::MAX.to_le_bytes());
     expect.extend(u32::MAX.to_le_bytes());
     expect.extend(f4(&[0.; 5]));
@@ -212,7 +215,7 @@ fn hits_file_has_exact_header_and_records() {
     let (h, data) = split(&bytes);
     assert_eq!(h.shape(), [2]);
     assert_eq!(h.order(), Order::C);
-    assert_eq!(data.len(), 64);
+    assert_eq!(data.len(), 72);
 }
 
 #[test]

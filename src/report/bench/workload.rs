@@ -95,6 +95,8 @@ pub fn bumpy_sphere(triangles: usize) -> Scene {
         materials: vec![Material::default_grey()],
         meshes: vec![mesh],
         shapes: Vec::new(),
+        prototypes: Vec::new(),
+        instances: Vec::new(),
         lights: vec![light],
         light_picker: Default::default(),
         warnings: Vec::new(),

@@ -12,15 +12,15 @@ use std::cell::RefCell;
 use std::collections::BTreeMap;
 use std::path::Path;
 
-use glam::{DAffine3, DMat4, DVec3};
+use glam::{Affine3A, DAffine3, DMat4, DVec3};
 
 use super::solids::{linear, rotation};
 use check::Check;
 pub(super) use check::physical_memory;
 use schema::{
-    AlbedoFile, CameraFile, CheckerFile, IntegratorFile, LightFile, MaterialFile, MeshFile,
-    MetallicFile, Object, RenderFile, SamplerFile, ScaleFile, SceneFile, ShapeFile, ShapeKind,
-    SpecularFile, TransformFile,
+    AlbedoFile, CameraFile, CheckerFile, InstanceFile, IntegratorFile, LightFile, MaterialFile,
+    MeshFile, MetallicFile, Object, PrototypeFile, RenderFile, SamplerFile, ScaleFile, SceneFile,
+    ShapeFile, ShapeKind, SpecularFile, TransformFile,
 };
 use shapes::{Body, Built};
 use tree::Parent;
@@ -28,8 +28,8 @@ use tree::Parent;
 use super::obj::MAX_COORDINATE;
 use super::textures::{Placement, Textures};
 use super::{
-    Adaptive, Camera, CameraKey, Integrator, PhotonSettings, RenderSettings, Scene, headlight,
-    load_mesh,
+    Adaptive, Camera, CameraKey, Instance, Integrator, PhotonSettings, Prototype, RenderSettings,
+    Scene, headlight, load_mesh,
 };
 use crate::error::{Error, Result};
 use crate::geometry::{Box3, Csg, Mesh, Shape, Surface};
@@ -81,12 +81,30 @@ pub(super) fn load(path: &Path) -> Result<Scene> {
         materials: &file.materials,
         solver,
     };
+    for (name, prototype) in &file.prototypes {
+        objects.prototype(&mut scene, name, prototype)?;
+    }
     for (index, object) in file.objects.iter().enumerate() {
+        let key = format!("objects[{index}]");
         match object.view() {
-            Object::Shape(kind, shape) => objects.shape(&mut scene, index, kind, shape)?,
-            Object::Mesh(mesh) => objects.mesh(&mut scene, index, mesh)?,
+            Object::Shape(kind, shape) => objects.shape(&mut scene, &key, kind, shape)?,
+            Object::Mesh(mesh) => objects.mesh(&mut scene, &key, mesh)?,
+            Object::Instance(instance) => {
+                objects.instance(&mut scene, &key, &file.prototypes, instance)?
+            }
         }
     }
+    let unused: Vec<String> = (scene.prototypes.iter().enumerate())
+        .filter(|&(i, _)| !scene.instances.iter().any(|x| x.prototype as usize == i))
+        .map(|(_, p)| {
+            format!(
+                "{}: prototype `{}` is declared but no object instances it",
+                path.display(),
+                p.name
+            )
+        })
+        .collect();
+    scene.warnings.extend(unused);
     for (index, entry) in file.lights.iter().enumerate() {
         light(&check, &mut scene, index, entry, solver)?;
     }
@@ -386,6 +404,12 @@ fn classic_keys_refused(check: &Check, name: &str, m: &MaterialFile) -> Result<(
     }
 }
 
+/// Why an emissive prototype or instance material is refused: the lights
+/// are gathered from the scene's own geometry, and sampling every copy of an
+/// instanced emitter as a light would undo what instancing saves.
+const EMISSIVE_INSTANCE: &str = "emissive geometry cannot be instanced (the lights are not \
+     gathered from instances): place it as an object of its own";
+
 /// What every `[[objects]]` entry is built with.
 struct Objects<'a> {
     check: &'a Check<'a>,
@@ -401,16 +425,9 @@ struct Objects<'a> {
 impl Objects<'_> {
     /// An analytic object of type `kind`: one entry of the scene's shapes,
     /// a CSG tree for the types that are more than one surface.
-    fn shape(
-        &self,
-        scene: &mut Scene,
-        index: usize,
-        kind: ShapeKind,
-        file: &ShapeFile,
-    ) -> Result<()> {
+    fn shape(&self, scene: &mut Scene, key: &str, kind: ShapeKind, file: &ShapeFile) -> Result<()> {
         let check = self.check;
-        let key = format!("objects[{index}]");
-        let material = match self.material(&key, &file.material)? {
+        let material = match self.material(key, &file.material)? {
             Some(m) => m,
             None => scene.default_material(),
         };
@@ -420,9 +437,9 @@ impl Objects<'_> {
                 "`inverse` applies only to an object inside a csg",
             ));
         }
-        let built = self.built(&key, kind, file)?;
-        let to_world = self.transform(&key, &file.transform)?;
-        let clip = self.clip(&key, file)?;
+        let built = self.built(key, kind, file)?;
+        let to_world = self.transform(key, &file.transform)?;
+        let clip = self.clip(key, file)?;
         let (surface, to_world, clip) = match built {
             Built::Surface {
                 surface,
@@ -434,7 +451,7 @@ impl Objects<'_> {
                 Some(clip) => (linear(normal, distance), to_world, Some(clip)),
                 None => {
                     return Err(check.error(
-                        &key,
+                        key,
                         "a plane is infinite: give it a `clip` box, or cut it in a csg",
                     ));
                 }
@@ -446,14 +463,14 @@ impl Objects<'_> {
                     material,
                     depth: 0,
                 };
-                let root = self.node(&key, file, built, &parent, &mut leaves)?;
-                let tree = Csg::new(root, leaves).map_err(|e| check.error(&key, e))?;
+                let root = self.node(key, file, built, &parent, &mut leaves)?;
+                let tree = Csg::new(root, leaves).map_err(|e| check.error(key, e))?;
                 (Surface::Csg(Box::new(tree)), DAffine3::IDENTITY, None)
             }
         };
         let shape = Shape::new(surface, to_world, clip, material, self.solver)
-            .map_err(|e| check.error(&key, e))?;
-        check.bounds(&key, shape.bounds())?;
+            .map_err(|e| check.error(key, e))?;
+        check.bounds(key, shape.bounds())?;
         scene.shapes.push(shape);
         Ok(())
     }
@@ -482,16 +499,15 @@ impl Objects<'_> {
     }
 
     /// A `type = "mesh"` object: the meshes of an OBJ or PLY file, placed.
-    fn mesh(&self, scene: &mut Scene, index: usize, mesh: &MeshFile) -> Result<()> {
+    fn mesh(&self, scene: &mut Scene, key: &str, mesh: &MeshFile) -> Result<()> {
         let check = self.check;
-        let key = format!("objects[{index}]");
-        let material = self.material(&key, &mesh.material)?;
-        let transform = self.transform(&key, &mesh.transform)?;
+        let material = self.material(key, &mesh.material)?;
+        let transform = self.transform(key, &mesh.transform)?;
         let first = scene.meshes.len();
         let obj_path = self.dir.join(&mesh.file);
         // A file that cannot be read is named with the line that asks for it.
         let obj = load_mesh(&obj_path).map_err(|e| match e {
-            Error::Io { .. } => check.error(&format!("objects[{index}].file"), e),
+            Error::Io { .. } => check.error(&format!("{key}.file"), e),
             other => other,
         })?;
         // A scene material of a name the OBJ uses replaces the OBJ's own.
@@ -506,8 +522,81 @@ impl Objects<'_> {
         let matrix = DMat4::from(transform).as_mat4();
         for m in &mut scene.meshes[first..] {
             m.transform(&matrix);
-            check.bounds(&format!("objects[{index}]"), m.bounds())?;
+            check.bounds(key, m.bounds())?;
         }
+        Ok(())
+    }
+
+    /// `[prototypes.NAME]`: its objects loaded as the scene's own are, in
+    /// the prototype's space, then moved out of the scene into the prototype.
+    fn prototype(&self, scene: &mut Scene, name: &str, file: &PrototypeFile) -> Result<()> {
+        let check = self.check;
+        let (first_mesh, first_shape) = (scene.meshes.len(), scene.shapes.len());
+        for (index, object) in file.objects.iter().enumerate() {
+            let key = format!("prototypes.{name}.objects[{index}]");
+            match object.view() {
+                Object::Shape(kind, shape) => self.shape(scene, &key, kind, shape)?,
+                Object::Mesh(mesh) => self.mesh(scene, &key, mesh)?,
+                Object::Instance(_) => {
+                    return Err(check.error(
+                        &key,
+                        "an instance cannot be part of a prototype: instancing is one level \
+                         deep, so put the geometry itself in this prototype",
+                    ));
+                }
+            }
+        }
+        let prototype = Prototype::new(
+            name.to_owned(),
+            scene.meshes.split_off(first_mesh),
+            scene.shapes.split_off(first_shape),
+        );
+        let key = format!("prototypes.{name}");
+        if prototype.meshes.is_empty() && prototype.shapes.is_empty() {
+            return Err(check.error(
+                &format!("{key}.objects"),
+                "a prototype needs at least one object, e.g. [[prototypes.NAME.objects]]",
+            ));
+        }
+        let materials = prototype.meshes.iter().flat_map(|m| m.materials.clone());
+        let mut materials = materials.chain(prototype.shapes.iter().flat_map(Shape::materials));
+        if materials.any(|m| scene.materials[m as usize].emits()) {
+            return Err(check.error(&key, EMISSIVE_INSTANCE));
+        }
+        scene.prototypes.push(prototype);
+        Ok(())
+    }
+
+    /// A `type = "instance"` object: the prototype it names, placed.
+    fn instance(
+        &self,
+        scene: &mut Scene,
+        key: &str,
+        prototypes: &BTreeMap<String, PrototypeFile>,
+        file: &InstanceFile,
+    ) -> Result<()> {
+        let check = self.check;
+        let Some(prototype) = prototypes.keys().position(|k| *k == file.prototype) else {
+            let hint = suggest::closest(&file.prototype, prototypes.keys().map(String::as_str))
+                .map_or(String::new(), |c| format!("; did you mean `{c}`?"));
+            return Err(check.error(
+                &format!("{key}.prototype"),
+                format!(
+                    "no prototype named `{}` in [prototypes]{hint}",
+                    file.prototype
+                ),
+            ));
+        };
+        let material = self.material(key, &file.material)?;
+        if material.is_some_and(|m| scene.materials[m as usize].emits()) {
+            return Err(check.error(&format!("{key}.material"), EMISSIVE_INSTANCE));
+        }
+        let to_world = self.transform(key, &file.transform)?;
+        let to_world = Affine3A::from_mat4(DMat4::from(to_world).as_mat4());
+        let instance = Instance::new(prototype as u32, to_world, material);
+        let bounds = scene.prototypes[prototype].bounds();
+        check.bounds(key, instance.bounds_to_world(bounds))?;
+        scene.instances.push(instance);
         Ok(())
     }
 

@@ -22,10 +22,31 @@ pub(super) struct SceneFile {
     pub render: RenderFile,
     #[serde(default)]
     pub materials: BTreeMap<String, MaterialFile>,
+    /// Geometry declared once, placed by `type = "instance"` objects.
+    #[serde(default)]
+    pub prototypes: BTreeMap<String, PrototypeFile>,
     #[serde(default)]
     pub objects: Vec<ObjectFile>,
     #[serde(default)]
     pub lights: Vec<LightFile>,
+}
+
+/// `[prototypes.NAME]`: the objects an instance places, in their own space.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct PrototypeFile {
+    pub objects: Vec<ObjectFile>,
+}
+
+/// `type = "instance"`: a prototype placed by its own transform, in its own
+/// material if it names one (replacing all of the prototype's).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct InstanceFile {
+    pub prototype: String,
+    pub material: Option<String>,
+    #[serde(default)]
+    pub transform: TransformFile,
 }
 
 #[derive(Deserialize)]
@@ -187,6 +208,7 @@ macro_rules! objects {
         #[serde(tag = "type", rename_all = "snake_case")]
         pub(super) enum ObjectFile {
             Mesh(MeshFile),
+            Instance(InstanceFile),
             $($shape(ShapeFile),)+
         }
 
@@ -201,6 +223,7 @@ macro_rules! objects {
             pub fn view(&self) -> Object<'_> {
                 match self {
                     ObjectFile::Mesh(mesh) => Object::Mesh(mesh),
+                    ObjectFile::Instance(instance) => Object::Instance(instance),
                     $(ObjectFile::$shape(shape) => Object::Shape(ShapeKind::$shape, shape),)+
                 }
             }
@@ -235,6 +258,7 @@ objects! {
 /// An object of the file, by what the loader builds from it.
 pub(super) enum Object<'a> {
     Mesh(&'a MeshFile),
+    Instance(&'a InstanceFile),
     Shape(ShapeKind, &'a ShapeFile),
 }
 

@@ -159,6 +159,12 @@ impl Objects<'_> {
                         check.error(&key, "a mesh cannot be part of a csg: it has no inside")
                     );
                 }
+                Object::Instance(_) => {
+                    return Err(check.error(
+                        &key,
+                        "an instance cannot be part of a csg: put the csg in the prototype",
+                    ));
+                }
             };
             let built = self.built(&key, kind, file)?;
             nodes.push(self.node(&key, file, built, inner, leaves)?);
