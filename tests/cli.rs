@@ -79,12 +79,13 @@ fn trace_writes_one_hit_per_ray() {
         ],
     );
     assert!(out.status.success(), "{}", stderr(&out));
-    // A version 1.0 header (its length at bytes 8..10) then 2 records of 32 bytes each;
+    // A version 1.0 header (its length at bytes 8..10) then 2 records of 36 bytes each
+    // (t, geom_id, prim_id, inst_id, u, v, ng);
     // numpy's reading of the records is checked in tests/test_embreex.py.
     let bytes = std::fs::read(dir.join("hits.npy")).unwrap();
     assert_eq!(&bytes[..8], b"\x93NUMPY\x01\x00");
     let header = u16::from_le_bytes([bytes[8], bytes[9]]) as usize;
-    assert_eq!(bytes.len(), 10 + header + 2 * 32);
+    assert_eq!(bytes.len(), 10 + header + 2 * 36);
     assert_eq!((10 + header) % 64, 0, "data start 64-byte aligned");
 }
 
