@@ -8,7 +8,7 @@ use common::{SQUARE, plane_scene, scratch, write};
 use sturmray::accel::{Accel, Backend};
 use sturmray::math::Vec3;
 use sturmray::render::{RenderOptions, render};
-use sturmray::scene::Scene;
+use sturmray::scene::{Scene, ThinLens};
 
 fn load(name: &str, extra: &str) -> Scene {
     let dir = scratch(name);
@@ -111,6 +111,15 @@ fn same_image_for_any_thread_count() {
     scene.render.seed = 1;
     let other = render(&scene, &accel, &options(2)).unwrap().film;
     assert_ne!(bits(&one), bits(&other));
+    // A thin lens draws its lens points from the sample's own numbers too.
+    scene.camera.optics.lens = Some(ThinLens {
+        aperture: 0.3,
+        focus_distance: 2.0,
+    });
+    let lens = |threads| bits(&render(&scene, &accel, &options(threads)).unwrap().film);
+    let with_lens = lens(1);
+    assert_eq!(with_lens, lens(2));
+    assert_ne!(with_lens, bits(&other));
 }
 
 #[test]

@@ -15,7 +15,9 @@ mod textures;
 
 use std::path::{Path, PathBuf};
 
-pub use camera::{Camera, CameraFrame, CameraKey, CameraProblem, ImagePlane};
+pub use camera::{
+    Camera, CameraFrame, CameraKey, CameraProblem, ImagePlane, Optics, Projection, ThinLens,
+};
 pub use interaction::Interaction;
 use obj::MAX_COORDINATE;
 pub use obj::{ObjFile, load_obj};

@@ -35,12 +35,39 @@ pub(super) struct CameraFile {
     pub look_at: [f32; 3],
     #[serde(default = "y_up")]
     pub up: [f32; 3],
-    pub fov: f32,
+    /// Required by a perspective camera; an orthographic one takes `view_width`.
+    pub fov: Option<f32>,
     pub width: u32,
     pub height: u32,
+    /// `perspective` (the default) or `orthographic`.
+    #[serde(rename = "type", default)]
+    pub kind: ProjectionFile,
+    /// Which side `fov` spans: `y` (the height, the default) or `x`.
+    #[serde(default)]
+    pub fov_axis: FovAxisFile,
+    pub view_width: Option<f32>,
+    /// The lens radius (0: a pinhole) and the distance in focus.
+    pub aperture: Option<f32>,
+    pub focus_distance: Option<f32>,
     /// A camera path: where the camera is at some frames (`render --frame K`).
     #[serde(default)]
     pub keys: Vec<CameraKeyFile>,
+}
+
+#[derive(Deserialize, Default, Clone, Copy, PartialEq)]
+#[serde(rename_all = "lowercase")]
+pub(super) enum ProjectionFile {
+    #[default]
+    Perspective,
+    Orthographic,
+}
+
+#[derive(Deserialize, Default, Clone, Copy, PartialEq)]
+#[serde(rename_all = "lowercase")]
+pub(super) enum FovAxisFile {
+    X,
+    #[default]
+    Y,
 }
 
 #[derive(Deserialize)]
