@@ -146,6 +146,21 @@ fn describe(scene: &Scene, accel: &Accel) -> String {
                 position,
                 intensity,
             } => writeln!(s, "  point at {} intensity {}", v(*position), v(*intensity)),
+            Light::Spot {
+                position,
+                direction,
+                intensity,
+                cos_end,
+                cos_start,
+            } => writeln!(
+                s,
+                "  spot at {} along {} intensity {}, cone {:.4}° (full to {:.4}°)",
+                v(*position),
+                v(*direction),
+                v(*intensity),
+                cos_end.acos().to_degrees(),
+                cos_start.acos().to_degrees()
+            ),
             Light::Unfading {
                 position,
                 irradiance,

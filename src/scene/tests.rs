@@ -413,6 +413,18 @@ fn toml_errors_name_line_and_suggest() {
             vec!["camera", "missing fov"],
         ),
         (
+            format!(
+                "{TOML}\n[[lights]]\ntype = \"spot\"\nposition = [0, 0, 1]\ndirection = [0, 0, -1]\nintensity = [1, 1, 1]\ncone_angle = 0\n"
+            ),
+            vec!["lights[1].cone_angle", "(0, 180]"],
+        ),
+        (
+            format!(
+                "{TOML}\n[[lights]]\ntype = \"spot\"\nposition = [0, 0, 1]\ndirection = [0, 0, -1]\nintensity = [1, 1, 1]\ncone_angle = 20\nfalloff = 25\n"
+            ),
+            vec!["lights[1].falloff", "cone_angle (20)"],
+        ),
+        (
             TOML.replace("width = 32", "width = 0"),
             vec!["camera.width"],
         ),

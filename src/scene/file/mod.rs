@@ -640,6 +640,30 @@ fn light(
             position: check.finite(&key("position"), p.position)?,
             intensity: check.colour(&key("intensity"), p.intensity)?,
         }),
+        LightFile::Spot(l) => {
+            if !(l.cone_angle > 0.0 && l.cone_angle <= 180.0) {
+                return Err(check.error(
+                    &key("cone_angle"),
+                    format!("expected degrees in (0, 180], found {}", l.cone_angle),
+                ));
+            }
+            if !(l.falloff >= 0.0 && l.falloff <= l.cone_angle) {
+                return Err(check.error(
+                    &key("falloff"),
+                    format!(
+                        "expected degrees from 0 to cone_angle ({}), found {}",
+                        l.cone_angle, l.falloff
+                    ),
+                ));
+            }
+            scene.lights.push(Light::Spot {
+                position: check.finite(&key("position"), l.position)?,
+                direction: check.direction(&key("direction"), l.direction)?.normalize(),
+                intensity: check.colour(&key("intensity"), l.intensity)?,
+                cos_end: l.cone_angle.to_radians().cos(),
+                cos_start: (l.cone_angle - l.falloff).to_radians().cos(),
+            });
+        }
         LightFile::Directional(d) => scene.lights.push(Light::Directional {
             direction: check.direction(&key("direction"), d.direction)?,
             irradiance: check.colour(&key("irradiance"), d.irradiance)?,

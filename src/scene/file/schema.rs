@@ -337,6 +337,7 @@ pub(super) enum ScaleFile {
 #[serde(tag = "type", rename_all = "lowercase")]
 pub(super) enum LightFile {
     Point(PointFile),
+    Spot(SpotFile),
     Directional(DirectionalFile),
     Sphere(SphereLightFile),
     Quad(QuadLightFile),
@@ -348,6 +349,19 @@ pub(super) struct SphereLightFile {
     pub center: [f32; 3],
     pub radius: f32,
     pub radiance: [f32; 3],
+}
+
+/// pbrt-v4's spot light: `cone_angle` (degrees from the axis) bounds the
+/// light; it fades over the last `falloff` degrees of it.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct SpotFile {
+    pub position: [f32; 3],
+    pub direction: [f32; 3],
+    pub intensity: [f32; 3],
+    pub cone_angle: f32,
+    #[serde(default)]
+    pub falloff: f32,
 }
 
 /// A parallelogram corner + s·edge1 + t·edge2, emitting towards edge1 × edge2.
