@@ -72,21 +72,12 @@ impl Light {
     /// the light sends nothing to p (p inside a sphere light, behind a quad).
     pub fn incident(&self, p: Vec3, u: [f32; 2]) -> Option<Incident> {
         match self {
+            // A point light is a spot whose scale is 1 everywhere.
             Light::Point {
                 position,
                 intensity,
-            } => {
-                let to = *position - p;
-                let d2 = to.length_squared();
-                let distance = d2.sqrt();
-                Some(Incident {
-                    wi: to / distance,
-                    distance,
-                    irradiance: *intensity / d2,
-                    pdf: 0.0,
-                })
             }
-            Light::Spot {
+            | Light::Spot {
                 position,
                 intensity,
                 ..
