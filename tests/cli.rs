@@ -176,6 +176,11 @@ fn explain_prints_the_ray_tree_of_one_sample() {
         lines[0].starts_with("pixel 16,12 sample 0: radiance"),
         "{text}"
     );
+    // One sample a pixel: the ray through the pixel's centre, from the eye.
+    assert!(
+        lines[0].contains("camera ray from [0.0000, 0.0000, 4.0000] along [0.0"),
+        "{text}"
+    );
     assert!(
         lines[1].starts_with("camera") && lines[1].contains("material paint"),
         "{text}"

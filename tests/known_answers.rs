@@ -8,7 +8,7 @@ use common::{SQUARE, plane_scene, scratch, write};
 use sturmray::accel::{Accel, Backend};
 use sturmray::math::Vec3;
 use sturmray::render::{RenderOptions, render};
-use sturmray::scene::Scene;
+use sturmray::scene::{Scene, ThinLens};
 
 fn load(name: &str, extra: &str) -> Scene {
     let dir = scratch(name);
@@ -111,6 +111,15 @@ fn same_image_for_any_thread_count() {
     scene.render.seed = 1;
     let other = render(&scene, &accel, &options(2)).unwrap().film;
     assert_ne!(bits(&one), bits(&other));
+    // A thin lens draws its lens points from the sample's own numbers too.
+    scene.camera.optics.lens = Some(ThinLens {
+        aperture: 0.3,
+        focus_distance: 2.0,
+    });
+    let lens = |threads| bits(&render(&scene, &accel, &options(threads)).unwrap().film);
+    let with_lens = lens(1);
+    assert_eq!(with_lens, lens(2));
+    assert_ne!(with_lens, bits(&other));
 }
 
 #[test]
@@ -269,5 +278,62 @@ material = "panel"
             (got - expected).abs() < 0.02 * expected,
             "max_depth {depth}: {got} vs {expected}"
         );
+    }
+}
+
+#[test]
+fn a_spot_light_lights_its_cone_and_fades_at_its_edge() {
+    // A spot 2 above the square's centre, straight down: 20° cone, the last
+    // 5° fading. Inside 15° the plane gets I cos θ / d², as from a point
+    // light; beyond 20° nothing; between, a part of that.
+    let dir = scratch("spot");
+    write(&dir, "square.obj", SQUARE);
+    let spot = "type = \"spot\"\nposition = [0, 0, 2]\ndirection = [0, 0, -1]\n\
+                intensity = [4, 4, 4]\ncone_angle = 20\nfalloff = 5";
+    let albedo = Vec3::new(0.5, 0.25, 0.125);
+    for integrator in ["whitted", "path"] {
+        for backend in [Backend::Embree, Backend::Obvhs, Backend::Bvh] {
+            let text = plane_scene("")
+                .replace(
+                    "type = \"directional\"\ndirection = [0, 0, -1]\nirradiance = [2, 2, 2]",
+                    spot,
+                )
+                .replace("[0.1, 0.2, 0.3]", "[0, 0, 0]")
+                .replace(
+                    "spp = 1",
+                    &format!("spp = 1\nintegrator = \"{integrator}\""),
+                );
+            let scene = Scene::load(&write(&dir, "s.toml", &text)).unwrap();
+            let accel = Accel::build(&scene, backend, None).unwrap();
+            let out = render(&scene, &accel, &options(2)).unwrap();
+            let layers = out.film.layers();
+            let at = |x: usize| Vec3::from(layers.beauty[12 * 32 + x]);
+            // The point each pixel centre of row 12 sees, on the plane z = 0.
+            let x_of = |x: usize| {
+                (x as f32 + 0.5 - 16.0) / 16.0 * 20f32.to_radians().tan() * 32.0 / 24.0 * 4.0
+            };
+            let lit = |x: usize| {
+                // Seen from the eye at (0, 0, 4) the pixel row lies a little
+                // off y = 0: the pixel centre's y on the plane.
+                let y = -0.5 / 12.0 * 20f32.to_radians().tan() * 4.0;
+                let d2 = 4.0 + x_of(x).powi(2) + y * y;
+                albedo / PI * 4.0 * (2.0 / d2.sqrt()) / d2
+            };
+            let case = format!("{integrator} on {backend:?}");
+            for x in [16, 18] {
+                let rel = ((at(x) - lit(x)) / lit(x)).abs().max_element();
+                assert!(
+                    rel < 1e-4,
+                    "{case}: pixel {x}: {} against {}",
+                    at(x),
+                    lit(x)
+                );
+            }
+            // x = 0.67, 18.5° off the axis: in the fading ring.
+            let fading = at(21).x / lit(21).x;
+            assert!(fading > 0.05 && fading < 0.95, "{case}: {fading}");
+            // x = 0.91, 24° off: outside the cone, on the square, black.
+            assert_eq!(at(23), Vec3::ZERO, "{case}");
+        }
     }
 }

@@ -401,7 +401,8 @@ fn explain_gives_each_path_node_the_radiance_it_brings_back() {
     let accel = Accel::build(&scene, Backend::Embree, Some(1)).unwrap();
     let mut bounced = 0;
     for k in 0..4 {
-        let (sample, tree) = sturmray::render::explain(&scene, &accel, (4, 4), k, false).unwrap();
+        let (sample, _, tree) =
+            sturmray::render::explain(&scene, &accel, (4, 4), k, false).unwrap();
         // The camera ray brings back the whole sample: its weight is 1.
         let camera = Vec3::from(tree[0].radiance);
         assert!(

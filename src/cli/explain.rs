@@ -73,12 +73,17 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     }
     scene.camera.go_to_frame(frame);
     let accel = Accel::build(&scene, backend.into(), None)?;
-    let (result, tree) = sturmray::render::explain(&scene, &accel, pixel, sample, all_effects)?;
+    let (result, ray, tree) =
+        sturmray::render::explain(&scene, &accel, pixel, sample, all_effects)?;
+    // The camera ray's origin shows the lens point (or an orthographic
+    // camera's offset); its direction the pixel position and the focus.
     let mut text = format!(
-        "pixel {},{} sample {sample}: radiance {}\n",
+        "pixel {},{} sample {sample}: radiance {}, camera ray from {} along {}\n",
         pixel.0,
         pixel.1,
-        triple(result.radiance.to_array())
+        triple(result.radiance.to_array()),
+        triple(ray.origin.to_array()),
+        triple(ray.dir.to_array())
     );
     for node in tree {
         // Shadow rays belong to the hit they leave from: one level deeper.

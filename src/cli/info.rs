@@ -8,6 +8,7 @@ use sturmray::io::console::print;
 use sturmray::lights::Light;
 use sturmray::math::Vec3;
 use sturmray::render::Plan;
+use sturmray::scene::Projection;
 use sturmray::scene::Scene;
 
 use super::shared::{BackendArg, IncludeArgs, load};
@@ -62,13 +63,23 @@ fn describe(scene: &Scene, accel: &Accel) -> String {
             );
         }
     }
+    let view = match c.optics.projection {
+        Projection::Perspective => format!("fov {}°", c.fov),
+        Projection::PerspectiveX => format!("fov {}° across", c.fov),
+        Projection::Orthographic { view_width } => format!("orthographic, {view_width} wide"),
+    };
+    let lens = c.optics.lens.map_or(String::new(), |l| {
+        format!(
+            ", lens radius {} focused at {}",
+            l.aperture, l.focus_distance
+        )
+    });
     let _ = writeln!(
         s,
-        "camera     eye {} look_at {} up {} fov {}°, {}x{}",
+        "camera     eye {} look_at {} up {} {view}{lens}, {}x{}",
         v(c.eye),
         v(c.look_at),
         v(c.up),
-        c.fov,
         c.width,
         c.height
     );
@@ -159,6 +170,21 @@ fn describe(scene: &Scene, accel: &Accel) -> String {
                 position,
                 intensity,
             } => writeln!(s, "  point at {} intensity {}", v(*position), v(*intensity)),
+            Light::Spot {
+                position,
+                direction,
+                intensity,
+                cos_end,
+                cos_start,
+            } => writeln!(
+                s,
+                "  spot at {} along {} intensity {}, cone {:.4}° (full to {:.4}°)",
+                v(*position),
+                v(*direction),
+                v(*intensity),
+                cos_end.acos().to_degrees(),
+                cos_start.acos().to_degrees()
+            ),
             Light::Unfading {
                 position,
                 irradiance,

@@ -1,6 +1,6 @@
 //! Lights and the radiance they send to a point.
 //!
-//! Point and directional lights are given in the scene file. Area lights are
+//! Point, spot and directional lights are given in the scene file. Area lights are
 //! the scene's emissive geometry: every emissive triangle and every emissive
 //! sphere becomes one (see `scene::emitters`), so a light is always visible,
 //! casts shadows and is found by bounces as well as by light sampling.
@@ -26,6 +26,16 @@ pub enum Light {
     Unfading { position: Vec3, irradiance: Vec3 },
     /// Irradiance E on a surface facing the light; `direction` is where light travels.
     Directional { direction: Vec3, irradiance: Vec3 },
+    /// A point light shining into a cone about the unit `direction` (pbrt-v4's
+    /// spot light): intensity I inside `cos_start`, none outside `cos_end`,
+    /// and a smoothstep in cos θ between them.
+    Spot {
+        position: Vec3,
+        direction: Vec3,
+        intensity: Vec3,
+        cos_end: f32,
+        cos_start: f32,
+    },
     /// An emissive sphere of uniform radiance L, emitting outwards.
     Sphere {
         center: Vec3,
@@ -62,17 +72,25 @@ impl Light {
     /// the light sends nothing to p (p inside a sphere light, behind a quad).
     pub fn incident(&self, p: Vec3, u: [f32; 2]) -> Option<Incident> {
         match self {
+            // A point light is a spot whose scale is 1 everywhere.
             Light::Point {
                 position,
                 intensity,
+            }
+            | Light::Spot {
+                position,
+                intensity,
+                ..
             } => {
                 let to = *position - p;
                 let d2 = to.length_squared();
                 let distance = d2.sqrt();
-                Some(Incident {
-                    wi: to / distance,
+                let wi = to / distance;
+                let scale = self.spot_scale(-wi);
+                (scale > 0.0).then(|| Incident {
+                    wi,
                     distance,
-                    irradiance: *intensity / d2,
+                    irradiance: *intensity * scale / d2,
                     pdf: 0.0,
                 })
             }
@@ -153,7 +171,10 @@ impl Light {
     /// back of a triangle.
     pub fn pdf(&self, p: Vec3, point: Vec3) -> f32 {
         match self {
-            Light::Point { .. } | Light::Unfading { .. } | Light::Directional { .. } => 0.0,
+            Light::Point { .. }
+            | Light::Spot { .. }
+            | Light::Unfading { .. }
+            | Light::Directional { .. } => 0.0,
             Light::Sphere { center, radius, .. } => {
                 let sin2_max = radius * radius / (*center - p).length_squared();
                 if sin2_max >= 1.0 {
@@ -178,12 +199,37 @@ impl Light {
         }
     }
 
-    /// A point or directional light: one direction reaches it, no bounce can.
+    /// A point, spot or directional light: one direction reaches it, no
+    /// bounce can.
     pub fn is_delta(&self) -> bool {
         matches!(
             self,
-            Light::Point { .. } | Light::Unfading { .. } | Light::Directional { .. }
+            Light::Point { .. }
+                | Light::Spot { .. }
+                | Light::Unfading { .. }
+                | Light::Directional { .. }
         )
+    }
+
+    /// A spot light's share of its intensity along the unit direction `w`
+    /// (leaving the light): 1 inside the inner cone, 0 outside the outer,
+    /// pbrt-v4's smoothstep between; 1 for any other light.
+    pub fn spot_scale(&self, w: Vec3) -> f32 {
+        let Light::Spot {
+            direction,
+            cos_end,
+            cos_start,
+            ..
+        } = self
+        else {
+            return 1.0;
+        };
+        let cos = w.dot(*direction);
+        if cos_start <= cos_end {
+            return if cos < *cos_end { 0.0 } else { 1.0 };
+        }
+        let t = ((cos - cos_end) / (cos_start - cos_end)).clamp(0.0, 1.0);
+        t * t * (3.0 - 2.0 * t)
     }
 }
 

@@ -327,7 +327,8 @@ fn plan(scene: &Scene, all_effects: bool) -> Plan {
 /// sample's sampler (which the integrator goes on drawing from): through the
 /// pixel's centre when the pixel takes one sample; otherwise at the
 /// sampler's pixel position (stratified over each round of `spp` samples),
-/// warped by the reconstruction filter (filter importance sampling). Keyed
+/// warped by the reconstruction filter (filter importance sampling); from
+/// the sampler's lens point when the camera has a lens. Keyed
 /// by (seed, pixel, k), so it is the same whoever renders it.
 fn camera_ray(
     scene: &Scene,
@@ -340,22 +341,31 @@ fn camera_ray(
     let centre = (x as f32 + 0.5, y as f32 + 0.5);
     let index = (y * scene.camera.width as usize + x) as u64;
     let mut sampler = Sampler::new(scene.render.sampler, scene.render.seed, index, k);
-    if spp == 1 {
-        return (frame.ray(centre.0, centre.1), 1.0, sampler);
-    }
-    let s = filter.sample(sampler.pixel_2d(spp));
-    let ray = frame.ray(centre.0 + s.offset[0], centre.1 + s.offset[1]);
-    (ray, s.weight, sampler)
+    let (x, y, weight) = if spp == 1 {
+        (centre.0, centre.1, 1.0)
+    } else {
+        let s = filter.sample(sampler.pixel_2d(spp));
+        (centre.0 + s.offset[0], centre.1 + s.offset[1], s.weight)
+    };
+    // The lens point is the pair after the pixel's (drawn only by a lens, so
+    // a pinhole's dimensions are what they were): stratified with the
+    // Sobol sampler as the pixel position is.
+    let ray = if frame.has_lens() {
+        frame.lens_ray(x, y, sampler.get_2d())
+    } else {
+        frame.ray(x, y)
+    };
+    (ray, weight, sampler)
 }
 
-/// The ray tree of one pixel sample, for `sturmray explain`.
+/// The camera ray and the ray tree of one pixel sample, for `sturmray explain`.
 pub fn explain(
     scene: &Scene,
     accel: &Accel,
     pixel: (usize, usize),
     sample: u32,
     all_effects: bool,
-) -> Result<(Sample, Vec<Node>)> {
+) -> Result<(Sample, Ray, Vec<Node>)> {
     let (w, h) = (scene.camera.width as usize, scene.camera.height as usize);
     if pixel.0 >= w || pixel.1 >= h {
         return Err(Error::Input(format!(
@@ -389,7 +399,7 @@ pub fn explain(
     let mut result = integrator.sample(&ray, &mut sampler, &mut tally);
     result.weight = weight;
     accel.check()?;
-    Ok((result, tally.tree.unwrap_or_default()))
+    Ok((result, ray, tally.tree.unwrap_or_default()))
 }
 
 /// A progress bar on stderr when it is a terminal; none otherwise.

@@ -17,7 +17,9 @@ mod textures;
 
 use std::path::{Path, PathBuf};
 
-pub use camera::{Camera, CameraFrame, CameraKey, CameraProblem, ImagePlane};
+pub use camera::{
+    Camera, CameraFrame, CameraKey, CameraProblem, ImagePlane, Optics, Projection, ThinLens,
+};
 pub use instance::{Instance, Prototype};
 pub use interaction::Interaction;
 use obj::MAX_COORDINATE;

@@ -386,6 +386,45 @@ fn toml_errors_name_line_and_suggest() {
             vec!["line 7, camera.fov", "(0, 180)"],
         ),
         (
+            TOML.replace("fov = 30", "fov = 30\naperture = 0.1"),
+            vec!["camera.aperture", "focus_distance"],
+        ),
+        (
+            TOML.replace("fov = 30", "fov = 30\naperture = -1\nfocus_distance = 2"),
+            vec!["camera.aperture", "at least 0"],
+        ),
+        (
+            TOML.replace("fov = 30", "type = \"orthographic\""),
+            vec!["camera", "missing view_width"],
+        ),
+        (
+            TOML.replace(
+                "fov = 30",
+                "fov = 30\ntype = \"orthographic\"\nview_width = 2",
+            ),
+            vec!["camera.fov", "view_width instead"],
+        ),
+        (
+            TOML.replace("fov = 30", "fov = 30\nfov_axis = \"z\""),
+            vec!["line 8", "unknown variant `z`, expected `x` or `y`"],
+        ),
+        (
+            TOML.replace("fov = 30", "view_width = 3"),
+            vec!["camera", "missing fov"],
+        ),
+        (
+            format!(
+                "{TOML}\n[[lights]]\ntype = \"spot\"\nposition = [0, 0, 1]\ndirection = [0, 0, -1]\nintensity = [1, 1, 1]\ncone_angle = 0\n"
+            ),
+            vec!["lights[1].cone_angle", "(0, 180]"],
+        ),
+        (
+            format!(
+                "{TOML}\n[[lights]]\ntype = \"spot\"\nposition = [0, 0, 1]\ndirection = [0, 0, -1]\nintensity = [1, 1, 1]\ncone_angle = 20\nfalloff = 25\n"
+            ),
+            vec!["lights[1].falloff", "cone_angle (20)"],
+        ),
+        (
             TOML.replace("width = 32", "width = 0"),
             vec!["camera.width"],
         ),

@@ -1,12 +1,15 @@
-//! The pinhole camera: by eye, look_at and a vertical field of view, or by
-//! its image plane (POV-Ray's `direction`, `right`, `up`); and the image
-//! size's limits, which scene files and `--width`/`--height` share.
+//! The camera: by eye, look_at and a field of view (vertical, or
+//! horizontal with `fov_axis = "x"`), orthographic by the width it sees, or
+//! by its image plane (POV-Ray's `direction`, `right`, `up`); a pinhole, or a
+//! thin lens that focuses one plane ([`Optics`]); and the image size's
+//! limits, which scene files and `--width`/`--height` share.
 
 use glam::DVec3;
 
 use super::GIB;
 use super::file::physical_memory;
 use crate::math::{Bounds, RAY_LIMIT, Ray, Vec3, sci, unit};
+use crate::sampling::warp::concentric_disk;
 
 /// The view direction must make at least this sine with `up`, and eye and
 /// look_at must lie at least this fraction of their size apart: closer, and
@@ -85,7 +88,8 @@ pub struct Camera {
     pub eye: Vec3,
     pub look_at: Vec3,
     pub up: Vec3,
-    /// Vertical field of view in degrees.
+    /// Field of view in degrees, along `optics.fov_axis` (vertical unless
+    /// said); unused by an orthographic camera.
     pub fov: f32,
     pub width: u32,
     pub height: u32,
@@ -97,6 +101,48 @@ pub struct Camera {
     /// absent, so the scene hash of every other camera is what it was before planes existed.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub plane: Option<ImagePlane>,
+    /// Projection, fov axis and lens. Left out of the serialisation for a
+    /// pinhole with a vertical field of view, so the scene hash of every
+    /// camera that existed before these did is what it was.
+    #[serde(skip_serializing_if = "Optics::is_pinhole")]
+    pub optics: Optics,
+}
+
+/// How a look_at camera maps the image to rays, beyond eye and direction.
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
+pub struct Optics {
+    pub projection: Projection,
+    /// A thin lens in place of the pinhole: depth of field.
+    pub lens: Option<ThinLens>,
+}
+
+/// Perspective (rays from the eye) or orthographic (parallel rays).
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
+pub enum Projection {
+    /// `fov` spans the image's height (`FovAxis::Y`) or width (`FovAxis::X`).
+    #[default]
+    Perspective,
+    PerspectiveX,
+    /// Parallel rays along the view, over a view this wide (scene units) at
+    /// the image's width; the height follows the aspect ratio.
+    Orthographic {
+        view_width: f32,
+    },
+}
+
+/// A thin lens (pbrt's model): rays leave a disc of radius `aperture` around
+/// the eye, across the view, and every ray of one image point meets the
+/// others at `focus_distance` along the view, so that plane stays sharp.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct ThinLens {
+    pub aperture: f32,
+    pub focus_distance: f32,
+}
+
+impl Optics {
+    pub fn is_pinhole(&self) -> bool {
+        *self == Optics::default()
+    }
 }
 
 /// A camera's image plane, as POV-Ray gives it: none of the three vectors
@@ -117,10 +163,25 @@ pub struct ImagePlane {
 pub struct CameraFrame {
     eye: Vec3,
     /// Image-plane axes, scaled so pixel (0,0)..(w,h) spans the view (at
-    /// distance 1 for a look_at camera; any distance does, as rays are normalised).
+    /// distance 1 for a look_at camera; any distance does, as rays are
+    /// normalised). For an orthographic camera they span the view's own
+    /// size, as offsets of the ray's origin from the eye.
     right: Vec3,
     down: Vec3,
     top_left: Vec3,
+    /// Parallel rays along this direction (orthographic), or none.
+    parallel: Option<Vec3>,
+    lens: Option<LensFrame>,
+}
+
+/// A thin lens in the camera's frame.
+#[derive(Clone, Copy, Debug)]
+struct LensFrame {
+    /// The lens disc's axes, each as long as its radius.
+    right: Vec3,
+    up: Vec3,
+    forward: Vec3,
+    focus_distance: f32,
 }
 
 impl Default for Camera {
@@ -135,6 +196,7 @@ impl Default for Camera {
             width: 640,
             height: 480,
             plane: None,
+            optics: Optics::default(),
         }
     }
 }
@@ -186,6 +248,7 @@ impl Camera {
             width,
             height,
             plane: None,
+            optics: Optics::default(),
         }
     }
 
@@ -204,6 +267,7 @@ impl Camera {
             width,
             height,
             plane: Some(plane),
+            optics: Optics::default(),
         }
     }
 
@@ -225,7 +289,18 @@ impl Camera {
                 ),
             })
         };
+        if let Some(problem) = self.optics.problem() {
+            return Err(problem);
+        }
         if let Some(plane) = &self.plane {
+            if !self.optics.is_pinhole() {
+                return problem(
+                    "camera.direction".into(),
+                    "a camera given by its image plane is a pinhole: it takes no lens, \
+                     fov_axis or orthographic projection"
+                        .into(),
+                );
+            }
             if !self.keys.is_empty() {
                 return problem(
                     "camera.keys".into(),
@@ -282,15 +357,59 @@ impl Camera {
         let forward = unit(self.look_at - self.eye);
         let right = unit(forward.cross(self.up));
         let true_up = right.cross(forward);
-        let half_h = (0.5 * self.fov).to_radians().tan();
-        let half_w = half_h * self.width as f32 / self.height as f32;
+        let aspect = self.width as f32 / self.height as f32;
+        let half_fov = (0.5 * self.fov).to_radians().tan();
+        let (half_w, half_h, centre, parallel) = match self.optics.projection {
+            Projection::Perspective => (half_fov * aspect, half_fov, forward, None),
+            Projection::PerspectiveX => (half_fov, half_fov / aspect, forward, None),
+            Projection::Orthographic { view_width } => {
+                let half = 0.5 * view_width;
+                (half, half / aspect, Vec3::ZERO, Some(forward))
+            }
+        };
         let pixel = 2.0 * half_h / self.height as f32;
+        let lens = self.optics.lens.map(|l| LensFrame {
+            right: right * l.aperture,
+            up: true_up * l.aperture,
+            forward,
+            focus_distance: l.focus_distance,
+        });
         CameraFrame {
             eye: self.eye,
             right: right * pixel,
             down: -true_up * pixel,
-            top_left: forward - right * half_w + true_up * half_h,
+            top_left: centre - right * half_w + true_up * half_h,
+            parallel,
+            lens,
         }
+    }
+}
+
+impl Optics {
+    /// What keeps these optics from making rays, if anything: a view width,
+    /// aperture or focus distance that is not a finite positive number (an
+    /// aperture may be 0: a pinhole).
+    fn problem(&self) -> Option<CameraProblem> {
+        let bad = |key: &str, value: f32, zero: bool| {
+            let ok = value.is_finite() && (value > 0.0 || zero && value == 0.0);
+            (!ok).then(|| CameraProblem {
+                key: format!("camera.{key}"),
+                message: format!(
+                    "expected a finite number {} 0, found {value}",
+                    if zero { "of at least" } else { "above" }
+                ),
+            })
+        };
+        let width = match self.projection {
+            Projection::Orthographic { view_width } => bad("view_width", view_width, false),
+            _ => None,
+        };
+        width.or_else(|| {
+            self.lens.and_then(|l| {
+                bad("aperture", l.aperture, true)
+                    .or_else(|| bad("focus_distance", l.focus_distance, false))
+            })
+        })
     }
 }
 
@@ -354,6 +473,8 @@ impl ImagePlane {
             right: (r / f64::from(width)).as_vec3(),
             down: (-u / f64::from(height)).as_vec3(),
             top_left: (d - 0.5 * r + 0.5 * u).as_vec3(),
+            parallel: None,
+            lens: None,
         }
     }
 }
@@ -439,10 +560,33 @@ fn stationary_points(d0: DVec3, d1: DVec3, up: DVec3) -> Vec<f64> {
 
 impl CameraFrame {
     /// The primary ray through image-plane point (x, y), in pixels from the
-    /// top-left corner: pixel (i, j)'s centre is (i + 0.5, j + 0.5).
+    /// top-left corner: pixel (i, j)'s centre is (i + 0.5, j + 0.5); from
+    /// the lens's centre when there is a lens.
     pub fn ray(&self, x: f32, y: f32) -> Ray {
-        let dir = (self.top_left + x * self.right + y * self.down).normalize();
-        Ray::new(self.eye, dir)
+        let at = self.top_left + x * self.right + y * self.down;
+        match self.parallel {
+            Some(forward) => Ray::new(self.eye + at, forward),
+            None => Ray::new(self.eye, at.normalize()),
+        }
+    }
+
+    /// Whether rays need a lens sample ([`CameraFrame::lens_ray`]).
+    pub fn has_lens(&self) -> bool {
+        self.lens.is_some_and(|l| l.right != Vec3::ZERO)
+    }
+
+    /// The ray through (x, y) from the lens point `lens` ∈ [0, 1)² (warped
+    /// to the disc concentrically, so stratified samples stay stratified):
+    /// aimed at where the pinhole ray meets the plane in focus.
+    pub fn lens_ray(&self, x: f32, y: f32, lens: [f32; 2]) -> Ray {
+        let pinhole = self.ray(x, y);
+        let Some(l) = self.lens else {
+            return pinhole;
+        };
+        let [u, v] = concentric_disk(lens);
+        let focus = pinhole.at(l.focus_distance / pinhole.dir.dot(l.forward));
+        let origin = pinhole.origin + u * l.right + v * l.up;
+        Ray::new(origin, (focus - origin).normalize())
     }
 }
 

@@ -12,6 +12,7 @@ fn camera() -> Camera {
         width: 200,
         height: 100,
         plane: None,
+        optics: Optics::default(),
     }
 }
 
@@ -293,4 +294,116 @@ fn camera_path() -> Vec<CameraKey> {
             look_at: Vec3::ZERO,
         })
         .collect()
+}
+
+#[test]
+fn fov_axis_x_spans_the_width() {
+    // 90° across a 2:1 image: the right edge's ray at 45°, the top edge's
+    // at tan = 1/2.
+    let across = Camera {
+        optics: Optics {
+            projection: Projection::PerspectiveX,
+            lens: None,
+        },
+        ..camera()
+    };
+    let f = across.frame();
+    let right = f.ray(200.0, 50.0).dir;
+    assert!((right.x - right.z.abs()).abs() < 1e-6 && right.x > 0.0);
+    let top = f.ray(100.0, 0.0).dir;
+    assert!((top.y / top.z.abs() - 0.5).abs() < 1e-6);
+}
+
+#[test]
+fn orthographic_rays_are_parallel_and_span_the_view_width() {
+    let ortho = Camera {
+        optics: Optics {
+            projection: Projection::Orthographic { view_width: 4.0 },
+            lens: None,
+        },
+        ..camera()
+    };
+    let f = ortho.frame();
+    for (x, y, origin) in [
+        (100.0, 50.0, Vec3::new(0.0, 0.0, 5.0)),
+        (0.0, 0.0, Vec3::new(-2.0, 1.0, 5.0)),
+        (200.0, 100.0, Vec3::new(2.0, -1.0, 5.0)),
+    ] {
+        let ray = f.ray(x, y);
+        assert!((ray.dir - Vec3::new(0.0, 0.0, -1.0)).length() < 1e-6);
+        assert!(
+            (ray.origin - origin).length() < 1e-5,
+            "{x},{y}: {}",
+            ray.origin
+        );
+    }
+}
+
+#[test]
+fn a_thin_lens_focuses_its_rays_on_the_focus_plane() {
+    let lens = |aperture| Camera {
+        optics: Optics {
+            projection: Projection::Perspective,
+            lens: Some(ThinLens {
+                aperture,
+                focus_distance: 3.0,
+            }),
+        },
+        ..camera()
+    };
+    let f = lens(0.5).frame();
+    assert!(f.has_lens());
+    let pinhole = camera().frame();
+    for (x, y) in [(100.0, 50.0), (13.0, 77.0), (190.0, 4.0)] {
+        let through = pinhole.ray(x, y);
+        // Where the pinhole ray meets the plane z = 5 - 3: every lens ray
+        // of this image point passes there too.
+        let focus = through.at(3.0 / through.dir.dot(Vec3::NEG_Z));
+        let mut origins = Vec::new();
+        for lens_uv in [[0.1, 0.9], [0.5, 0.5], [0.99, 0.2], [0.3, 0.0]] {
+            let ray = f.lens_ray(x, y, lens_uv);
+            let t = (focus.z - ray.origin.z) / ray.dir.z;
+            assert!((ray.at(t) - focus).length() < 1e-5, "{x},{y} {lens_uv:?}");
+            // The origin lies on the lens disc, in the plane of the eye.
+            assert!((ray.origin.z - 5.0).abs() < 1e-6);
+            assert!(ray.origin.truncate().length() <= 0.5 + 1e-6);
+            origins.push(ray.origin);
+        }
+        assert!(origins.windows(2).all(|w| w[0] != w[1]));
+    }
+    // An aperture of 0 is a pinhole, which draws no lens sample.
+    assert!(!lens(0.0).frame().has_lens());
+    assert!(!camera().frame().has_lens());
+}
+
+#[test]
+fn optics_are_checked() {
+    let with = |optics| Camera { optics, ..camera() };
+    let thin = |aperture, focus_distance| Optics {
+        projection: Projection::Perspective,
+        lens: Some(ThinLens {
+            aperture,
+            focus_distance,
+        }),
+    };
+    for (optics, key) in [
+        (thin(-0.1, 1.0), "camera.aperture"),
+        (thin(f32::NAN, 1.0), "camera.aperture"),
+        (thin(0.1, 0.0), "camera.focus_distance"),
+        (thin(0.1, f32::INFINITY), "camera.focus_distance"),
+        (
+            Optics {
+                projection: Projection::Orthographic { view_width: 0.0 },
+                lens: None,
+            },
+            "camera.view_width",
+        ),
+    ] {
+        assert_eq!(with(optics).check().unwrap_err().key, key);
+    }
+    assert!(with(thin(0.0, 1.0)).check().is_ok());
+    // An image plane is a pinhole.
+    let mut plane = Camera::with_plane(Vec3::ZERO, sample_plane(), 4, 3);
+    plane.optics = thin(0.1, 1.0);
+    assert_eq!(plane.check().unwrap_err().key, "camera.direction");
 }

@@ -18,9 +18,9 @@ use super::solids::{linear, rotation};
 use check::Check;
 pub(super) use check::physical_memory;
 use schema::{
-    AlbedoFile, CameraFile, CheckerFile, InstanceFile, IntegratorFile, LightFile, MaterialFile,
-    MeshFile, MetallicFile, Object, PrototypeFile, RenderFile, SamplerFile, ScaleFile, SceneFile,
-    ShapeFile, ShapeKind, SpecularFile, TransformFile,
+    AlbedoFile, CameraFile, CheckerFile, FovAxisFile, InstanceFile, IntegratorFile, LightFile,
+    MaterialFile, MeshFile, MetallicFile, Object, ProjectionFile, PrototypeFile, RenderFile,
+    SamplerFile, ScaleFile, SceneFile, ShapeFile, ShapeKind, SpecularFile, TransformFile,
 };
 use shapes::{Body, Built};
 use tree::Parent;
@@ -28,8 +28,8 @@ use tree::Parent;
 use super::obj::MAX_COORDINATE;
 use super::textures::{Placement, Textures};
 use super::{
-    Adaptive, Camera, CameraKey, Instance, Integrator, PhotonSettings, Prototype, RenderSettings,
-    Scene, headlight, load_mesh,
+    Adaptive, Camera, CameraKey, Instance, Integrator, Optics, PhotonSettings, Projection,
+    Prototype, RenderSettings, Scene, ThinLens, headlight, load_mesh,
 };
 use crate::error::{Error, Result};
 use crate::geometry::{Box3, Csg, Mesh, Shape, Surface};
@@ -184,12 +184,79 @@ fn solver(check: &Check, render: &RenderFile) -> Result<Solver> {
     Ok(solver)
 }
 
+/// The camera's projection and lens, with its field of view: an
+/// orthographic camera has none (it is kept at 90° to pass the range check,
+/// and unused), and a `fov` or `fov_axis` given to one is an error, as is a
+/// lens setting without the other.
+fn optics(check: &Check, c: &CameraFile) -> Result<(f32, Optics)> {
+    let projection = match (c.kind, c.fov, c.view_width) {
+        (ProjectionFile::Perspective, Some(_), Some(_)) => {
+            return Err(check.error(
+                "camera.view_width",
+                "a perspective camera takes fov, not view_width (set type = \"orthographic\")",
+            ));
+        }
+        (ProjectionFile::Perspective, None, _) => {
+            return Err(check.error(
+                "camera",
+                "missing fov: a perspective camera needs its field of view in degrees",
+            ));
+        }
+        (ProjectionFile::Perspective, Some(_), None) if c.fov_axis == FovAxisFile::X => {
+            Projection::PerspectiveX
+        }
+        (ProjectionFile::Perspective, Some(_), None) => Projection::Perspective,
+        (ProjectionFile::Orthographic, Some(_), _) => {
+            return Err(check.error(
+                "camera.fov",
+                "an orthographic camera has no field of view: give view_width instead",
+            ));
+        }
+        (ProjectionFile::Orthographic, None, None) => {
+            return Err(check.error(
+                "camera",
+                "missing view_width: an orthographic camera needs the width it sees",
+            ));
+        }
+        (ProjectionFile::Orthographic, None, Some(view_width)) => {
+            if c.fov_axis != FovAxisFile::Y {
+                return Err(check.error(
+                    "camera.fov_axis",
+                    "an orthographic camera has no field of view: view_width is its width",
+                ));
+            }
+            Projection::Orthographic { view_width }
+        }
+    };
+    let lens = match (c.aperture, c.focus_distance) {
+        (None, None) => None,
+        (Some(aperture), Some(focus_distance)) => Some(ThinLens {
+            aperture,
+            focus_distance,
+        }),
+        (Some(_), None) => {
+            return Err(check.error(
+                "camera.aperture",
+                "a lens needs focus_distance too: the distance along the view that is sharp",
+            ));
+        }
+        (None, Some(_)) => {
+            return Err(check.error(
+                "camera.focus_distance",
+                "a lens needs aperture too: the lens radius (0 for a pinhole)",
+            ));
+        }
+    };
+    Ok((c.fov.unwrap_or(90.0), Optics { projection, lens }))
+}
+
 /// `[camera]`, with its path of keys.
 fn camera(check: &Check, c: &CameraFile) -> Result<Camera> {
     let eye = check.finite("camera.eye", c.eye)?;
     let look_at = check.finite("camera.look_at", c.look_at)?;
     let up = check.direction("camera.up", c.up)?;
-    check.image(c.fov, c.width, c.height)?;
+    let (fov, optics) = optics(check, c)?;
+    check.image(fov, c.width, c.height)?;
     let mut keys = Vec::with_capacity(c.keys.len());
     for (i, k) in c.keys.iter().enumerate() {
         let key = |field: &str| format!("camera.keys[{i}].{field}");
@@ -217,10 +284,11 @@ fn camera(check: &Check, c: &CameraFile) -> Result<Camera> {
         eye,
         look_at,
         up,
-        fov: c.fov,
+        fov,
         width: c.width,
         height: c.height,
         plane: None,
+        optics,
     };
     camera.check().map_err(|p| check.error(&p.key, p.message))?;
     Ok(camera)
@@ -661,6 +729,30 @@ fn light(
             position: check.finite(&key("position"), p.position)?,
             intensity: check.colour(&key("intensity"), p.intensity)?,
         }),
+        LightFile::Spot(l) => {
+            if !(l.cone_angle > 0.0 && l.cone_angle <= 180.0) {
+                return Err(check.error(
+                    &key("cone_angle"),
+                    format!("expected degrees in (0, 180], found {}", l.cone_angle),
+                ));
+            }
+            if !(l.falloff >= 0.0 && l.falloff <= l.cone_angle) {
+                return Err(check.error(
+                    &key("falloff"),
+                    format!(
+                        "expected degrees from 0 to cone_angle ({}), found {}",
+                        l.cone_angle, l.falloff
+                    ),
+                ));
+            }
+            scene.lights.push(Light::Spot {
+                position: check.finite(&key("position"), l.position)?,
+                direction: check.direction(&key("direction"), l.direction)?.normalize(),
+                intensity: check.colour(&key("intensity"), l.intensity)?,
+                cos_end: l.cone_angle.to_radians().cos(),
+                cos_start: (l.cone_angle - l.falloff).to_radians().cos(),
+            });
+        }
         LightFile::Directional(d) => scene.lights.push(Light::Directional {
             direction: check.direction(&key("direction"), d.direction)?,
             irradiance: check.colour(&key("irradiance"), d.irradiance)?,

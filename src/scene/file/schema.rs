@@ -56,12 +56,39 @@ pub(super) struct CameraFile {
     pub look_at: [f32; 3],
     #[serde(default = "y_up")]
     pub up: [f32; 3],
-    pub fov: f32,
+    /// Required by a perspective camera; an orthographic one takes `view_width`.
+    pub fov: Option<f32>,
     pub width: u32,
     pub height: u32,
+    /// `perspective` (the default) or `orthographic`.
+    #[serde(rename = "type", default)]
+    pub kind: ProjectionFile,
+    /// Which side `fov` spans: `y` (the height, the default) or `x`.
+    #[serde(default)]
+    pub fov_axis: FovAxisFile,
+    pub view_width: Option<f32>,
+    /// The lens radius (0: a pinhole) and the distance in focus.
+    pub aperture: Option<f32>,
+    pub focus_distance: Option<f32>,
     /// A camera path: where the camera is at some frames (`render --frame K`).
     #[serde(default)]
     pub keys: Vec<CameraKeyFile>,
+}
+
+#[derive(Deserialize, Default, Clone, Copy, PartialEq)]
+#[serde(rename_all = "lowercase")]
+pub(super) enum ProjectionFile {
+    #[default]
+    Perspective,
+    Orthographic,
+}
+
+#[derive(Deserialize, Default, Clone, Copy, PartialEq)]
+#[serde(rename_all = "lowercase")]
+pub(super) enum FovAxisFile {
+    X,
+    #[default]
+    Y,
 }
 
 #[derive(Deserialize)]
@@ -334,6 +361,7 @@ pub(super) enum ScaleFile {
 #[serde(tag = "type", rename_all = "lowercase")]
 pub(super) enum LightFile {
     Point(PointFile),
+    Spot(SpotFile),
     Directional(DirectionalFile),
     Sphere(SphereLightFile),
     Quad(QuadLightFile),
@@ -345,6 +373,19 @@ pub(super) struct SphereLightFile {
     pub center: [f32; 3],
     pub radius: f32,
     pub radiance: [f32; 3],
+}
+
+/// pbrt-v4's spot light: `cone_angle` (degrees from the axis) bounds the
+/// light; it fades over the last `falloff` degrees of it.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct SpotFile {
+    pub position: [f32; 3],
+    pub direction: [f32; 3],
+    pub intensity: [f32; 3],
+    pub cone_angle: f32,
+    #[serde(default)]
+    pub falloff: f32,
 }
 
 /// A parallelogram corner + s·edge1 + t·edge2, emitting towards edge1 × edge2.

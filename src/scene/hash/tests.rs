@@ -36,6 +36,29 @@ fn equal_scenes_hash_equal_and_changes_show() {
     assert_ne!(a, load(dir, &independent).content_hash());
     let sobol = SCENE.replace("spp = 4", "spp = 4\nsampler = \"sobol\"");
     assert_eq!(a, load(dir, &sobol).content_hash());
+    // The camera's optics: each of lens, fov axis and projection is another
+    // scene, and spelling out the defaults is the same one.
+    let camera = |extra: &str| {
+        let text = format!(
+            "{SCENE}[camera]\neye = [0, 0, 5]\nlook_at = [0, 0, 0]\nwidth = 8\nheight = 6\n{extra}\n"
+        );
+        load(dir, &text).content_hash()
+    };
+    let pinhole = camera("fov = 40");
+    let variants = [
+        camera("fov = 40\naperture = 0.1\nfocus_distance = 5"),
+        camera("fov = 40\naperture = 0.1\nfocus_distance = 4"),
+        camera("fov = 40\nfov_axis = \"x\""),
+        camera("type = \"orthographic\"\nview_width = 3"),
+    ];
+    for (i, v) in variants.iter().enumerate() {
+        assert_ne!(&pinhole, v, "variant {i}");
+        assert!(variants[i + 1..].iter().all(|w| w != v), "variant {i}");
+    }
+    assert_eq!(
+        pinhole,
+        camera("fov = 40\nfov_axis = \"y\"\ntype = \"perspective\"")
+    );
 }
 
 /// A scene whose every part is written out (no framing camera, no headlight),
