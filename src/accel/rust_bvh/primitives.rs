@@ -3,7 +3,7 @@
 //! give it (mesh index and triangle index; `shapes_geom_id` and shape index).
 
 use super::triangle;
-use crate::accel::primitive::UserPrimitive;
+use crate::accel::primitive::{UserPrimitive, crossings};
 use crate::error::{Error, Result};
 use crate::geometry::Shape;
 use crate::math::{Bounds, Hit, Ray, Vec3};
@@ -134,6 +134,26 @@ impl Primitives {
                     v: hit.v,
                     ng: hit.ng,
                 })
+            }
+        }
+    }
+
+    /// Every hit of primitive `index` within [ray.tnear, ray.tfar), appended to `hits`.
+    pub(super) fn intersect_every(&self, index: usize, ray: &Ray, hits: &mut Vec<Hit>) {
+        match self.list[index] {
+            Primitive::Triangle { .. } => hits.extend(self.intersect(index, ray)),
+            Primitive::Shape(i) => {
+                crossings(&self.shapes[i as usize], ray, |hit| {
+                    hits.push(Hit {
+                        t: hit.t,
+                        geom_id: self.shapes_geom_id,
+                        prim_id: i,
+                        u: hit.u,
+                        v: hit.v,
+                        ng: hit.ng,
+                    });
+                    false
+                });
             }
         }
     }

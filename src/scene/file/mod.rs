@@ -42,6 +42,18 @@ use crate::suggest;
 
 pub(super) fn load(path: &Path) -> Result<Scene> {
     let text = crate::io::input::read_text(path)?;
+    from_text(path, &text, Vec::new())
+}
+
+/// A scene from TOML text that `path` names in messages (and whose folder
+/// relative files are read from), with `meshes` made in code after its
+/// objects: each with the name of one of its materials, or none for the
+/// default. See `Scene::from_toml`.
+pub(super) fn from_text(
+    path: &Path,
+    text: &str,
+    meshes: Vec<(Mesh, Option<String>)>,
+) -> Result<Scene> {
     let file: SceneFile = toml::from_str(&text).map_err(|e| Error::Scene {
         path: path.to_owned(),
         message: suggest::with_suggestion(&e.to_string()),
@@ -86,6 +98,26 @@ pub(super) fn load(path: &Path) -> Result<Scene> {
             Object::Shape(kind, shape) => objects.shape(&mut scene, index, kind, shape)?,
             Object::Mesh(mesh) => objects.mesh(&mut scene, index, mesh)?,
         }
+    }
+    for (index, (mut mesh, material)) in meshes.into_iter().enumerate() {
+        let key = format!("meshes[{index}]");
+        let material = match objects.material(&key, &material)? {
+            Some(m) => m,
+            None => scene.default_material(),
+        };
+        let vertices = mesh.positions.len();
+        if let Some(bad) = mesh
+            .triangles
+            .iter()
+            .flatten()
+            .find(|&&i| i as usize >= vertices)
+        {
+            let message = format!("vertex index {bad} out of range: {vertices} vertices");
+            return Err(check.error(&key, message));
+        }
+        mesh.materials = vec![material; mesh.triangles.len()];
+        check.bounds(&key, mesh.bounds())?;
+        scene.meshes.push(mesh);
     }
     for (index, entry) in file.lights.iter().enumerate() {
         light(&check, &mut scene, index, entry, solver)?;
