@@ -6,8 +6,9 @@
 Every query of trimesh's ray interface (``mesh.ray.intersects_*``,
 ``mesh.contains``) then traces through sturmray. It answers as trimesh's own
 ``trimesh.ray.ray_triangle.RayMeshIntersector`` does, including every hit at
-a shared edge with ``multiple_hits=True`` (both triangles, at the same
-location), which engines that re-cast rays past each hit drop.
+a shared edge with ``multiple_hits=True``: one hit per location, as
+trimesh's own gives (``Scene.intersect_all`` keeps both triangles), never a
+location dropped, as engines that re-cast rays past each hit may.
 """
 
 from __future__ import annotations
@@ -64,6 +65,12 @@ class RayMeshIntersector:
             index_ray = np.repeat(np.arange(len(o), dtype=np.int64), np.diff(hits["offsets"]))
             t = hits["t"]
             index_tri = hits["prim_id"].astype(np.int64)
+            # One hit per location, as trimesh's own intersector reports: the
+            # triangles that share an edge a ray crosses give one hit (the
+            # lowest index). Scene.intersect_all keeps them all.
+            keep = np.ones(len(t), dtype=bool)
+            keep[1:] = (t[1:] != t[:-1]) | (index_ray[1:] != index_ray[:-1])
+            index_ray, t, index_tri = index_ray[keep], t[keep], index_tri[keep]
         else:
             hits = self._scene.intersect(o, d)
             hit = hits["geom_id"] != INVALID_ID

@@ -3,7 +3,7 @@
 //! give it (mesh index and triangle index; `shapes_geom_id` and shape index).
 
 use super::triangle;
-use crate::accel::primitive::{UserPrimitive, crossings};
+use crate::accel::primitive::{UserHit, UserPrimitive, crossings};
 use crate::error::{Error, Result};
 use crate::geometry::Shape;
 use crate::math::{Bounds, Hit, Ray, Vec3};
@@ -122,19 +122,22 @@ impl Primitives {
                 v: h.v,
                 ng: h.ng,
             }),
+            // As Embree's callback does: a hit only within [tnear, tfar) (the
+            // f64 root rounded to f32 may land on tfar, which the shape excluded).
             Primitive::Shape(i) => {
-                let hit = UserPrimitive::intersect(&self.shapes[i as usize], ray)?;
-                // As Embree's callback does: the f64 root rounded to f32 may land
-                // on tfar, which the shape's own interval excluded.
-                (hit.t >= ray.tnear && hit.t < ray.tfar && hit.t.is_finite()).then_some(Hit {
-                    t: hit.t,
-                    geom_id: self.shapes_geom_id,
-                    prim_id: i,
-                    u: hit.u,
-                    v: hit.v,
-                    ng: hit.ng,
-                })
+                crossings(&self.shapes[i as usize], ray, |_| true).map(|h| self.shape_hit(i, &h))
             }
+        }
+    }
+
+    fn shape_hit(&self, shape: u32, hit: &UserHit) -> Hit {
+        Hit {
+            t: hit.t,
+            geom_id: self.shapes_geom_id,
+            prim_id: shape,
+            u: hit.u,
+            v: hit.v,
+            ng: hit.ng,
         }
     }
 
@@ -144,14 +147,7 @@ impl Primitives {
             Primitive::Triangle { .. } => hits.extend(self.intersect(index, ray)),
             Primitive::Shape(i) => {
                 crossings(&self.shapes[i as usize], ray, |hit| {
-                    hits.push(Hit {
-                        t: hit.t,
-                        geom_id: self.shapes_geom_id,
-                        prim_id: i,
-                        u: hit.u,
-                        v: hit.v,
-                        ng: hit.ng,
-                    });
+                    hits.push(self.shape_hit(i, hit));
                     false
                 });
             }
