@@ -32,7 +32,7 @@ pub fn rows3<'py, T: Element>(
             "{name}: expected an (N, 3) array, found shape {shape:?}"
         )));
     }
-    Ok(array.extract::<PyReadonlyArray2<'py, T>>()?)
+    array.extract::<PyReadonlyArray2<'py, T>>()
 }
 
 /// `value` (a number or an (N,) array) as N float32 values.
@@ -50,7 +50,7 @@ fn per_ray<'py>(
                 "{name}: expected a number or an array of {n} values"
             ))
         })?;
-    Ok(contiguous(py, &broadcast, "float32")?.extract()?)
+    contiguous(py, &broadcast, "float32")?.extract()
 }
 
 /// The rays of `origins`, `directions`, `tnear` and `tfar`, checked as the

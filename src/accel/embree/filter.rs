@@ -65,7 +65,7 @@ extern "C" fn collect(args: *const sys::RTCFilterFunctionNArguments) {
         let hits = unsafe { &mut *collector.hits };
         for i in 0..n {
             // SAFETY: `valid` has N initialised, writable entries, lent to this call.
-            let valid = unsafe { &mut *args.valid.add(i) };
+            let valid = unsafe { &mut *args.valid.wrapping_add(i) };
             if *valid != -1 {
                 continue;
             }

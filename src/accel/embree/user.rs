@@ -159,7 +159,7 @@ pub(super) extern "C" fn intersect_callback<T: UserPrimitive>(
     for i in 0..n {
         // SAFETY: `valid` has N initialised entries, lent to this call; no reference to
         // it is held across the filter calls below.
-        let active = unsafe { *args.valid.add(i) } == -1;
+        let active = unsafe { *args.valid.wrapping_add(i) } == -1;
         if !active {
             continue;
         }
@@ -190,7 +190,7 @@ pub(super) extern "C" fn intersect_callback<T: UserPrimitive>(
         #[cfg(embree4)]
         {
             // SAFETY: as for `active`.
-            unsafe { *args.valid.add(i) = if found.is_some() { -1 } else { 0 } };
+            unsafe { *args.valid.wrapping_add(i) = if found.is_some() { -1 } else { 0 } };
         }
     }
 }

@@ -54,11 +54,11 @@ pub(super) fn from_text(
     text: &str,
     meshes: Vec<(Mesh, Option<String>)>,
 ) -> Result<Scene> {
-    let file: SceneFile = toml::from_str(&text).map_err(|e| Error::Scene {
+    let file: SceneFile = toml::from_str(text).map_err(|e| Error::Scene {
         path: path.to_owned(),
         message: suggest::with_suggestion(&e.to_string()),
     })?;
-    let check = Check { path, text: &text };
+    let check = Check { path, text };
     let render = render(&check, &file.render)?;
     check.render(&render)?;
     let background = check.colour("background", file.background.unwrap_or([0.0; 3]))?;
