@@ -19,7 +19,7 @@ EMBREE4_TARGET := target/embree4
 
 .PHONY: setup render test test-rust test-python lint bench scenes clean embree4 test-embree4 \
 	fuzz check-memory wrapper-overhead povray-compare povray-speed photon-radius peers \
-	sampler-study test-farm
+	sampler-study test-farm python-speed
 
 # Installs those of the Debian packages $(1) that are missing (none: no apt-get at all).
 define apt_install
@@ -62,8 +62,11 @@ test-rust:
 # The binary the Rust tests build (`cargo test --no-run` makes it for the
 # integration tests): `cargo build` would rebuild every dependency whose
 # features the dev-dependencies change, minutes for nothing.
+# The Python module (python/, docs/python.md) is built by maturin into .venv
+# (editable), with the dev profile in the same target/ as cargo's builds.
 test-python:
 	cargo test --no-run
+	VIRTUAL_ENV=$(CURDIR)/$(VENV) $(VENV)/bin/maturin develop --profile dev -m python/Cargo.toml -q
 	STURMRAY_BIN=$(DEV_BIN) $(PYTHON) -m pytest tests -q
 
 embree4:
@@ -74,6 +77,8 @@ embree4:
 # Its target folder starts as hard links to the dependencies `make test` built
 # (same sources, same profile), so only embree-sys and sturmray compile again:
 # on a fresh clone that saves CI a second build of every dependency.
+# tests/python/ is left out: the module `make test` installs links Embree 3
+# (the CLI tests cover all-hits on Embree 4).
 test-embree4: setup embree4
 	@if [ ! -d $(EMBREE4_TARGET)/debug ] && [ -d target/debug/deps ]; then \
 	  mkdir -p $(EMBREE4_TARGET)/debug/deps; \
@@ -84,7 +89,7 @@ test-embree4: setup embree4
 	EMBREE_DIR=$(EMBREE4_DIR) cargo test --workspace --target-dir $(EMBREE4_TARGET)
 	EMBREE_DIR=$(EMBREE4_DIR) cargo test --no-run --target-dir $(EMBREE4_TARGET)
 	$(EMBREE4_TARGET)/debug/sturmray info scenes/knot.toml | grep -q "^backend    Embree 4\."
-	STURMRAY_BIN=$(EMBREE4_TARGET)/debug/sturmray $(PYTHON) -m pytest tests -q
+	STURMRAY_BIN=$(EMBREE4_TARGET)/debug/sturmray $(PYTHON) -m pytest tests -q --ignore=tests/python
 
 bench: setup
 	cargo build --release
@@ -120,6 +125,16 @@ povray-speed: setup
 	cargo build --release
 	$(PYTHON) tools/povray/speed.py --sturmray $(RELEASE_BIN) --rounds $(POVRAY_ROUNDS) \
 	  --width 800 --height 600 --threads 2
+
+# Issue 18's speed table: Scene.intersect against `sturmray trace` and
+# embreex's run on 1M rays through a 1.3M-triangle mesh, one thread each;
+# fails if the module is below 90% of the CLI or not faster than embreex.
+# Release builds of both; not part of `make test`.
+python-speed: setup
+	cargo build --release
+	VIRTUAL_ENV=$(CURDIR)/$(VENV) $(VENV)/bin/maturin develop --release -m python/Cargo.toml -q
+	$(PYTHON) tools/python_speed.py --sturmray $(RELEASE_BIN)
+	VIRTUAL_ENV=$(CURDIR)/$(VENV) $(VENV)/bin/maturin develop --profile dev -m python/Cargo.toml -q
 
 # What the photon pass costs with its default radius on scenes/glass_floor.toml,
 # a glass ball over a floor 2000 units wide (issue 15: at most 1.2x the render

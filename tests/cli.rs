@@ -58,15 +58,21 @@ fn info_names_embree_objects_and_lights() {
     panic!("no Embree version in: {text}");
 }
 
+/// A scratch folder with SQUARE and rays.npy of rays straight down from z = 1 at `xy`.
+fn square_and_rays(name: &str, xy: &[(f32, f32)]) -> common::Scratch {
+    let dir = scratch(name);
+    write(&dir, "square.obj", SQUARE);
+    let rays: Vec<Ray> = xy
+        .iter()
+        .map(|&(x, y)| Ray::new(Vec3::new(x, y, 1.0), -Vec3::Z))
+        .collect();
+    npy::write_rays(&dir.join("rays.npy"), &rays).unwrap();
+    dir
+}
+
 #[test]
 fn trace_writes_one_hit_per_ray() {
-    let dir = scratch("trace");
-    write(&dir, "square.obj", SQUARE);
-    let rays = [
-        Ray::new(Vec3::new(0.5, 0.5, 1.0), -Vec3::Z),
-        Ray::new(Vec3::new(5.0, 0.5, 1.0), -Vec3::Z),
-    ];
-    npy::write_rays(&dir.join("rays.npy"), &rays).unwrap();
+    let dir = square_and_rays("trace", &[(0.5, 0.5), (5.0, 0.5)]);
     let out = sturmray(
         &dir,
         &[
@@ -87,6 +93,66 @@ fn trace_writes_one_hit_per_ray() {
     let header = u16::from_le_bytes([bytes[8], bytes[9]]) as usize;
     assert_eq!(bytes.len(), 10 + header + 2 * 36);
     assert_eq!((10 + header) % 64, 0, "data start 64-byte aligned");
+}
+
+/// The values of a 1-D .npy the CLI wrote: its header's length, then `size`-byte values.
+fn npy_values(path: &std::path::Path, size: usize) -> Vec<u64> {
+    let bytes = std::fs::read(path).unwrap();
+    assert_eq!(&bytes[..8], b"\x93NUMPY\x01\x00");
+    let header = u16::from_le_bytes([bytes[8], bytes[9]]) as usize;
+    bytes[10 + header..]
+        .chunks(size)
+        .map(|c| c.iter().rev().fold(0u64, |v, &b| (v << 8) | u64::from(b)))
+        .collect()
+}
+
+#[test]
+fn trace_all_hits_and_any_hit() {
+    // Inside one triangle, beside the square, and on the diagonal both triangles share.
+    let dir = square_and_rays("trace-all", &[(0.25, 0.75), (5.0, 0.5), (0.5, 0.5)]);
+    for backend in ["embree", "bvh", "obvhs"] {
+        let args = [
+            "trace",
+            "square.obj",
+            "--rays",
+            "rays.npy",
+            "--backend",
+            backend,
+        ];
+        let out = sturmray(
+            &dir,
+            &[&args[..], &["--out", "h.npy", "--all-hits"]].concat(),
+        );
+        assert!(out.status.success(), "{}", stderr(&out));
+        assert_eq!(
+            npy_values(&dir.join("h.offsets.npy"), 8),
+            [0, 1, 1, 3],
+            "{backend}"
+        );
+        let hits = std::fs::read(dir.join("h.npy")).unwrap();
+        let header = u16::from_le_bytes([hits[8], hits[9]]) as usize;
+        assert_eq!(hits.len(), 10 + header + 3 * 32, "{backend}");
+        let out = sturmray(
+            &dir,
+            &[&args[..], &["--out", "any.npy", "--any-hit"]].concat(),
+        );
+        assert!(out.status.success(), "{}", stderr(&out));
+        assert_eq!(npy_values(&dir.join("any.npy"), 1), [1, 0, 1], "{backend}");
+    }
+    let out = sturmray(
+        &dir,
+        &[
+            "trace",
+            "square.obj",
+            "--rays",
+            "rays.npy",
+            "--out",
+            "h.npy",
+            "--all-hits",
+            "--any-hit",
+        ],
+    );
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
 }
 
 #[test]

@@ -154,6 +154,24 @@ impl Accel {
         }
     }
 
+    /// Every hit along `ray` in [tnear, tfar), appended to `hits`, nearest
+    /// first (equal t: by geometry, then primitive): two triangles hit at
+    /// the same t, as at a shared edge, are both there, and every crossing
+    /// of an analytic shape (a tangent double root is one hit).
+    pub fn intersect_all(&self, ray: &Ray, hits: &mut Vec<Hit>) {
+        let first = hits.len();
+        match self {
+            Accel::Embree(s) => s.intersect_all(ray, hits),
+            Accel::Obvhs(s) => s.intersect_all(ray, hits),
+            Accel::Bvh(s) => s.intersect_all(ray, hits),
+        }
+        hits[first..].sort_unstable_by(|a, b| {
+            a.t.total_cmp(&b.t)
+                .then(a.geom_id.cmp(&b.geom_id))
+                .then(a.prim_id.cmp(&b.prim_id))
+        });
+    }
+
     /// Traces many rays; `coherent` says they are neighbouring camera rays.
     pub fn intersect_batch(&self, rays: &[Ray], hits: &mut [Hit], coherent: bool) -> Result<()> {
         assert_eq!(rays.len(), hits.len(), "one hit record per ray");

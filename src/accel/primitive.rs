@@ -26,3 +26,34 @@ pub trait UserPrimitive: Send + Sync + 'static {
     /// Whether any hit lies in [ray.tnear, ray.tfar).
     fn occluded(&self, ray: &Ray) -> bool;
 }
+
+/// The most crossings of one primitive `crossings` visits along one ray: far
+/// more than any surface of degree `poly::MAX_DEGREE` or CSG tree of them
+/// has, a bound only against a primitive that misreports `tnear`.
+const MAX_CROSSINGS: usize = 4096;
+
+/// Visits the hits of `prim` along `ray` in [tnear, tfar), nearest first,
+/// until `visit` returns true (the hit it keeps); returns that hit. Each
+/// next hit is the nearest beyond the last one's t (f32 steps), so a
+/// tangent double root is one hit. Both the all-hits queries and the
+/// Embree filter protocol walk a shape's crossings through this.
+pub fn crossings<T: UserPrimitive>(
+    prim: &T,
+    ray: &Ray,
+    mut visit: impl FnMut(&UserHit) -> bool,
+) -> Option<UserHit> {
+    let mut rest = *ray;
+    for _ in 0..MAX_CROSSINGS {
+        let hit = prim
+            .intersect(&rest)
+            .filter(|h| h.t >= rest.tnear && h.t < rest.tfar && h.t.is_finite())?;
+        if visit(&hit) {
+            return Some(hit);
+        }
+        rest.tnear = hit.t.next_up();
+        if rest.tnear >= rest.tfar {
+            return None;
+        }
+    }
+    None
+}

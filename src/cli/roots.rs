@@ -3,7 +3,7 @@
 //!
 //! In: `{"coeffs": [c0, c1, ...], "interval": [a, b], "method": "...",
 //! "tolerance": 1e-12}`, lowest degree first, degree up to
-//! [`MAX_EXACT_DEGREE`]; `interval` defaults to (−MAX, MAX], every root an
+//! [`MAX_EXACT_DEGREE`](sturmray::poly::exact::MAX_EXACT_DEGREE); `interval` defaults to (−MAX, MAX], every root an
 //! f64 can hold, `method` to the renderer's default. Any finite
 //! coefficients are accepted, subnormal ones included; only all zeros is
 //! the zero polynomial.
@@ -28,10 +28,10 @@ use serde_json::{Value, json};
 
 use sturmray::error::{Error, Result};
 use sturmray::poly::MAX_DEGREE;
-use sturmray::poly::exact::{Certificate, Isolation, MAX_EXACT_DEGREE, Relative};
-use sturmray::poly::solve::{Method, Solver, Source};
+use sturmray::poly::exact::Certificate;
+use sturmray::poly::query::{Answer, Query};
 use sturmray::poly::sturm::SturmSequence;
-use sturmray::poly::univariate::{Poly, nonzero};
+use sturmray::poly::univariate::Poly;
 
 /// Find polynomial roots: JSON lines {"coeffs": [c0, c1, ...], "interval": [a, b],
 /// "method": "..."} on stdin, one JSON line out per line.
@@ -66,21 +66,15 @@ pub fn run(Args { sturm, explain }: Args) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// The method name of the exact rational path (not a renderer method: it allocates).
-const EXACT: &str = "exact";
-
+/// A line as read: the library's query, with its unknown keys refused.
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
-struct Query {
+struct Line {
     coeffs: Vec<f64>,
     interval: Option<[f64; 2]>,
     method: Option<String>,
     tolerance: Option<f64>,
 }
-
-/// The interval when none is given: every root an f64 can hold (a root
-/// beyond ±MAX has no f64 to print).
-const DEFAULT_INTERVAL: [f64; 2] = [-f64::MAX, f64::MAX];
 
 fn signs(sturm: &SturmSequence, t: f64) -> Vec<i32> {
     sturm
@@ -101,60 +95,18 @@ fn signs(sturm: &SturmSequence, t: f64) -> Vec<i32> {
 
 /// Answers one line; Err is the message of an error line.
 fn answer(line: &str, extras: Extras) -> Result<Value, String> {
-    let q: Query = serde_json::from_str(line).map_err(|e| e.to_string())?;
-    if q.coeffs.is_empty() || q.coeffs.len() > MAX_EXACT_DEGREE + 1 {
-        return Err(format!(
-            "coeffs: expected 1 to {} numbers (degree <= {MAX_EXACT_DEGREE}), found {}",
-            MAX_EXACT_DEGREE + 1,
-            q.coeffs.len()
-        ));
-    }
-    if q.coeffs.iter().any(|c| !c.is_finite()) {
-        return Err("coeffs: every coefficient must be finite".into());
-    }
-    // From the bits: this thread reads subnormals as zero, and a subnormal
-    // coefficient is an ordinary nonzero number here.
-    match q.coeffs.iter().rposition(|&c| nonzero(c)) {
-        None => return Err("the polynomial is identically zero (every coefficient is 0)".into()),
-        Some(0) => return Err("the polynomial is a nonzero constant: it has no roots".into()),
-        Some(_) => {}
-    }
-    let [a, b] = q.interval.unwrap_or(DEFAULT_INTERVAL);
-    if !(a.is_finite() && b.is_finite() && a < b) {
-        return Err(format!("interval: expected finite a < b, found [{a}, {b}]"));
-    }
-    let mut solver = Solver::default();
-    if let Some(t) = q.tolerance {
-        if !(t > 0.0 && t < 1.0) {
-            return Err(format!("tolerance: expected a number in (0, 1), found {t}"));
-        }
-        solver.tolerance = t;
-    }
-    let not_finite = "coeffs: every coefficient must be finite";
-    // Both answers carry the same proof: the exact path's brackets, or the
-    // windows around the f64 roots that `Solver::certified` proved.
-    let (certificate, found_by) = match q.method.as_deref() {
-        Some(EXACT) => Isolation::new(&q.coeffs, a, b)
-            .and_then(|isolation| isolation.solve(solver.tolerance, Relative::Magnitude))
-            .map(|c| (c, EXACT.to_string()))
-            .ok_or(not_finite)?,
-        name => {
-            if let Some(name) = name {
-                solver.method = name
-                    .parse::<Method>()
-                    .map_err(|e| format!("{e}, {EXACT}"))?;
-            }
-            let (c, source) = solver.certified(&q.coeffs, a, b).ok_or(not_finite)?;
-            let by = match source {
-                Source::F64 => solver.method.name().to_string(),
-                Source::Exact if q.coeffs.len() > MAX_DEGREE + 1 => {
-                    format!("{EXACT} (degree above {MAX_DEGREE}: no f64 path)")
-                }
-                Source::Exact => format!("{EXACT} (the {} answer failed)", solver.method.name()),
-            };
-            (c, by)
-        }
+    let line: Line = serde_json::from_str(line).map_err(|e| e.to_string())?;
+    let q = Query {
+        coeffs: line.coeffs,
+        interval: line.interval,
+        method: line.method,
+        tolerance: line.tolerance,
     };
+    let Answer {
+        certificate,
+        found_by,
+    } = q.answer()?;
+    let [a, b] = q.interval();
     let roots = certificate.values();
     let multiplicity: Vec<u32> = certificate.roots.iter().map(|r| r.multiplicity).collect();
     let bound: Vec<f64> = certificate.roots.iter().map(|r| r.bound).collect();

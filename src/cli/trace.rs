@@ -1,10 +1,13 @@
-//! `sturmray trace`: rays from a .npy file in, their hits out as a .npy.
+//! `sturmray trace`: rays from a .npy file in, their hits out as a .npy:
+//! the nearest hit of each ray, every hit (`--all-hits`, with a second .npy
+//! of per-ray offsets) or only whether anything blocks it (`--any-hit`).
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
-use sturmray::accel::Accel;
+use sturmray::accel::{Accel, check_rays};
 use sturmray::io;
 use sturmray::io::output::Role;
+use sturmray::render::{AllHits, all_hits_batch, occluded_batch, thread_pool};
 
 use super::shared::{BackendArg, IncludeArgs, check_outputs, load, scene_inputs};
 use super::signals::Signals;
@@ -20,20 +23,54 @@ pub struct Args {
     out: PathBuf,
     #[arg(long, value_enum, default_value = "embree")]
     backend: BackendArg,
+    /// Every hit of each ray, nearest first, in --out; ray i's are rows
+    /// offsets[i] to offsets[i+1], with the N+1 uint64 offsets written
+    /// beside it as OUT.offsets.npy (h.npy: h.offsets.npy).
+    #[arg(long, conflicts_with = "any_hit")]
+    all_hits: bool,
+    /// Only whether anything blocks each ray: --out is a bool array of N.
+    #[arg(long)]
+    any_hit: bool,
     #[command(flatten)]
     include: IncludeArgs,
+}
+
+/// Where `--all-hits` writes the offsets of the hits file `out`.
+pub fn offsets_path(out: &Path) -> PathBuf {
+    let stem = out.file_stem().unwrap_or_default().to_string_lossy();
+    out.with_file_name(format!("{stem}.offsets.npy"))
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
     let scene = load(&args.scene, &args.include)?;
     let mut inputs = scene_inputs(&scene);
     inputs.push(Role::new("--rays", &args.rays));
-    check_outputs(&inputs, &[Role::new("--out", &args.out)])?;
+    let offsets = offsets_path(&args.out);
+    let mut outputs = vec![Role::new("--out", &args.out)];
+    if args.all_hits {
+        outputs.push(Role::new("the offsets of --all-hits", &offsets));
+    }
+    check_outputs(&inputs, &outputs)?;
     let signals = Signals::catch_at_once()?;
     let rays = io::npy::read_rays(&args.rays)?;
     let accel = Accel::build(&scene, args.backend.into(), None)?;
-    let hits = sturmray::render::trace_all(&accel, &rays, None)?;
-    let _writing = signals.writing();
-    io::npy::write_hits(&args.out, &hits)?;
+    if args.any_hit {
+        check_rays(&rays)?;
+        let mut blocked = vec![false; rays.len()];
+        thread_pool(None)?.install(|| occluded_batch(&accel, &rays, &mut blocked))?;
+        let _writing = signals.writing();
+        io::npy::write_bools(&args.out, &blocked)?;
+    } else if args.all_hits {
+        check_rays(&rays)?;
+        let mut all = AllHits::default();
+        thread_pool(None)?.install(|| all_hits_batch(&accel, &rays, None, &mut all))?;
+        let _writing = signals.writing();
+        io::npy::write_hits(&args.out, &all.hits)?;
+        io::npy::write_offsets(&offsets, &all.offsets)?;
+    } else {
+        let hits = sturmray::render::trace_all(&accel, &rays, None)?;
+        let _writing = signals.writing();
+        io::npy::write_hits(&args.out, &hits)?;
+    }
     Ok(())
 }

@@ -12,6 +12,7 @@ pub const MAX_DEGREE: usize = 35;
 pub mod closed;
 pub mod exact;
 pub mod expr;
+pub mod query;
 pub mod solve;
 pub mod sturm;
 pub mod trivariate;

@@ -417,15 +417,82 @@ fn progress_bar(wanted: bool, pixels: u64) -> Option<indicatif::ProgressBar> {
     Some(bar)
 }
 
+/// Rays one parallel task traces: enough that scheduling costs nothing.
+const TRACE_CHUNK: usize = 4096;
+
 /// Traces every ray to its nearest hit, in parallel chunks through the batch path.
 pub fn trace_all(accel: &Accel, rays: &[Ray], threads: Option<usize>) -> Result<Vec<Hit>> {
-    const CHUNK: usize = 4096;
     crate::accel::check_rays(rays)?;
     let mut hits = vec![Hit::MISS; rays.len()];
-    thread_pool(threads)?.install(|| {
-        rays.par_chunks(CHUNK)
-            .zip(hits.par_chunks_mut(CHUNK))
-            .try_for_each(|(rays, hits)| accel.intersect_batch(rays, hits, false))
-    })?;
+    thread_pool(threads)?.install(|| trace_batch(accel, rays, &mut hits))?;
     Ok(hits)
+}
+
+/// Nearest hits on the current rayon pool, into `hits`. The rays are
+/// checked by the caller (`accel::check_rays`), once for all batches.
+pub fn trace_batch(accel: &Accel, rays: &[Ray], hits: &mut [Hit]) -> Result<()> {
+    rays.par_chunks(TRACE_CHUNK)
+        .zip(hits.par_chunks_mut(TRACE_CHUNK))
+        .try_for_each(|(rays, hits)| accel.intersect_batch(rays, hits, false))
+}
+
+/// Whether anything blocks each ray, on the current rayon pool, into `blocked`.
+pub fn occluded_batch(accel: &Accel, rays: &[Ray], blocked: &mut [bool]) -> Result<()> {
+    rays.par_chunks(TRACE_CHUNK)
+        .zip(blocked.par_chunks_mut(TRACE_CHUNK))
+        .for_each(|(rays, blocked)| {
+            for (b, ray) in blocked.iter_mut().zip(rays) {
+                *b = accel.occluded(ray);
+            }
+        });
+    accel.check()
+}
+
+/// Every hit of many rays: ray i's are `hits[offsets[i]..offsets[i + 1]]`,
+/// nearest first (see `Accel::intersect_all`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct AllHits {
+    pub hits: Vec<Hit>,
+    pub offsets: Vec<u64>,
+}
+
+impl Default for AllHits {
+    fn default() -> AllHits {
+        AllHits {
+            hits: Vec::new(),
+            offsets: vec![0],
+        }
+    }
+}
+
+/// Every hit of each ray (the nearest `max_hits` if given), appended to
+/// `all`, on the current rayon pool; the rays are checked by the caller.
+pub fn all_hits_batch(
+    accel: &Accel,
+    rays: &[Ray],
+    max_hits: Option<usize>,
+    all: &mut AllHits,
+) -> Result<()> {
+    let parts: Vec<(Vec<Hit>, Vec<u64>)> = rays
+        .par_chunks(TRACE_CHUNK)
+        .map(|rays| {
+            let (mut hits, mut counts) = (Vec::new(), Vec::with_capacity(rays.len()));
+            for ray in rays {
+                let first = hits.len();
+                accel.intersect_all(ray, &mut hits);
+                hits.truncate(first + max_hits.unwrap_or(usize::MAX).min(hits.len() - first));
+                counts.push((hits.len() - first) as u64);
+            }
+            (hits, counts)
+        })
+        .collect();
+    accel.check()?;
+    for (hits, counts) in parts {
+        for count in counts {
+            let last = all.offsets.last().copied().unwrap_or(0);
+            all.offsets.push(last + count);
+        }
+        all.hits.extend(hits);
+    }
+    Ok(())
 }

@@ -238,6 +238,19 @@ impl Scene {
         Scene::load_with(path, &LoadOptions::default())
     }
 
+    /// A scene from TOML text (the format of a .toml scene file), for scenes
+    /// built in code: `path` is the name messages give it and the folder its
+    /// relative files are read from. `meshes` join after the text's objects,
+    /// each with the name of one of the text's materials or none (the default
+    /// grey).
+    pub fn from_toml(
+        path: &Path,
+        text: &str,
+        meshes: Vec<(Mesh, Option<String>)>,
+    ) -> Result<Scene> {
+        file::from_text(path, text, meshes)
+    }
+
     /// Loads a scene as [`Scene::load`], with what a command asks beyond the
     /// file. `options.size` is checked first, as a scene file's size is, but
     /// with errors naming the flags: a .pov scene is read at that size (its

@@ -8,6 +8,7 @@
 
 mod device;
 mod exit;
+mod filter;
 // Crate-visible for `accel::ftz`, the neutral name of its one function.
 pub(crate) mod fpu;
 mod instance;

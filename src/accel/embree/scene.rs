@@ -124,11 +124,13 @@ impl SceneBuilder {
             return Err(Error::Embree("rtcNewScene returned no scene".into()));
         };
         let scene = SceneHandle(raw);
-        let flags = if options.robust {
-            sys::RTCSceneFlags_RTC_SCENE_FLAG_ROBUST
-        } else {
-            sys::RTCSceneFlags_RTC_SCENE_FLAG_NONE
-        };
+        // Every scene lets a query carry a filter: the all-hits query's.
+        let flags = super::filter::SCENE_FLAG
+            | if options.robust {
+                sys::RTCSceneFlags_RTC_SCENE_FLAG_ROBUST
+            } else {
+                sys::RTCSceneFlags_RTC_SCENE_FLAG_NONE
+            };
         let quality = match options.quality {
             BuildQuality::Low => sys::RTCBuildQuality_RTC_BUILD_QUALITY_LOW,
             BuildQuality::Medium => sys::RTCBuildQuality_RTC_BUILD_QUALITY_MEDIUM,
@@ -275,7 +277,7 @@ pub struct CommittedScene {
     // Drop order as in SceneBuilder: Embree's scene, then the instanced scenes
     // and the user primitives, then the device.
     pub(super) scene: SceneHandle,
-    instances: Instances,
+    pub(super) instances: Instances,
     _user_data: UserStore,
     panics: Arc<PanicSlot>,
     device: Device,
@@ -289,6 +291,11 @@ unsafe impl Send for CommittedScene {}
 unsafe impl Sync for CommittedScene {}
 
 impl CommittedScene {
+    /// Embree's scene, for the queries of sibling modules (`filter`).
+    pub(super) fn raw(&self) -> sys::RTCScene {
+        self.scene.0.as_ptr()
+    }
+
     /// The nearest hit in (tnear, tfar), or `Hit::MISS`.
     pub fn intersect(&self, ray: &Ray) -> Hit {
         let mut record = query::rayhit_record(ray);

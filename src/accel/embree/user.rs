@@ -7,15 +7,17 @@
 //! geomID, the instance stack), sets tfar = −inf for occlusion, writes Embree
 //! 4's `valid` flags, and catches every panic: a panicking primitive is a
 //! miss, and the panic becomes an `Error` at the scene's next `check()`.
-//! No filter functions are registered anywhere in sturmray, so there are none
-//! to invoke from the callbacks.
+//! Each crossing goes through Embree's filter protocol (`filter::offer`),
+//! nearest first, so the filter functions of a query (the all-hits
+//! collector) and of a geometry see every crossing, not only the nearest.
 
 use std::ffi::c_void;
 use std::mem::MaybeUninit;
 
+use super::filter;
 use super::sys;
 use crate::accel::panics::PanicSlot;
-use crate::accel::primitive::UserPrimitive;
+use crate::accel::primitive::{UserHit, UserPrimitive, crossings};
 use crate::math::{Bounds, Ray, Vec3};
 
 /// What Embree's geometry user pointer points at: the primitives (primID
@@ -30,7 +32,7 @@ pub(super) struct UserData<T> {
 /// FORCEINLINE; this is their layout. `W` is `u32` for the ray fields, which
 /// Embree fills, and `MaybeUninit<u32>` for the hit fields, which are only
 /// written (Embree's own packets may leave them uninitialised).
-struct Packet<'a, W> {
+pub(super) struct Packet<'a, W> {
     words: &'a mut [W],
     n: usize,
 }
@@ -42,7 +44,7 @@ impl<'a, W> Packet<'a, W> {
     /// `base` must point at a live SoA record of `n` lanes with at least
     /// `fields` fields, writable, touched by nothing else for `'a`; `W` must
     /// be `u32`, with the fields initialised, or `MaybeUninit<u32>`.
-    unsafe fn new(base: *mut u32, fields: usize, n: usize) -> Packet<'a, W> {
+    pub(super) unsafe fn new(base: *mut u32, fields: usize, n: usize) -> Packet<'a, W> {
         // SAFETY: guaranteed by the caller; `MaybeUninit<u32>` has the layout of `u32`.
         let words = unsafe { std::slice::from_raw_parts_mut(base.cast::<W>(), fields * n) };
         Packet { words, n }
@@ -54,11 +56,15 @@ impl<'a, W> Packet<'a, W> {
 }
 
 impl Packet<'_, u32> {
-    fn f32(&self, f: usize, i: usize) -> f32 {
-        f32::from_bits(self.words[f * self.n + i])
+    pub(super) fn f32(&self, f: usize, i: usize) -> f32 {
+        f32::from_bits(self.u32(f, i))
     }
 
-    fn set_f32(&mut self, f: usize, i: usize, v: f32) {
+    pub(super) fn u32(&self, f: usize, i: usize) -> u32 {
+        self.words[f * self.n + i]
+    }
+
+    pub(super) fn set_f32(&mut self, f: usize, i: usize, v: f32) {
         *self.word(f, i) = v.to_bits();
     }
 
@@ -84,19 +90,21 @@ impl Packet<'_, MaybeUninit<u32>> {
 }
 
 /// Word offsets in RTCRayN and, after the 12 ray words, in RTCHitN.
-const TFAR: usize = 8;
+pub(super) const TFAR: usize = 8;
 const RAY_WORDS: usize = 12;
-const NG_X: usize = 0;
-const U: usize = 3;
-const V: usize = 4;
-const PRIM_ID: usize = 5;
-const GEOM_ID: usize = 6;
-const INST_ID: usize = 7;
+pub(super) const NG_X: usize = 0;
+pub(super) const U: usize = 3;
+pub(super) const V: usize = 4;
+pub(super) const PRIM_ID: usize = 5;
+pub(super) const GEOM_ID: usize = 6;
+pub(super) const INST_ID: usize = 7;
 const LEVELS: usize = sys::RTC_MAX_INSTANCE_LEVEL_COUNT as usize;
+/// The widest ray packet Embree hands a callback (AVX-512: 16 lanes).
+pub(super) const MAX_LANES: usize = 16;
 /// The ray fields the callbacks read or write: up to tfar.
-const RAY_FIELDS: usize = TFAR + 1;
+pub(super) const RAY_FIELDS: usize = TFAR + 1;
 /// The hit fields the intersect callback writes: all of RTCHitN.
-const HIT_FIELDS: usize = if cfg!(embree_inst_prim_id) {
+pub(super) const HIT_FIELDS: usize = if cfg!(embree_inst_prim_id) {
     INST_ID + 2 * LEVELS
 } else {
     INST_ID + LEVELS
@@ -144,55 +152,70 @@ pub(super) extern "C" fn intersect_callback<T: UserPrimitive>(
     // SAFETY: the user pointer is our UserData<T>.
     let (data, prim) = unsafe { primitive::<T>(args.geometryUserPtr, args.primID) };
     let n = args.N as usize;
+    if n > MAX_LANES {
+        return;
+    }
     let base = args.rayhit.cast::<u32>();
-    // SAFETY: `rayhit` is a live, writable RTCRayHitN of N lanes that Embree filled with
-    // the rays and lends to this call; its hit part, after the ray's 12 words, is disjoint.
-    let mut rays = unsafe { Packet::<u32>::new(base, RAY_FIELDS, n) };
-    // SAFETY: the hit part of that RTCRayHitN starts after the 12 ray words of N lanes;
-    // the pointer stays inside the record.
-    let hit_base = unsafe { base.add(RAY_WORDS * n) };
-    // SAFETY: RTCHitN has HIT_FIELDS fields of N lanes, writable, lent to this call and
-    // disjoint from `rays`; it is only written, so may be uninitialised.
-    let mut hits = unsafe { Packet::<MaybeUninit<u32>>::new(hit_base, HIT_FIELDS, n) };
-    // SAFETY: Embree passes the instance stack of the traversal, valid for the call.
-    let context = unsafe { &*args.context };
-    // SAFETY: `valid` has N initialised, writable entries, lent to this call.
-    let valid = unsafe { std::slice::from_raw_parts_mut(args.valid, n) };
-    for (i, valid) in valid.iter_mut().enumerate() {
-        if *valid != -1 {
+    for i in 0..n {
+        // SAFETY: `valid` has N initialised entries, lent to this call; no reference to
+        // it is held across the filter calls below.
+        let active = unsafe { *args.valid.wrapping_add(i) } == -1;
+        if !active {
             continue;
         }
-        let ray = rays.ray(i);
-        let found = data
-            .panics
-            .guard(None, || prim.and_then(|p| p.intersect(&ray)));
-        let hit = found.filter(|h| h.t >= ray.tnear && h.t < ray.tfar && h.t.is_finite());
-        let Some(hit) = hit else {
-            // Embree 4 asks for 0 on a miss; Embree 3 wants the lane left alone.
-            #[cfg(embree4)]
-            {
-                *valid = 0;
-            }
-            continue;
-        };
-        rays.set_f32(TFAR, i, hit.t);
-        hits.set_f32(NG_X, i, hit.ng.x);
-        hits.set_f32(NG_X + 1, i, hit.ng.y);
-        hits.set_f32(NG_X + 2, i, hit.ng.z);
-        hits.set_f32(U, i, hit.u);
-        hits.set_f32(V, i, hit.v);
-        hits.set_u32(PRIM_ID, i, args.primID);
-        hits.set_u32(GEOM_ID, i, args.geomID);
-        for level in 0..LEVELS {
-            hits.set_u32(INST_ID + level, i, context.instID[level]);
-            #[cfg(embree_inst_prim_id)]
-            hits.set_u32(INST_ID + LEVELS + level, i, context.instPrimID[level]);
+        // SAFETY: `rayhit` is a live RTCRayHitN of N lanes that Embree filled with the
+        // rays and lends to this call; the packet lives only for this read.
+        let ray = unsafe { Packet::<u32>::new(base, RAY_FIELDS, n) }.ray(i);
+        // Each crossing is offered to the filter functions (a query's all-hits
+        // collector, a geometry's own), nearest first, until one is accepted.
+        let found = data.panics.guard(None, || {
+            prim.and_then(|p| crossings(p, &ray, |hit| filter::offer(args, i, hit)))
+        });
+        if let Some(hit) = found {
+            // SAFETY: as above; the packets live only for these writes, after the filters ran.
+            let mut rays = unsafe { Packet::<u32>::new(base, RAY_FIELDS, n) };
+            rays.set_f32(TFAR, i, hit.t);
+            // SAFETY: the hit part of that RTCRayHitN starts after the 12 ray words of N
+            // lanes; the pointer stays inside the record.
+            let hit_base = unsafe { base.add(RAY_WORDS * n) };
+            // SAFETY: RTCHitN has HIT_FIELDS fields of N lanes, writable, lent to this call
+            // and disjoint from `rays`; it is only written, so may be uninitialised.
+            let mut hits = unsafe { Packet::<MaybeUninit<u32>>::new(hit_base, HIT_FIELDS, n) };
+            // SAFETY: Embree passes the instance stack of the traversal, valid for the call.
+            let context = unsafe { &*args.context };
+            write_hit(&mut hits, i, &hit, args.primID, args.geomID, context);
         }
-        // Embree 4: the callback reports the accepted hit.
+        // Embree 4 asks for -1 on an accepted hit and 0 on a miss; Embree 3 wants the
+        // lane left alone.
         #[cfg(embree4)]
         {
-            *valid = -1;
+            // SAFETY: as for `active`.
+            unsafe { *args.valid.wrapping_add(i) = if found.is_some() { -1 } else { 0 } };
         }
+    }
+}
+
+/// Writes lane `i` of an RTCHitN: Ng, u, v, the ids and the instance stack.
+pub(super) fn write_hit(
+    hits: &mut Packet<'_, MaybeUninit<u32>>,
+    i: usize,
+    hit: &UserHit,
+    prim_id: u32,
+    geom_id: u32,
+    #[cfg(embree3)] context: &sys::RTCIntersectContext,
+    #[cfg(embree4)] context: &sys::RTCRayQueryContext,
+) {
+    hits.set_f32(NG_X, i, hit.ng.x);
+    hits.set_f32(NG_X + 1, i, hit.ng.y);
+    hits.set_f32(NG_X + 2, i, hit.ng.z);
+    hits.set_f32(U, i, hit.u);
+    hits.set_f32(V, i, hit.v);
+    hits.set_u32(PRIM_ID, i, prim_id);
+    hits.set_u32(GEOM_ID, i, geom_id);
+    for level in 0..LEVELS {
+        hits.set_u32(INST_ID + level, i, context.instID[level]);
+        #[cfg(embree_inst_prim_id)]
+        hits.set_u32(INST_ID + LEVELS + level, i, context.instPrimID[level]);
     }
 }
 

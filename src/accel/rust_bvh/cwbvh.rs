@@ -90,6 +90,21 @@ impl CwbvhScene {
     }
 
     /// Any hit ends the traversal. A panic counts as no hit, as in `intersect`.
+    /// Every hit in [tnear, tfar), appended to `hits`: no hit shortens the ray.
+    pub fn intersect_all(&self, ray: &Ray, hits: &mut Vec<Hit>) {
+        if self.primitives.is_empty() {
+            return;
+        }
+        self.panics.guard((), || {
+            let (traversal, _) = traversal_ray(ray);
+            self.bvh
+                .ray_traverse(traversal, &mut RayHit::none(), |_, slot| {
+                    self.primitives.intersect_every(slot, ray, hits);
+                    f32::INFINITY
+                });
+        })
+    }
+
     pub fn occluded(&self, ray: &Ray) -> bool {
         if self.primitives.is_empty() {
             return false;

@@ -3,7 +3,7 @@
 //! give it (mesh index and triangle index; `shapes_geom_id` and shape index).
 
 use super::triangle;
-use crate::accel::primitive::UserPrimitive;
+use crate::accel::primitive::{UserHit, UserPrimitive, crossings};
 use crate::error::{Error, Result};
 use crate::geometry::Mesh;
 use crate::geometry::Shape;
@@ -156,26 +156,62 @@ impl Primitives {
                 v: h.v,
                 ng: h.ng,
             }),
+            // As Embree's callback does: a hit only within [tnear, tfar) (the
+            // f64 root rounded to f32 may land on tfar, which the shape excluded).
+            Primitive::Shape {
+                index,
+                geom_id,
+                prim_id,
+                inst_id,
+            } => crossings(
+                &self.shapes[index as usize],
+                &self.local(inst_id, ray),
+                |_| true,
+            )
+            .map(|h| self.shape_hit([geom_id, prim_id, inst_id], &h)),
+        }
+    }
+
+    /// The ray in its shape's space: the prototype's for an instanced shape.
+    fn local(&self, inst_id: u32, ray: &Ray) -> Ray {
+        self.instances
+            .get(inst_id as usize)
+            .map_or(*ray, |i| i.ray_to_prototype(ray))
+    }
+
+    /// A shape's hit with its ids, its normal in world space (t is the same
+    /// in both spaces: the direction is transformed, not normalised).
+    fn shape_hit(&self, [geom_id, prim_id, inst_id]: [u32; 3], hit: &UserHit) -> Hit {
+        let instance = self.instances.get(inst_id as usize);
+        Hit {
+            t: hit.t,
+            geom_id,
+            prim_id,
+            inst_id,
+            u: hit.u,
+            v: hit.v,
+            ng: instance.map_or(hit.ng, |i| i.ng_to_world(hit.ng, false)),
+        }
+    }
+
+    /// Every hit of primitive `index` within [ray.tnear, ray.tfar), appended to `hits`.
+    pub(super) fn intersect_every(&self, index: usize, ray: &Ray, hits: &mut Vec<Hit>) {
+        match self.list[index] {
+            Primitive::Triangle { .. } => hits.extend(self.intersect(index, ray)),
             Primitive::Shape {
                 index,
                 geom_id,
                 prim_id,
                 inst_id,
             } => {
-                let instance = self.instances.get(inst_id as usize);
-                let local = instance.map_or(*ray, |i| i.ray_to_prototype(ray));
-                let hit = UserPrimitive::intersect(&self.shapes[index as usize], &local)?;
-                // As Embree's callback does: the f64 root rounded to f32 may land
-                // on tfar, which the shape's own interval excluded.
-                (hit.t >= ray.tnear && hit.t < ray.tfar && hit.t.is_finite()).then_some(Hit {
-                    t: hit.t,
-                    geom_id,
-                    prim_id,
-                    inst_id,
-                    u: hit.u,
-                    v: hit.v,
-                    ng: instance.map_or(hit.ng, |i| i.ng_to_world(hit.ng, false)),
-                })
+                crossings(
+                    &self.shapes[index as usize],
+                    &self.local(inst_id, ray),
+                    |hit| {
+                        hits.push(self.shape_hit([geom_id, prim_id, inst_id], hit));
+                        false
+                    },
+                );
             }
         }
     }
@@ -186,13 +222,7 @@ impl Primitives {
         match self.list[index] {
             Primitive::Triangle { corners, .. } => triangle::intersect(&corners, ray).is_some(),
             Primitive::Shape { index, inst_id, .. } => {
-                let shape = &self.shapes[index as usize];
-                match self.instances.get(inst_id as usize) {
-                    Some(instance) => {
-                        UserPrimitive::occluded(shape, &instance.ray_to_prototype(ray))
-                    }
-                    None => UserPrimitive::occluded(shape, ray),
-                }
+                UserPrimitive::occluded(&self.shapes[index as usize], &self.local(inst_id, ray))
             }
         }
     }

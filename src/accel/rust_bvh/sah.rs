@@ -91,6 +91,17 @@ impl SahScene {
         })
     }
 
+    /// Every hit in [tnear, tfar), appended to `hits`: no hit shortens the segment.
+    pub fn intersect_all(&self, ray: &Ray, hits: &mut Vec<Hit>) {
+        self.panics.guard((), || {
+            let segment = Segment::new(ray);
+            for leaf in self.bvh.traverse_iterator(&segment, &self.leaves) {
+                self.primitives
+                    .intersect_every(leaf.primitive as usize, ray, hits);
+            }
+        })
+    }
+
     /// Any hit ends the traversal. A panic counts as no hit, as in `intersect`.
     pub fn occluded(&self, ray: &Ray) -> bool {
         self.panics.guard(false, || {

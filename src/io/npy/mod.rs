@@ -242,6 +242,40 @@ pub fn write_hits(path: &Path, hits: &[Hit]) -> Result<()> {
     })
 }
 
+/// Writes the per-ray offsets of `trace --all-hits` as a 1-D little-endian
+/// uint64 array of N + 1 values: ray i's hits are rows offsets[i] to
+/// offsets[i + 1] of the hits file.
+pub fn write_offsets(path: &Path, offsets: &[u64]) -> Result<()> {
+    write_1d(path, "'<u8'", offsets.len(), |w| {
+        offsets
+            .iter()
+            .try_for_each(|o| w.write_all(&o.to_le_bytes()))
+    })
+}
+
+/// Writes one bool per ray (`trace --any-hit`) as a 1-D array.
+pub fn write_bools(path: &Path, values: &[bool]) -> Result<()> {
+    write_1d(path, "'|b1'", values.len(), |w| {
+        values.iter().try_for_each(|&b| w.write_all(&[u8::from(b)]))
+    })
+}
+
+/// Writes a 1-D array of `len` values of `descr` with the header `np.save`
+/// writes, the values by `body`, atomically.
+fn write_1d(
+    path: &Path,
+    descr: &str,
+    len: usize,
+    body: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
+) -> Result<()> {
+    let header = numpy_header_1d(descr, len);
+    super::output::write_atomic(path, |w| {
+        w.write_all(&header)
+            .and_then(|()| body(&mut *w))
+            .map_err(|e| Error::io(path, e))
+    })
+}
+
 /// The header `np.save` writes for a 1-D array of `len` records of `descr`,
 /// kept here because npyz spells a record `[…, ]` and pads for a 20-digit
 /// count, which NumPy reads but never writes: hits files stay byte for byte

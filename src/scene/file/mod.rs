@@ -42,11 +42,23 @@ use crate::suggest;
 
 pub(super) fn load(path: &Path) -> Result<Scene> {
     let text = crate::io::input::read_text(path)?;
-    let file: SceneFile = toml::from_str(&text).map_err(|e| Error::Scene {
+    from_text(path, &text, Vec::new())
+}
+
+/// A scene from TOML text that `path` names in messages (and whose folder
+/// relative files are read from), with `meshes` made in code after its
+/// objects: each with the name of one of its materials, or none for the
+/// default. See `Scene::from_toml`.
+pub(super) fn from_text(
+    path: &Path,
+    text: &str,
+    meshes: Vec<(Mesh, Option<String>)>,
+) -> Result<Scene> {
+    let file: SceneFile = toml::from_str(text).map_err(|e| Error::Scene {
         path: path.to_owned(),
         message: suggest::with_suggestion(&e.to_string()),
     })?;
-    let check = Check { path, text: &text };
+    let check = Check { path, text };
     let render = render(&check, &file.render)?;
     check.render(&render)?;
     let background = check.colour("background", file.background.unwrap_or([0.0; 3]))?;
@@ -93,6 +105,26 @@ pub(super) fn load(path: &Path) -> Result<Scene> {
                 objects.instance(&mut scene, &key, &file.prototypes, instance)?
             }
         }
+    }
+    for (index, (mut mesh, material)) in meshes.into_iter().enumerate() {
+        let key = format!("meshes[{index}]");
+        let material = match objects.material(&key, &material)? {
+            Some(m) => m,
+            None => scene.default_material(),
+        };
+        let vertices = mesh.positions.len();
+        if let Some(bad) = mesh
+            .triangles
+            .iter()
+            .flatten()
+            .find(|&&i| i as usize >= vertices)
+        {
+            let message = format!("vertex index {bad} out of range: {vertices} vertices");
+            return Err(check.error(&key, message));
+        }
+        mesh.materials = vec![material; mesh.triangles.len()];
+        check.bounds(&key, mesh.bounds())?;
+        scene.meshes.push(mesh);
     }
     let unused: Vec<String> = (scene.prototypes.iter().enumerate())
         .filter(|&(i, _)| !scene.instances.iter().any(|x| x.prototype as usize == i))
