@@ -70,6 +70,9 @@ fn square_and_rays(name: &str, xy: &[(f32, f32)]) -> common::Scratch {
     dir
 }
 
+/// A hit record of `trace`'s .npy: t, geom_id, prim_id, inst_id, u, v, ng.
+const HIT_RECORD_BYTES: usize = 36;
+
 #[test]
 fn trace_writes_one_hit_per_ray() {
     let dir = square_and_rays("trace", &[(0.5, 0.5), (5.0, 0.5)]);
@@ -85,13 +88,12 @@ fn trace_writes_one_hit_per_ray() {
         ],
     );
     assert!(out.status.success(), "{}", stderr(&out));
-    // A version 1.0 header (its length at bytes 8..10) then 2 records of 36 bytes each
-    // (t, geom_id, prim_id, inst_id, u, v, ng);
+    // A version 1.0 header (its length at bytes 8..10) then 2 records;
     // numpy's reading of the records is checked in tests/test_embreex.py.
     let bytes = std::fs::read(dir.join("hits.npy")).unwrap();
     assert_eq!(&bytes[..8], b"\x93NUMPY\x01\x00");
     let header = u16::from_le_bytes([bytes[8], bytes[9]]) as usize;
-    assert_eq!(bytes.len(), 10 + header + 2 * 36);
+    assert_eq!(bytes.len(), 10 + header + 2 * HIT_RECORD_BYTES);
     assert_eq!((10 + header) % 64, 0, "data start 64-byte aligned");
 }
 
@@ -131,7 +133,7 @@ fn trace_all_hits_and_any_hit() {
         );
         let hits = std::fs::read(dir.join("h.npy")).unwrap();
         let header = u16::from_le_bytes([hits[8], hits[9]]) as usize;
-        assert_eq!(hits.len(), 10 + header + 3 * 32, "{backend}");
+        assert_eq!(hits.len(), 10 + header + 3 * HIT_RECORD_BYTES, "{backend}");
         let out = sturmray(
             &dir,
             &[&args[..], &["--out", "any.npy", "--any-hit"]].concat(),
