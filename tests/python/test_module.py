@@ -103,6 +103,9 @@ INSTANCED = """
 [camera]
 eye = [0, 0, -10]
 look_at = [0, 0, 0]
+fov = 40
+width = 8
+height = 8
 [[lights]]
 type = "point"
 position = [0, 0, -10]
