@@ -59,13 +59,15 @@ lint:
 test-rust:
 	cargo test --workspace
 
-# The binary the Rust tests build (`cargo test --no-run` makes it for the
-# integration tests): `cargo build` would rebuild every dependency whose
-# features the dev-dependencies change, minutes for nothing.
+# The binary the Rust tests build (`cargo test --workspace --no-run` makes it
+# for the integration tests): `cargo build` would rebuild every dependency
+# whose features the dev-dependencies change, and so would a `cargo test`
+# without --workspace (the Python crate's dependencies unify features across
+# the workspace): minutes and gigabytes for nothing.
 # The Python module (python/, docs/python.md) is built by maturin into .venv
 # (editable), with the dev profile in the same target/ as cargo's builds.
 test-python:
-	cargo test --no-run
+	cargo test --workspace --no-run
 	VIRTUAL_ENV=$(CURDIR)/$(VENV) $(VENV)/bin/maturin develop --profile dev -m python/Cargo.toml -q
 	STURMRAY_BIN=$(DEV_BIN) $(PYTHON) -m pytest tests -q
 
@@ -87,7 +89,7 @@ test-embree4: setup embree4
 	  cp -a target/debug/build target/debug/.fingerprint $(EMBREE4_TARGET)/debug/; \
 	fi
 	EMBREE_DIR=$(EMBREE4_DIR) cargo test --workspace --target-dir $(EMBREE4_TARGET)
-	EMBREE_DIR=$(EMBREE4_DIR) cargo test --no-run --target-dir $(EMBREE4_TARGET)
+	EMBREE_DIR=$(EMBREE4_DIR) cargo test --workspace --no-run --target-dir $(EMBREE4_TARGET)
 	$(EMBREE4_TARGET)/debug/sturmray info scenes/knot.toml | grep -q "^backend    Embree 4\."
 	STURMRAY_BIN=$(EMBREE4_TARGET)/debug/sturmray $(PYTHON) -m pytest tests -q --ignore=tests/python
 
@@ -175,11 +177,11 @@ sampler-study: setup
 # services (munge, slurmctld, slurmd, ssh) where systemd runs; the test uses
 # none of them, nor their ports. Not part of `make test`; .ci/run runs it.
 APT_FARM_PACKAGES := slurm-wlm munge parallel openssh-server rsync
-# The dev binary `make test` already built (`cargo test --no-run`, as
+# The dev binary `make test` already built (`cargo test --workspace --no-run`, as
 # test-python): a release build here added minutes to CI for small images.
 test-farm: setup
 	$(call apt_install,$(APT_FARM_PACKAGES))
-	cargo test --no-run
+	cargo test --workspace --no-run
 	tools/farm/test_cluster.sh $(DEV_BIN) $(PYTHON)
 
 # Property-based fuzzing (proptest on stable Rust), not part of `make test` or
