@@ -182,6 +182,8 @@ impl CommittedScene {
             let whole: *mut Collector = &mut collector;
             args.context = whole.cast();
             args.filter = Some(collect);
+            // Embree 4 calls an argument filter only when the query asks for it.
+            args.flags |= sys::RTCRayQueryFlags_RTC_RAY_QUERY_FLAG_INVOKE_ARGUMENT_FILTER;
             // SAFETY: scene committed; `args` points at the context, the first field of
             // `collector`, made from the whole struct; all outlive the call.
             unsafe { sys::rtcIntersect1(self.raw(), &mut record, &mut args) };
