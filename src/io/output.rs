@@ -272,6 +272,7 @@ mod tests {
         })
         .unwrap();
         assert_eq!(std::fs::read(&long).unwrap(), b"x");
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]

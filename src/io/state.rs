@@ -369,10 +369,11 @@ mod tests {
         film
     }
 
-    fn temp(name: &str) -> PathBuf {
-        let dir = std::env::temp_dir().join(format!("sturmray-state-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        dir.join(name)
+    /// A path in a folder of its own that is removed when the test ends.
+    fn temp(name: &str) -> (tempfile::TempDir, PathBuf) {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join(name);
+        (dir, path)
     }
 
     fn error(path: &Path) -> String {
@@ -385,7 +386,7 @@ mod tests {
     #[test]
     fn a_state_reads_back_bit_for_bit() {
         let (header, film) = (header(), film());
-        let path = temp("s.state");
+        let (_dir, path) = temp("s.state");
         write_state(&path, &header, &film).unwrap();
         let (back, read) = read_state(&path).unwrap();
         assert_eq!(back, header);
@@ -404,12 +405,11 @@ mod tests {
             err.contains("format 1") && err.contains("format 2"),
             "{err}"
         );
-        std::fs::remove_file(&path).unwrap();
     }
 
     #[test]
     fn every_flipped_bit_is_refused() {
-        let path = temp("flip.state");
+        let (_dir, path) = temp("flip.state");
         write_state(&path, &header(), &film()).unwrap();
         let good = std::fs::read(&path).unwrap();
         // A bit in the header, in each pixel field of a record, in the digest.
@@ -426,12 +426,11 @@ mod tests {
                 assert!(err.contains("flip.state"), "byte {at}: {err}");
             }
         }
-        std::fs::remove_file(&path).unwrap();
     }
 
     #[test]
     fn ranges_and_pixels_are_checked_even_under_a_valid_checksum() {
-        let path = temp("range.state");
+        let (_dir, path) = temp("range.state");
         let cases: Vec<(StateHeader, Film, &str)> = vec![
             (
                 StateHeader {
@@ -524,6 +523,5 @@ mod tests {
         f.pixel_mut(2, 1).samples = 2;
         write_state(&path, &adaptive, &f).unwrap();
         read_state(&path).unwrap();
-        std::fs::remove_file(&path).unwrap();
     }
 }
