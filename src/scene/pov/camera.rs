@@ -100,6 +100,9 @@ impl Parser {
             ..CameraSpec::default()
         };
         self.expect('{')?;
+        // A camera of another kind (read as a perspective one) may see 180
+        // degrees or more, which no perspective camera can.
+        let mut other_kind = false;
         while !self.eat('}')? {
             let loc = self.here();
             let word = self.word()?;
@@ -114,11 +117,29 @@ impl Parser {
                 "right" => c.right = self.vector()?,
                 "sky" => c.sky = self.vector()?,
                 "look_at" => c.look_at = Some(self.vector()?),
-                "angle" => c.angle = Some(self.float()?),
+                "angle" => {
+                    let angle = self.float()?;
+                    // A spherical camera's second, vertical angle.
+                    if other_kind && self.eat(',')? && self.starts_number()? {
+                        self.float()?;
+                    }
+                    if other_kind && angle >= 180.0 {
+                        self.warn(
+                            loc,
+                            format!(
+                                "angle {angle}: a perspective camera sees less than 180 \
+                                 degrees, so POV-Ray's default angle is used"
+                            ),
+                        );
+                    } else {
+                        c.angle = Some(angle);
+                    }
+                }
                 "perspective" => {}
                 "orthographic" | "fisheye" | "ultra_wide_angle" | "omnimax" | "panoramic"
                 | "cylinder" | "spherical" => {
                     self.skip_warning(loc, &word, "the camera is read as a perspective one");
+                    other_kind = true;
                     if word == "cylinder" {
                         self.float()?;
                     }

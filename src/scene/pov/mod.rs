@@ -37,7 +37,7 @@ use lex::Tok;
 use object::Obj;
 use parse::Parser;
 use texture::Pigment;
-use value::{OBJECT_KEYWORDS, UNSUPPORTED};
+use value::{OBJECT_KEYWORDS, UNSUPPORTED, Value};
 
 /// POV-Ray's image size when the command line gives none.
 pub const DEFAULT_SIZE: (u32, u32) = (800, 600);
@@ -155,6 +155,9 @@ fn statements(p: &mut Parser) -> Result<Statements> {
                 if p.peek()? == Some(Tok::Punct('{')) {
                     p.skip_warning(loc, &word, "skipped");
                     p.skip_block()?;
+                } else if matches!(p.symbol(&word), Some(Value::Macro)) {
+                    p.skip_warning(loc, &word, "a macro is not run (its call is skipped)");
+                    p.skip_parens()?;
                 } else {
                     return Err(p.error_at(
                         loc,

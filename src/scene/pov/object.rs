@@ -175,6 +175,16 @@ impl Parser {
                                 self.skip_rest()?;
                                 return Ok(None);
                             }
+                            Some(Value::Macro) => {
+                                self.skip_warning(
+                                    inner_loc,
+                                    &w,
+                                    "a macro is not run: the object is left out",
+                                );
+                                self.skip_parens()?;
+                                self.skip_rest()?;
+                                return Ok(None);
+                            }
                             _ => {
                                 return Err(self.error_at(
                                     inner_loc,
@@ -372,21 +382,7 @@ impl Parser {
     /// The numbers of a `poly`: one vector of any length.
     fn poly_coefficients(&mut self) -> Result<Vec<f64>> {
         self.expect('<')?;
-        let mut v = Vec::new();
-        loop {
-            let loc = self.here();
-            let x = self.expression(true)?;
-            match x {
-                Value::Float(f) => v.push(f),
-                _ => return Err(self.error_at(loc, "expected a number")),
-            }
-            if !self.eat(',')? {
-                // POV-Ray's own samples leave out some commas between rows.
-                if self.eat('>')? {
-                    return Ok(v);
-                }
-            }
-        }
+        self.numbers_to_bracket()
     }
 
     fn positive(&mut self, what: &str) -> Result<f64> {

@@ -316,20 +316,35 @@ impl Parser {
         Ok(())
     }
 
+    /// Skips the `[ … ]` groups that come next (an array's sizes or an
+    /// element's indices), each balanced.
+    pub fn skip_brackets(&mut self) -> Result<()> {
+        while self.peek()? == Some(Tok::Punct('[')) {
+            self.skip_group('[', ']')?;
+        }
+        Ok(())
+    }
+
     /// Skips a balanced `( … )` if one is next.
     pub fn skip_parens(&mut self) -> Result<()> {
-        if self.peek()? != Some(Tok::Punct('(')) {
-            return Ok(());
+        if self.peek()? == Some(Tok::Punct('(')) {
+            self.skip_group('(', ')')?;
         }
+        Ok(())
+    }
+
+    /// Skips raw tokens from the `open` that is next to the `close` that
+    /// balances it.
+    fn skip_group(&mut self, open: char, close: char) -> Result<()> {
         let mut depth = 0usize;
         loop {
             let Some(token) = self.raw() else {
-                return Err(self.error("this `(` is never closed"));
+                return Err(self.error(format!("this `{open}` is never closed")));
             };
             self.advance();
             match token.tok {
-                Tok::Punct('(') => depth += 1,
-                Tok::Punct(')') => {
+                Tok::Punct(c) if c == open => depth += 1,
+                Tok::Punct(c) if c == close => {
                     depth -= 1;
                     if depth == 0 {
                         return Ok(());

@@ -435,7 +435,8 @@ fn hostile_nesting_is_refused_not_a_stack_overflow() {
         format!("#declare A = {}1;", "-".repeat(100_000)),
         format!("#declare A = {};", deep("<", ">", 100_000)),
         deep("union { ", "}", 100_000),
-        format!("#declare A = 1 {};", "? 1 : 1 ".repeat(100_000)),
+        // In parentheses: only there is `? :` read, as in POV-Ray.
+        format!("#declare A = (1 {});", "? 1 : 1 ".repeat(100_000)),
     ] {
         let e = load(&text).unwrap_err();
         assert!(
@@ -623,4 +624,93 @@ fn only_uncoloured_light_makes_a_part_clear() {
     // A red filter lets only red through: a surface, not a cut.
     assert!(!clear(&Pigment::Colour([1.0, 0.0, 0.0, 1.0, 0.0])));
     assert!(!clear(&Pigment::Colour([1.0, 1.0, 1.0, 0.5, 0.4])));
+}
+
+/// POV-Ray reads `<` and `>` as comparisons only inside parentheses, so a
+/// vector may follow another without a comma, and commas between a
+/// vector's numbers are optional (checked against POV-Ray 3.7's `#debug`).
+#[test]
+fn commas_are_optional_and_comparisons_need_parentheses() {
+    let p = read(
+        "#declare A = <1 2 3>;\n\
+         #declare B = <1 -2 3>;\n\
+         #declare C = <1, 2, 3,>;\n\
+         #declare H = 7; #declare D = <1 H 3>;\n\
+         #declare E = (1 < 2);\n\
+         #declare F = (2 > 1 ? 5 : 6);",
+    );
+    assert_eq!(vector(&p, "A"), [1.0, 2.0, 3.0]);
+    assert_eq!(vector(&p, "B"), [-1.0, 3.0]);
+    assert_eq!(vector(&p, "C"), [1.0, 2.0, 3.0]);
+    assert_eq!(vector(&p, "D"), [1.0, 7.0, 3.0]);
+    assert_eq!(float(&p, "E"), 1.0);
+    assert_eq!(float(&p, "F"), 5.0);
+    // Two corners without a comma between them make a box, not a comparison.
+    let scene = load(&format!("{VIEW}box {{ <-1, -1, -1> <1, 1, 1> }}")).unwrap();
+    assert_eq!(scene.shapes.len(), 1);
+}
+
+#[test]
+fn a_matrix_takes_its_twelve_numbers() {
+    let scene = load(&format!(
+        "{VIEW}sphere {{ 0, 1 matrix <1, 0, 0, 0, 1, 0, 0, 0, 1, 3, 0, 0> }}"
+    ))
+    .unwrap();
+    let b = scene.shapes[0].bounds();
+    assert!(
+        (b.min.x - 2.0).abs() < 1e-3 && (b.max.x - 4.0).abs() < 1e-3,
+        "{b:?}"
+    );
+    let err = load(&format!("{VIEW}sphere {{ 0, 1 matrix <1, 0, 0> }}")).unwrap_err();
+    assert!(err.to_string().contains("12 numbers"), "{err}");
+}
+
+/// Macros are not run: a call is skipped with a warning wherever it
+/// stands (a statement, an object, a declaration, a block's item), and an
+/// object made by one is left out. Arrays and declared skies are skipped too.
+#[test]
+fn macro_calls_and_arrays_are_skipped_with_a_warning_wherever_they_stand() {
+    let scene = load(&format!(
+        "{VIEW}#macro Thing(a, b) sphere {{ a, b }} #end\n\
+         #macro Paint(p) texture {{ pigment {{ p }} }} #end\n\
+         Thing(<1, 2, 3>, 1)\n\
+         object {{ Thing(0, 1) }}\n\
+         #declare Made = Thing(0, 2);\n\
+         #declare Grid = array[3][9] {{ {{1}} }}\n\
+         #declare Sky = sky_sphere {{ pigment {{ rgb 1 }} }}\n\
+         sphere {{ 0, 1 texture {{ Paint(rgb <1, 0, 0>, 2) }} finish {{ Grid[1][2] }} }}\n\
+         object {{ Made }}\n"
+    ))
+    .unwrap();
+    assert_eq!(scene.shapes.len(), 1);
+    let warnings = scene.warnings.join("\n");
+    for place in [
+        "t.pov:4:1: `Thing`",
+        "t.pov:5:10: `Thing`",
+        "t.pov:6:17: `Thing`",
+    ] {
+        assert!(warnings.contains(place), "{place} in {warnings}");
+    }
+    assert!(warnings.contains("`Paint`"), "{warnings}");
+    assert!(warnings.contains("`Grid`"), "{warnings}");
+}
+
+/// A camera kind outside the subset is read as a perspective one; an angle
+/// of 180 degrees or more, which a perspective camera cannot have, is then
+/// left out with a warning instead of stopping the read.
+#[test]
+fn a_wide_camera_of_another_kind_falls_back_to_the_default_angle() {
+    let scene = load(
+        "camera { fisheye location <0, 0, -5> look_at 0 angle 360 }\n\
+         camera { spherical location <0, 0, -5> look_at 0 angle 360, 180 }\n\
+         sphere { 0, 1 }",
+    )
+    .unwrap();
+    let warnings = scene.warnings.join("\n");
+    assert!(warnings.contains("t.pov:1:48: angle 360"), "{warnings}");
+    assert!(warnings.contains("`fisheye`"), "{warnings}");
+    // A perspective camera with such an angle stays an error, as in POV-Ray.
+    let err =
+        load("camera { location <0, 0, -5> look_at 0 angle 200 }\nsphere { 0, 1 }").unwrap_err();
+    assert!(err.to_string().contains("below 180"), "{err}");
 }

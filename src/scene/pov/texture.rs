@@ -501,10 +501,10 @@ impl Parser {
                 DAffine3::from_scale(s)
             }
             "matrix" => {
-                let v = self.expression(false)?;
-                let Value::Vector(m) = v else {
+                if !self.eat('<')? {
                     return Err(self.error_at(loc, "`matrix` takes 12 numbers in < >"));
-                };
+                }
+                let m = self.numbers_to_bracket()?;
                 if m.len() != 12 {
                     return Err(self.error_at(loc, "`matrix` takes 12 numbers"));
                 }
@@ -525,6 +525,13 @@ impl Parser {
         self.skip_warning(loc, word, &format!("skipped in this {block}"));
         if self.peek()? == Some(Tok::Punct('{')) {
             self.skip_block()?;
+        } else if self.peek()? == Some(Tok::Punct('(')) {
+            // A macro's call, or a value in parentheses: skipped balanced,
+            // since a call's arguments need not make one expression.
+            self.skip_parens()?;
+        } else if self.peek()? == Some(Tok::Punct('[')) {
+            // An array's element (arrays are outside the subset).
+            self.skip_brackets()?;
         } else if self.starts_number()? || self.peek()? == Some(Tok::Punct('<')) {
             self.expression(false)?;
         }

@@ -92,6 +92,8 @@ pub const UNSUPPORTED: &[&str] = &[
     "photons",
     "radiosity",
     "ovus",
+    // Random numbers: POV-Ray's generator is not reproduced.
+    "seed",
 ];
 
 pub(super) const COLOUR_WORDS: &[&str] = &[
@@ -144,11 +146,11 @@ impl Parser {
                     self.next()?;
                     return Ok(Value::Transform(self.transform_block()?));
                 }
-                "camera" => {
+                "camera" | "sky_sphere" => {
                     self.next()?;
-                    self.skip_warning(loc, "camera", "a declared camera is not used");
+                    self.skip_warning(loc, w, &format!("a declared {w} is not used"));
                     self.skip_block()?;
-                    return Ok(Value::Unsupported("camera".into()));
+                    return Ok(Value::Unsupported(w.to_owned()));
                 }
                 _ => {}
             }
@@ -162,9 +164,7 @@ impl Parser {
             if UNSUPPORTED.contains(&w) || STRING_FUNCTIONS.contains(&w) {
                 self.next()?;
                 self.skip_parens()?;
-                if self.peek()? == Some(Tok::Punct('[')) {
-                    while !matches!(self.next()?, Tok::Punct(']')) {}
-                }
+                self.skip_brackets()?;
                 if self.peek()? == Some(Tok::Punct('{')) {
                     self.skip_block()?;
                 }
@@ -175,6 +175,11 @@ impl Parser {
             {
                 let v = v.clone();
                 self.next()?;
+                if matches!(v, Value::Macro) {
+                    self.skip_warning(loc, w, "a macro is not run (its call is skipped)");
+                    self.skip_parens()?;
+                    return Ok(Value::Unsupported(format!("{w}()")));
+                }
                 return Ok(v);
             }
         }
@@ -209,45 +214,47 @@ impl Parser {
         }
     }
 
-    /// An expression; `in_vector` leaves `<` and `>` to the vector's brackets.
-    pub fn expression(&mut self, in_vector: bool) -> Result<Value> {
-        self.nested(|p| p.conditional(in_vector))
+    /// An expression. Comparisons and `? :` are read only `in_parens`, as
+    /// POV-Ray does: elsewhere `<` starts the next vector (`box { <0, 0, 0>
+    /// <1, 1, 1> }`, without a comma, is a box in POV-Ray) and `>` closes one.
+    pub fn expression(&mut self, in_parens: bool) -> Result<Value> {
+        self.nested(|p| p.conditional(in_parens))
     }
 
-    fn conditional(&mut self, in_vector: bool) -> Result<Value> {
-        let cond = self.or(in_vector)?;
-        if self.eat('?')? {
-            let a = self.expression(in_vector)?;
+    fn conditional(&mut self, in_parens: bool) -> Result<Value> {
+        let cond = self.or(in_parens)?;
+        if in_parens && self.eat('?')? {
+            let a = self.expression(in_parens)?;
             self.expect(':')?;
-            let b = self.expression(in_vector)?;
+            let b = self.expression(in_parens)?;
             return Ok(if truth(&cond) { a } else { b });
         }
         Ok(cond)
     }
 
-    fn or(&mut self, in_vector: bool) -> Result<Value> {
-        let mut a = self.and(in_vector)?;
+    fn or(&mut self, in_parens: bool) -> Result<Value> {
+        let mut a = self.and(in_parens)?;
         while self.eat('|')? {
-            let b = self.and(in_vector)?;
+            let b = self.and(in_parens)?;
             a = Value::Float(f64::from(u8::from(truth(&a) || truth(&b))));
         }
         Ok(a)
     }
 
-    fn and(&mut self, in_vector: bool) -> Result<Value> {
-        let mut a = self.comparison(in_vector)?;
+    fn and(&mut self, in_parens: bool) -> Result<Value> {
+        let mut a = self.comparison(in_parens)?;
         while self.eat('&')? {
-            let b = self.comparison(in_vector)?;
+            let b = self.comparison(in_parens)?;
             a = Value::Float(f64::from(u8::from(truth(&a) && truth(&b))));
         }
         Ok(a)
     }
 
-    fn comparison(&mut self, in_vector: bool) -> Result<Value> {
+    fn comparison(&mut self, in_parens: bool) -> Result<Value> {
         let mut a = self.sum()?;
         loop {
             let op = match self.peek()? {
-                Some(Tok::Punct(c)) if "=ln".contains(c) || (!in_vector && "<>g".contains(c)) => c,
+                Some(Tok::Punct(c)) if in_parens && "=ln<>g".contains(c) => c,
                 _ => return Ok(a),
             };
             let loc = self.here();
@@ -342,16 +349,12 @@ impl Parser {
         match self.next()? {
             Tok::Number(v) => Ok(Value::Float(v)),
             Tok::Punct('(') => {
-                let v = self.expression(false)?;
+                let v = self.expression(true)?;
                 self.expect(')')?;
                 Ok(v)
             }
             Tok::Punct('<') => {
-                let mut items = vec![self.scalar_in_vector()?];
-                while self.eat(',')? {
-                    items.push(self.scalar_in_vector()?);
-                }
-                self.expect('>')?;
+                let items = self.numbers_to_bracket()?;
                 if !(2..=5).contains(&items.len()) {
                     return Err(self.error_at(
                         loc,
@@ -371,10 +374,21 @@ impl Parser {
         }
     }
 
-    fn scalar_in_vector(&mut self) -> Result<f64> {
-        let loc = self.here();
-        let v = self.expression(true)?;
-        self.scalar(&v, loc)
+    /// The numbers of a `< … >` after its `<`, up to and with its `>`.
+    /// Commas are optional, as in POV-Ray: `<1 2 3>` is `<1, 2, 3>`, and
+    /// `<1 -2 3>` is `<-1, 3>`, since `1 -2` is a difference.
+    pub(super) fn numbers_to_bracket(&mut self) -> Result<Vec<f64>> {
+        let mut items = Vec::new();
+        loop {
+            let loc = self.here();
+            let v = self.expression(false)?;
+            items.push(self.scalar(&v, loc)?);
+            // A comma before the `>` is allowed too, as POV-Ray allows it.
+            self.eat(',')?;
+            if self.eat('>')? {
+                return Ok(items);
+            }
+        }
     }
 
     /// A word in an expression: a declared name, a constant, a function or
