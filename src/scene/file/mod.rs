@@ -160,7 +160,7 @@ pub(super) fn from_text(
             camera
                 .check()
                 .map_err(|p| check.error("camera", p.message))?;
-            if file.lights.is_empty() {
+            if file.lights.is_empty() && scene.environment.is_none() {
                 scene.lights.push(headlight(&camera));
             }
             camera
