@@ -103,8 +103,10 @@ impl PathTracer<'_> {
             let it = self.scene.interaction(&ray, &hit);
             let u = Bounce::draw(sampler);
             let material = &self.scene.materials[it.material as usize];
+            // Looked up once a hit: a texture's lookup is the costliest part of it.
+            let albedo = it.albedo(material);
             if depth == 0 {
-                first = Some((hit.t, it.ns, it.albedo(material)));
+                first = Some((hit.t, it.ns, albedo));
             }
             let mut add = Vec3::ZERO;
             // Emitters shine from their front side only.
@@ -121,7 +123,7 @@ impl PathTracer<'_> {
                     add += beta * material.emission * weight;
                 }
             }
-            let bsdf = Bsdf::with_albedo(material, it.albedo(material));
+            let bsdf = Bsdf::with_albedo(material, albedo);
             let frame = it.frame();
             let wo = -ray.dir;
             if let Some(map) = self.caustics
