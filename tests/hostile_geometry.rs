@@ -166,6 +166,7 @@ fn square_scene(half: f32) -> Scene {
         camera: Camera::default(),
         render: RenderSettings::default(),
         background: Vec3::ZERO,
+        environment: None,
         materials: vec![Material::default_grey()],
         meshes: vec![Mesh {
             name: "square".into(),

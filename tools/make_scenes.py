@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""Generate the mesh assets under scenes/ (standard library only, deterministic).
+"""Generate the mesh, texture and sky assets under scenes/ (standard library only,
+deterministic).
 
     python3 tools/make_scenes.py           # (re)write the OBJ/MTL files
     python3 tools/make_scenes.py --check   # verify the files on disk, print stats
@@ -10,6 +11,10 @@ Files written (paths relative to the repository root):
     scenes/cornell/cornell.mtl   its materials
     scenes/meshes/knot.obj       (2,3) torus-knot tube, 70,000 triangles
     scenes/meshes/knot_small.obj the same knot, 3,240 triangles
+    scenes/asset/vase.obj        a smooth vase (vn, vt), 4,160 triangles
+    scenes/asset/vase.mtl        its glaze and the floor's tiles (map_Kd)
+    scenes/asset/floor.obj       a tiled floor (vt repeating 8 times)
+    scenes/asset/vase.png, tiles.png, sky.hdr   their textures and the sky
 
 The output is byte-for-byte reproducible: every number goes through fmt()
 (fixed point, 6 decimals, trailing zeros stripped, no "-0"), lines end in
@@ -319,6 +324,158 @@ def make_knot_obj(n_u, n_v) -> str:
 
 
 # --------------------------------------------------------------------------
+# the asset scene: a smooth, textured vase (vn, vt, map_Kd) on a tiled floor
+# under a generated sky, with depth of field (scenes/asset.toml)
+# --------------------------------------------------------------------------
+
+import struct
+import zlib
+
+VASE_AROUND, VASE_UP = 64, 32
+VASE_HEIGHT = 0.5
+
+
+def vase_radius(y):
+    """The vase's profile r(y) for y in [0, VASE_HEIGHT], and dr/dy."""
+    t = y / VASE_HEIGHT
+    r = 0.1 + 0.07 * math.sin(math.pi * (0.15 + 1.1 * t)) + 0.03 * t * t
+    dr = (0.07 * math.pi * 1.1 * math.cos(math.pi * (0.15 + 1.1 * t)) + 0.06 * t) / VASE_HEIGHT
+    return r, dr
+
+
+def make_vase_obj() -> str:
+    """A surface of revolution with analytic normals (vn) and (angle, height)
+    texture coordinates (vt); the seam's vertices are doubled for vt, and the
+    open top shows the inside. The base is a flat fan."""
+    out = [HEADER, "mtllib vase.mtl\n", "usemtl glaze\n"]
+    for j in range(VASE_UP + 1):
+        y = VASE_HEIGHT * j / VASE_UP
+        r, dr = vase_radius(y)
+        for i in range(VASE_AROUND + 1):
+            phi = 2 * math.pi * i / VASE_AROUND
+            c, s = math.cos(phi), math.sin(phi)
+            out.append("v %s %s %s\n" % (fmt(r * c), fmt(y), fmt(r * s)))
+            n = norm((c, -dr, s))
+            out.append("vn %s %s %s\n" % (fmt(n[0]), fmt(n[1]), fmt(n[2])))
+            out.append("vt %s %s\n" % (fmt(i / VASE_AROUND), fmt(j / VASE_UP)))
+    row = VASE_AROUND + 1
+    for j in range(VASE_UP):
+        for i in range(VASE_AROUND):
+            a = j * row + i + 1
+            b, c, d = a + 1, a + row + 1, a + row
+            # Counter-clockwise seen from outside.
+            out.append("f %d/%d/%d %d/%d/%d %d/%d/%d\n" % (a, a, a, d, d, d, c, c, c))
+            out.append("f %d/%d/%d %d/%d/%d %d/%d/%d\n" % (a, a, a, c, c, c, b, b, b))
+    # The base: a fan about its centre, facing down, flat (no vn).
+    centre = (VASE_UP + 1) * row + 1
+    out.append("v 0 0 0\n")
+    out.append("vt 0.5 0\n")
+    for i in range(VASE_AROUND):
+        out.append("f %d/%d %d/%d %d/%d\n" % (centre, centre, i + 1, i + 1, i + 2, i + 2))
+    return "".join(out)
+
+
+def make_vase_mtl() -> str:
+    return HEADER + (
+        "newmtl glaze\nKd 0.8 0.8 0.8\nKs 0.04 0.04 0.04\nNs 300\nmap_Kd vase.png\n\n"
+        "newmtl tiles\nKd 0.8 0.8 0.8\nmap_Kd tiles.png\n"
+    )
+
+
+def make_floor_obj() -> str:
+    """A 6 m square floor at y = 0, its texture repeated 8 times each way."""
+    out = [HEADER, "mtllib vase.mtl\n", "usemtl tiles\n"]
+    for x, z in ((-3, -3), (-3, 3), (3, 3), (3, -3)):
+        out.append("v %d 0 %d\n" % (x, z))
+    for u, v in ((0, 8), (0, 0), (8, 0), (8, 8)):
+        out.append("vt %d %d\n" % (u, v))
+    out.append("vn 0 1 0\n")
+    out.append("f 1/1/1 2/2/1 3/3/1 4/4/1\n")
+    return "".join(out)
+
+
+def png_bytes(width, height, pixel) -> bytes:
+    """An 8-bit RGB PNG of pixel(x, y) -> (r, g, b) in [0, 1] (sRGB values),
+    its image data stored uncompressed (deflate level 0), so the bytes are
+    the same whatever zlib builds them."""
+    raw = bytearray()
+    for y in range(height):
+        raw.append(0)
+        for x in range(width):
+            raw.extend(max(0, min(255, round(255 * c))) for c in pixel(x, y))
+
+    def chunk(kind, data):
+        body = kind + data
+        return struct.pack(">I", len(data)) + body + struct.pack(">I", zlib.crc32(body))
+
+    header = struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0)
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header)
+            + chunk(b"IDAT", zlib.compress(bytes(raw), 0)) + chunk(b"IEND", b""))
+
+
+def vase_texture(x, y):
+    """Blue glaze with cream bands and a wave, 128 x 128 (v = 0 at the bottom)."""
+    u, v = (x + 0.5) / 128, 1 - (y + 0.5) / 128
+    wave = 0.5 + 0.5 * math.sin(2 * math.pi * (6 * u) + 8 * v)
+    band = abs(math.sin(math.pi * 5 * v)) ** 6
+    t = max(band, 0.8 * (wave ** 8) * (0.3 < v < 0.7))
+    blue, cream = (0.08, 0.2, 0.55), (0.95, 0.9, 0.78)
+    return tuple(b + (c - b) * t for b, c in zip(blue, cream))
+
+
+def tiles_texture(x, y):
+    """Two tiles a side, terracotta and sand, with grout, 64 x 64."""
+    tx, ty = x // 32, y // 32
+    grout = x % 32 in (0, 31) or y % 32 in (0, 31)
+    if grout:
+        return (0.55, 0.55, 0.52)
+    return (0.72, 0.38, 0.25) if (tx + ty) % 2 else (0.85, 0.75, 0.55)
+
+
+def hdr_bytes(width, height, radiance) -> bytes:
+    """A Radiance HDR (RGBE, flat scanlines) of radiance(u, v) at texel centres."""
+    out = bytearray(b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n")
+    out += b"-Y %d +X %d\n" % (height, width)
+    for y in range(height):
+        for x in range(width):
+            rgb = radiance((x + 0.5) / width, (y + 0.5) / height)
+            m = max(rgb)
+            if m < 1e-32:
+                out += b"\0\0\0\0"
+                continue
+            mant, exp = math.frexp(m)
+            scale = mant * 256 / m
+            out += bytes([min(255, int(c * scale)) for c in rgb] + [exp + 128])
+    return bytes(out)
+
+
+SUN_THETA, SUN_PHI, SUN_RADIUS = math.radians(45), math.radians(215), math.radians(4)
+
+
+def sky(u, v):
+    """Mitsuba's lat-long map (+Y up): a blue sky, a warm sun disc, brown ground."""
+    theta, phi = math.pi * v, 2 * math.pi * u
+    d = (math.sin(theta) * math.sin(phi), math.cos(theta), -math.sin(theta) * math.cos(phi))
+    sun = (math.sin(SUN_THETA) * math.sin(SUN_PHI), math.cos(SUN_THETA),
+           -math.sin(SUN_THETA) * math.cos(SUN_PHI))
+    if math.acos(max(-1.0, min(1.0, dot(d, sun)))) < SUN_RADIUS:
+        return (60.0, 52.0, 40.0)
+    if d[1] < 0:
+        return (0.25, 0.2, 0.15)
+    h = d[1]
+    zenith, horizon = (0.25, 0.45, 0.95), (0.85, 0.9, 1.0)
+    return tuple(z * h + o * (1 - h) for z, o in zip(zenith, horizon))
+
+
+def binary_outputs() -> dict[str, bytes]:
+    return {
+        "scenes/asset/vase.png": png_bytes(128, 128, vase_texture),
+        "scenes/asset/tiles.png": png_bytes(64, 64, tiles_texture),
+        "scenes/asset/sky.hdr": hdr_bytes(128, 64, sky),
+    }
+
+
+# --------------------------------------------------------------------------
 # driver
 # --------------------------------------------------------------------------
 
@@ -328,14 +485,22 @@ def outputs() -> dict[str, str]:
         "scenes/cornell/cornell.mtl": make_cornell_mtl(),
         "scenes/meshes/knot.obj": make_knot_obj(*KNOT_BIG),
         "scenes/meshes/knot_small.obj": make_knot_obj(*KNOT_SMALL),
+        "scenes/asset/vase.obj": make_vase_obj(),
+        "scenes/asset/vase.mtl": make_vase_mtl(),
+        "scenes/asset/floor.obj": make_floor_obj(),
     }
 
 
+def all_outputs() -> dict[str, bytes]:
+    out = {rel: text.encode("ascii") for rel, text in outputs().items()}
+    out.update(binary_outputs())
+    return out
+
+
 def write_all() -> None:
-    for rel, text in outputs().items():
+    for rel, data in all_outputs().items():
         path = ROOT / rel
         path.parent.mkdir(parents=True, exist_ok=True)
-        data = text.encode("ascii")
         if path.exists() and path.read_bytes() == data:
             print("unchanged %s (%d bytes)" % (rel, len(data)))
             continue
@@ -571,9 +736,9 @@ def count_triangles(path):
 def check_all() -> int:
     ck = Checker()
     print("generated files match the script:")
-    for rel, text in outputs().items():
+    for rel, data in all_outputs().items():
         path = ROOT / rel
-        ck.ok(path.is_file() and path.read_bytes() == text.encode("ascii"),
+        ck.ok(path.is_file() and path.read_bytes() == data,
               "%s (%d bytes)" % (rel, path.stat().st_size if path.exists() else 0))
     print("meshes:")
     check_cornell(ck, SCENES / "cornell/cornell.obj")

@@ -91,7 +91,25 @@ fn describe(scene: &Scene, accel: &Accel) -> String {
         r.seed,
         r.sampler.name()
     );
-    let _ = writeln!(s, "background {}", v(scene.background));
+    match &scene.environment {
+        Some(e) => {
+            let what = match (&e.source.file, e.source.radiance) {
+                (Some(file), _) => format!("map {}", file.display()),
+                (None, Some(radiance)) => format!("constant radiance {}", v(Vec3::from(radiance))),
+                (None, None) => "none".to_string(),
+            };
+            let _ = writeln!(
+                s,
+                "environment {what}, scale {}, rotation {}°, picked with p = {:.3}",
+                e.source.scale,
+                e.source.rotation,
+                scene.light_picker.environment().unwrap_or(0.0)
+            );
+        }
+        None => {
+            let _ = writeln!(s, "background {}", v(scene.background));
+        }
+    }
     let _ = writeln!(s, "plan       {}", Plan::for_scene(scene));
     let _ = writeln!(s, "meshes     {}", scene.meshes.len());
     for (id, mesh) in scene.meshes.iter().enumerate() {

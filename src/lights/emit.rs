@@ -36,7 +36,7 @@ struct SurfacePoint {
 /// The disk through the scene's centre, perpendicular to the light, that a
 /// directional light's photons start from: it covers the scene's bounding
 /// sphere. Its radius is 0 for an empty scene.
-fn bounding_disk(bounds: Bounds) -> (Vec3, f32) {
+pub(super) fn bounding_disk(bounds: Bounds) -> (Vec3, f32) {
     if bounds.is_empty() {
         return (Vec3::ZERO, 0.0);
     }

@@ -3,15 +3,19 @@
 //! Point, spot and directional lights are given in the scene file. Area lights are
 //! the scene's emissive geometry: every emissive triangle and every emissive
 //! sphere becomes one (see `scene::emitters`), so a light is always visible,
-//! casts shadows and is found by bounces as well as by light sampling.
+//! casts shadows and is found by bounces as well as by light sampling. The
+//! environment light (`environment`) is the radiance of rays that leave the
+//! scene, sampled by the path tracer beside the area lights.
 
 mod pick;
 
-pub use pick::{LightPick, LightPicker};
+pub use pick::{LightPick, LightPicker, LightRef};
 
 mod emit;
+mod environment;
 
 pub use emit::Emission;
+pub use environment::{Environment, EnvironmentSource};
 
 use crate::math::Vec3;
 use crate::sampling::warp;

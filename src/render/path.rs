@@ -1,9 +1,10 @@
 //! The path tracer: global illumination by BSDF sampling, next-event
 //! estimation (every point and directional light, plus one area light picked
-//! by power), multiple importance sampling between the two ways of reaching
-//! an area light, and Russian roulette after a few bounces. The background
-//! and emissive shapes that are not sampled lights are reached by BSDF
-//! sampling alone.
+//! by power, the environment among them), multiple importance sampling
+//! between the two ways of reaching an area light or the environment, and
+//! Russian roulette after a few bounces. The constant background and
+//! emissive shapes that are not sampled lights are reached by BSDF sampling
+//! alone.
 //!
 //! With a photon pass, caustics (light → specular → diffuse) come from the
 //! photon map, gathered at every vertex that stores photons. A path that
@@ -16,6 +17,7 @@ use super::photon::{self, PhotonMap};
 use super::tally::{Node, RayKind, Tally};
 use crate::accel::Accel;
 use crate::film::Sample;
+use crate::lights::LightRef;
 use crate::math::{Frame, Ray, Vec3, offset};
 use crate::sampling::Sampler;
 use crate::sampling::mis::power_heuristic;
@@ -93,7 +95,7 @@ impl PathTracer<'_> {
             // Built only when explain records the tree: nothing is allocated per ray.
             let node = tally.open(|| Node::of_hit(self.scene, &hit, kind, depth, beta));
             if !hit.is_hit() {
-                let add = beta * self.scene.background;
+                let add = beta * self.escaped(ray.dir, sampled_from);
                 tally.add(node, add);
                 radiance += add;
                 break;
@@ -101,8 +103,10 @@ impl PathTracer<'_> {
             let it = self.scene.interaction(&ray, &hit);
             let u = Bounce::draw(sampler);
             let material = &self.scene.materials[it.material as usize];
+            // Looked up once a hit: a texture's lookup is the costliest part of it.
+            let albedo = it.albedo(material);
             if depth == 0 {
-                first = Some((hit.t, it.ns, it.albedo(material)));
+                first = Some((hit.t, it.ns, albedo));
             }
             let mut add = Vec3::ZERO;
             // Emitters shine from their front side only.
@@ -119,7 +123,7 @@ impl PathTracer<'_> {
                     add += beta * material.emission * weight;
                 }
             }
-            let bsdf = Bsdf::with_albedo(material, it.albedo(material));
+            let bsdf = Bsdf::with_albedo(material, albedo);
             let frame = it.frame();
             let wo = -ray.dir;
             if let Some(map) = self.caustics
@@ -194,7 +198,7 @@ impl PathTracer<'_> {
         let pick = self.scene.light_picker.pick(u.light);
         let mut sum = Vec3::ZERO;
         for light in pick.delta {
-            sum += self.light_sample(v, light, 1.0, pick.u, tally);
+            sum += self.light_sample(v, LightRef::Index(light), 1.0, pick.u, tally);
         }
         if let Some((light, picked)) = pick.area {
             sum += self.light_sample(v, light, picked, pick.u, tally);
@@ -202,17 +206,32 @@ impl PathTracer<'_> {
         sum
     }
 
-    /// One sample of light `index`, picked with probability `picked`, at `u`.
+    /// The radiance of a ray that left the scene in direction `dir`, weighted
+    /// against light sampling's way to the environment when the BSDF sample
+    /// from `sampled_from` (see `sample`) could also have been drawn by it.
+    fn escaped(&self, dir: Vec3, sampled_from: Option<(Vec3, f32)>) -> Vec3 {
+        let radiance = self.scene.escaped(dir);
+        let (Some((_, bsdf_pdf)), Some(environment), Some(picked)) = (
+            sampled_from,
+            &self.scene.environment,
+            self.scene.light_picker.environment(),
+        ) else {
+            return radiance;
+        };
+        radiance * power_heuristic(1.0, bsdf_pdf, 1.0, picked * environment.pdf(dir))
+    }
+
+    /// One sample of `light`, picked with probability `picked`, at `u`.
     fn light_sample(
         &self,
         v: &Vertex<'_>,
-        index: usize,
+        light: LightRef,
         picked: f32,
         u: [f32; 2],
         tally: &mut Tally,
     ) -> Vec3 {
         let it = v.it;
-        let Some(incident) = self.scene.lights[index].incident(it.p, u) else {
+        let Some(incident) = self.scene.incident(light, it.p, u) else {
             return Vec3::ZERO;
         };
         // The geometric side first: no light from behind the true surface.

@@ -1,6 +1,7 @@
 //! The render plan: which rays and passes a scene calls for. A diffuse scene
 //! spawns no reflection or refraction rays, a scene without lights no shadow
-//! rays, a scene without a light → specular → diffuse path no photon pass;
+//! rays (the environment light counts as a light), a scene without a light →
+//! specular → diffuse path no photon pass (the environment emits no photons);
 //! `sturmray info` prints the plan and `--stats` counts prove it.
 
 use std::fmt;
@@ -82,7 +83,8 @@ impl Plan {
             ]);
         let deep = scene.render.max_depth > 0;
         Plan {
-            shadow: local && !scene.lights.is_empty(),
+            // The environment is a light too: shadow rays sample it.
+            shadow: local && (!scene.lights.is_empty() || scene.environment.is_some()),
             reflection: deep
                 && (uses(&[MaterialKind::Mirror, MaterialKind::Dielectric])
                     || classic(&|f, ior| f.reflects(ior))),

@@ -82,7 +82,8 @@ pub struct Node {
 }
 
 impl Node {
-    /// The node of a ray that ended at `hit` (a miss: the background).
+    /// The node of a ray that ended at `hit` (a miss: the background, or the
+    /// environment light).
     pub fn of_hit(scene: &Scene, hit: &Hit, kind: RayKind, depth: u32, weight: Vec3) -> Node {
         let (what, material) = if hit.is_hit() {
             let (meshes, shapes, _) = scene.hit_geometry(hit);
@@ -99,7 +100,12 @@ impl Node {
             };
             (what, Some(scene.material_of(hit)))
         } else {
-            ("background".to_string(), None)
+            let what = if scene.environment.is_some() {
+                "environment"
+            } else {
+                "background"
+            };
+            (what.to_string(), None)
         };
         Node {
             depth,

@@ -11,6 +11,7 @@ use super::tally::{Node, RayKind, Tally};
 use super::{PhotonMap, Plan};
 use crate::accel::Accel;
 use crate::film::Sample;
+use crate::lights::LightRef;
 use crate::math::{Hit, Ray, Vec3, offset};
 use crate::sampling::Sampler;
 use crate::scene::{Interaction, Scene};
@@ -96,7 +97,7 @@ impl Whitted<'_> {
             .open(|| Node::of_hit(self.scene, hit, kind, depth, weight));
         let radiance = match it {
             Some(it) => self.shade(ray, it, depth, weight, walk),
-            None => self.scene.background,
+            None => self.scene.escaped(ray.dir),
         };
         walk.tally.finish(node, radiance);
         radiance
@@ -285,9 +286,9 @@ impl Whitted<'_> {
         let pick = self.scene.light_picker.pick(walk.sampler.get_2d());
         let area = pick.area.into_iter();
         let mut radiance = Vec3::ZERO;
-        for (index, picked) in pick.delta.map(|i| (i, 1.0)).chain(area) {
-            let light = &self.scene.lights[index];
-            let Some(incident) = light.incident(it.p, pick.u) else {
+        let deltas = pick.delta.map(|i| (LightRef::Index(i), 1.0));
+        for (light, picked) in deltas.chain(area) {
+            let Some(incident) = self.scene.incident(light, it.p, pick.u) else {
                 continue;
             };
             // The geometric side first: no light from behind the true surface.
@@ -308,10 +309,7 @@ impl Whitted<'_> {
             walk.tally.open(|| Node {
                 depth,
                 kind: RayKind::Shadow,
-                hit: format!(
-                    "light {index}: {}",
-                    if blocked { "blocked" } else { "visible" }
-                ),
+                hit: format!("{light}: {}", if blocked { "blocked" } else { "visible" }),
                 t: shadow.tfar,
                 material: None,
                 weight: weight.to_array(),

@@ -2,7 +2,8 @@
 //! (Owen-scrambled Sobol points or independent random numbers, each keyed by
 //! (seed, pixel, sample index)), stratified pixel samples, warps from the
 //! unit square onto the shapes shading and lights need, reconstruction
-//! filters sampled by importance (pbrt-v4's filter importance sampling), and
+//! filters sampled by importance (pbrt-v4's filter importance sampling),
+//! piecewise-constant 2-D densities (the environment light's), and
 //! multiple-importance-sampling weights.
 //!
 //! Everything here is a pure function of its arguments (of its key, for the
@@ -13,6 +14,7 @@
 mod discrete;
 pub mod filter;
 pub mod mis;
+mod piecewise;
 mod rng;
 mod sampler;
 mod sobol;
@@ -21,6 +23,7 @@ pub mod warp;
 
 pub use discrete::Discrete;
 pub use filter::{Filter, FilterSample, FilterSampler};
+pub use piecewise::{Piecewise2D, Sample2D};
 pub use rng::Rng;
 pub use sampler::{Sampler, SamplerKind};
 pub use stratify::stratified_2d;

@@ -2,11 +2,13 @@
 //! every emissive whole sphere is a light that next-event estimation samples.
 //! Other emissive analytic shapes (tori, quadrics, algebraic surfaces) have no
 //! area sampling: bounces still find them, and they light the scene that way.
+//! The environment light is picked among the area lights by its power.
 
 use std::collections::HashMap;
 
 use super::Scene;
-use crate::lights::{Light, LightPicker};
+use crate::lights::{Incident, Light, LightPicker, LightRef};
+use crate::math::Vec3;
 
 impl Scene {
     /// Appends a light for each emissive primitive, after the point and
@@ -55,7 +57,26 @@ impl Scene {
             .into_iter()
             .map(|(k, i)| (k, first + i as u32))
             .collect();
-        self.light_picker = LightPicker::new(&self.lights, emitters);
+        let environment =
+            (self.environment.as_ref()).map(|e| e.power(self.bounds()).dot(crate::math::LUMINANCE));
+        self.light_picker = LightPicker::new(&self.lights, emitters, environment);
+    }
+
+    /// Light `light` as seen from p, sampled with `u` (see [`Light::incident`]).
+    pub fn incident(&self, light: LightRef, p: Vec3, u: [f32; 2]) -> Option<Incident> {
+        match light {
+            LightRef::Index(i) => self.lights[i].incident(p, u),
+            LightRef::Environment => self.environment.as_ref()?.incident(u),
+        }
+    }
+
+    /// The radiance a ray that leaves the scene in the unit direction `dir`
+    /// brings back: the environment's, or the constant background.
+    pub fn escaped(&self, dir: Vec3) -> Vec3 {
+        match &self.environment {
+            Some(environment) => environment.radiance(dir),
+            None => self.background,
+        }
     }
 
     /// Emissive shapes that only bounces can find (no area sampling for their kind).

@@ -16,6 +16,7 @@ mod solids;
 mod textures;
 
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 pub use camera::{
     Camera, CameraFrame, CameraKey, CameraProblem, ImagePlane, Optics, Projection, ThinLens,
@@ -30,7 +31,7 @@ use textures::Textures;
 
 use crate::error::{Error, Result};
 use crate::geometry::{Mesh, Shape};
-use crate::lights::{Light, LightPicker};
+use crate::lights::{Environment, Light, LightPicker};
 use crate::math::{Bounds, INVALID_ID, Vec3};
 use crate::sampling::{Filter, SamplerKind};
 use crate::shading::Material;
@@ -159,6 +160,9 @@ pub struct Scene {
     pub camera: Camera,
     pub render: RenderSettings,
     pub background: Vec3,
+    /// The environment light (`[environment]`): when present, what rays that
+    /// leave the scene see, in place of `background`.
+    pub environment: Option<Arc<Environment>>,
     pub materials: Vec<Material>,
     /// Geometry i of the scene is mesh i: its `geom_id` in hits.
     pub meshes: Vec<Mesh>,
@@ -282,6 +286,7 @@ impl Scene {
             camera: Camera::default(),
             render,
             background,
+            environment: None,
             materials: Vec::new(),
             meshes: Vec::new(),
             shapes: Vec::new(),

@@ -13,6 +13,7 @@ fn mesh_scene(positions: Vec<Vec3>, triangles: Vec<[u32; 3]>) -> Scene {
         camera: Camera::default(),
         render: RenderSettings::default(),
         background: Vec3::ZERO,
+        environment: None,
         materials: vec![Material::default_grey()],
         meshes: vec![Mesh {
             name: "mesh".into(),

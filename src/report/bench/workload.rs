@@ -92,6 +92,7 @@ pub fn bumpy_sphere(triangles: usize) -> Scene {
         camera,
         render: RenderSettings::default(),
         background: Vec3::ZERO,
+        environment: None,
         materials: vec![Material::default_grey()],
         meshes: vec![mesh],
         shapes: Vec::new(),

@@ -4,6 +4,7 @@
 //! (`shapes`).
 
 mod check;
+mod environment;
 mod schema;
 mod shapes;
 mod tree;
@@ -64,6 +65,14 @@ pub(super) fn from_text(
     let background = check.colour("background", file.background.unwrap_or([0.0; 3]))?;
     let mut scene = Scene::empty(path, render, background);
     let dir = path.parent().unwrap_or(Path::new("."));
+    if let Some(env) = &file.environment {
+        if file.background.is_some() {
+            let message = "an [environment] is the background: give one or the other";
+            return Err(check.error("background", message));
+        }
+        let env = environment::environment(&check, dir, env, &mut scene.sources)?;
+        scene.environment = Some(env);
+    }
     let mut textures = Textures::default();
     for (name, m) in &file.materials {
         let mut material = material(&check, name, m)?;
@@ -151,7 +160,7 @@ pub(super) fn from_text(
             camera
                 .check()
                 .map_err(|p| check.error("camera", p.message))?;
-            if file.lights.is_empty() {
+            if file.lights.is_empty() && scene.environment.is_none() {
                 scene.lights.push(headlight(&camera));
             }
             camera

@@ -14,6 +14,7 @@ use crate::shading::MaterialKind;
 #[serde(deny_unknown_fields)]
 pub(super) struct SceneFile {
     pub background: Option<[f32; 3]>,
+    pub environment: Option<EnvironmentFile>,
     /// Names usable in `expr` of algebraic objects.
     #[serde(default)]
     pub constants: BTreeMap<String, f64>,
@@ -29,6 +30,17 @@ pub(super) struct SceneFile {
     pub objects: Vec<ObjectFile>,
     #[serde(default)]
     pub lights: Vec<LightFile>,
+}
+
+/// `[environment]`: an equirectangular map (`file`) or a constant `radiance`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct EnvironmentFile {
+    pub file: Option<PathBuf>,
+    pub radiance: Option<[f32; 3]>,
+    pub scale: Option<f32>,
+    /// Degrees about +Y.
+    pub rotation: Option<f32>,
 }
 
 /// `[prototypes.NAME]`: the objects an instance places, in their own space.

@@ -56,6 +56,12 @@ impl Scene {
             serde_json::to_writer(&mut feed, &(&self.prototypes, &self.instances))
                 .expect("a scene serialises");
         }
+        // Likewise the environment: its map by contents (SHA-256), scale,
+        // rotation, or its constant radiance.
+        if let Some(environment) = &self.environment {
+            serde_json::to_writer(&mut feed, &("environment", &environment.source))
+                .expect("a scene serialises");
+        }
         feed.0
             .finalize()
             .iter()
