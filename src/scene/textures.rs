@@ -1,6 +1,7 @@
 //! The texture images of one scene: each file read once however many
 //! materials use it, and a file that cannot be read is a warning (the
-//! material keeps its plain colour), never an error.
+//! material keeps the map's neutral value: its plain colour, no cut-out),
+//! never an error.
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -56,7 +57,8 @@ impl Textures {
                 Ok(decoded) => Some(Arc::new(image(path, decoded, srgb))),
                 Err(e) => {
                     warnings.push(format!(
-                        "{asked_by}: texture {}: {e}; the material's plain colour is used",
+                        "{asked_by}: texture {}: {e}; the map is left out (the material's \
+                         plain colour, no cut-out)",
                         path.display()
                     ));
                     None
@@ -86,6 +88,7 @@ fn image(path: &Path, decoded: crate::io::texture::Decoded, srgb: bool) -> Image
         width: decoded.width,
         height: decoded.height,
         texels,
+        alpha: decoded.alpha,
         source: TextureSource {
             path: path.to_owned(),
             sha256: decoded.sha256,

@@ -55,6 +55,27 @@ pub struct Material {
     /// instead of `albedo`; left out of the scene hash when absent.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub albedo_map: Option<Texture>,
+    /// The MTL maps beyond `map_Kd`, each used where the surface has
+    /// texture coordinates; left out of the scene hash when there are none.
+    #[serde(skip_serializing_if = "Maps::is_empty")]
+    pub maps: Maps,
+}
+
+/// A material's image maps other than the albedo's (MTL's `map_d`,
+/// `map_Ks`, `map_Ke`, `map_Pr`, `map_Pm`, `bump`, `norm`).
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
+pub struct Maps {
+    /// A cut-out mask (`map_d`): where its opacity ([`Texture::opacity`])
+    /// is below [`Material::CUTOFF`], rays pass through as if nothing were
+    /// there, in every backend and for every kind of ray.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub alpha: Option<Texture>,
+}
+
+impl Maps {
+    pub fn is_empty(&self) -> bool {
+        *self == Maps::default()
+    }
 }
 
 impl Material {
@@ -76,8 +97,15 @@ impl Material {
             finish: Finish::default(),
             checker: None,
             albedo_map: None,
+            maps: Maps::default(),
         }
     }
+
+    /// The opacity below which a cut-out mask lets rays through, as
+    /// Blender's alpha clip and pbrt-v4's alpha test (which skips a hit whose
+    /// alpha is 0 and, between 0 and 1, stochastically; a fixed threshold
+    /// keeps every backend's answers and renders deterministic).
+    pub const CUTOFF: f32 = 0.5;
 
     /// Maps an MTL material: Ke > 0 → emissive; the PBR extension's metallic
     /// Pm ≥ 0.5 → metal (F0 = Kd, roughness Pr, else from Ns); illum 3 → mirror
@@ -127,6 +155,7 @@ impl Material {
             finish: Finish::default(),
             checker: None,
             albedo_map: None,
+            maps: Maps::default(),
         }
     }
 
