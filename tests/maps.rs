@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{scratch, sturmray, write};
+use common::{png_bytes, scratch, sturmray, write};
 use sturmray::accel::{Accel, Backend};
 use sturmray::math::{Hit, Ray, Vec3};
 use sturmray::scene::Scene;
@@ -12,14 +12,6 @@ use sturmray::scene::Scene;
 /// right: with an alpha channel (RGBA, black and white, so the luminance
 /// would say the opposite), or grey without one (white left, black right).
 fn half_mask(alpha: bool) -> Vec<u8> {
-    let mut bytes = Vec::new();
-    let mut encoder = png::Encoder::new(&mut bytes, 8, 8);
-    encoder.set_color(if alpha {
-        png::ColorType::Rgba
-    } else {
-        png::ColorType::Grayscale
-    });
-    encoder.set_depth(png::BitDepth::Eight);
     let mut data = Vec::new();
     for _ in 0..8 {
         for x in 0..8 {
@@ -33,12 +25,12 @@ fn half_mask(alpha: bool) -> Vec<u8> {
             }
         }
     }
-    encoder
-        .write_header()
-        .unwrap()
-        .write_image_data(&data)
-        .unwrap();
-    bytes
+    let colour = if alpha {
+        png::ColorType::Rgba
+    } else {
+        png::ColorType::Grayscale
+    };
+    png_bytes(8, 8, colour, &data)
 }
 
 /// Two squares over x, y ∈ [-1, 1]: `leaf` at z = 1 with uv (its material
@@ -220,4 +212,66 @@ fn a_checker_on_an_analytic_shape_moves_with_it() {
     }
     // So the test can fail: in world space the pattern would not follow.
     assert!(differs_in_world_space > 10, "{differs_in_world_space}");
+}
+
+/// A 16 × 1 grey PNG, 8 bits: `value(x)` for texel x.
+fn grey_row(value: impl Fn(u32) -> u8) -> Vec<u8> {
+    let data: Vec<u8> = (0..16).map(value).collect();
+    png_bytes(16, 1, png::ColorType::Grayscale, &data)
+}
+
+/// A 1 × 1 RGB PNG of one colour.
+fn rgb_png(rgb: [u8; 3]) -> Vec<u8> {
+    png_bytes(1, 1, png::ColorType::Rgb, &rgb)
+}
+
+/// The shading and geometric normals where a ray down the z axis at (x, y)
+/// meets the square [-1, 1]² at z = 0 (u along x, v along y), whose
+/// material `m` is `mtl`, with `image` as `map.png`.
+fn mapped_normals(name: &str, mtl: &str, image: &[u8], x: f32, y: f32) -> (Vec3, Vec3) {
+    let dir = scratch(name);
+    std::fs::write(dir.join("map.png"), image).unwrap();
+    write(&dir, "m.mtl", &format!("newmtl m\nKd 0.5 0.5 0.5\n{mtl}\n"));
+    let obj = "mtllib m.mtl\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\n\
+               vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nusemtl m\nf 1/1 2/2 3/3 4/4\n";
+    let scene = Scene::load(&write(&dir, "m.obj", obj)).unwrap();
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let accel = Accel::build(&scene, Backend::Embree, None).unwrap();
+    let ray = Ray::new(Vec3::new(x, y, 3.0), Vec3::new(0.0, 0.0, -1.0));
+    let it = scene.interaction(&ray, &accel.intersect(&ray));
+    (it.ns, it.n)
+}
+
+#[test]
+fn a_linear_height_ramp_tilts_the_normal_by_its_slope() {
+    // Heights rising 16/255 a texel, 16 texels across u: dh/du = 256/255
+    // (bilinear between texel centres, linear data); × -bm 0.5, over a
+    // square 2 wide in u: the height rises s = 0.5 · 256/255 per 2 along x.
+    let ramp = grey_row(|x| (16 * x) as u8);
+    let (ns, n) = mapped_normals("bump", "bump -bm 0.5 map.png", &ramp, -0.1, 0.3);
+    let slope = 0.5 * 256.0 / 255.0 / 2.0;
+    let expected = Vec3::new(-slope, 0.0, 1.0).normalize();
+    assert!((ns - expected).length() < 1e-3, "{ns} for {expected}");
+    assert_eq!(n, Vec3::Z, "the geometric normal stays");
+    // Twice the multiplier, twice the slope; a flat map changes nothing.
+    let (steeper, _) = mapped_normals("bump2", "map_Bump -bm 1 map.png", &ramp, -0.1, 0.3);
+    assert!(
+        (steeper.x / steeper.z + 2.0 * slope).abs() < 1e-3,
+        "{steeper}"
+    );
+    let (flat, _) = mapped_normals("bump0", "bump map.png", &grey_row(|_| 90), 0.2, 0.3);
+    assert_eq!(flat, Vec3::Z);
+}
+
+#[test]
+fn a_normal_map_turns_the_normal_in_the_tangent_frame() {
+    // (0.6, 0, 0.8) in tangent space: RGB (0.8, 0.5, 0.9), as 8 bits.
+    let map = rgb_png([204, 128, 230]);
+    let (ns, n) = mapped_normals("norm", "norm map.png", &map, 0.3, -0.2);
+    let decoded = |c: f32| 2.0 * c / 255.0 - 1.0;
+    let expected = Vec3::new(decoded(204.0), decoded(128.0), decoded(230.0)).normalize();
+    // The tangent is dp/du = +x, the bitangent +y, the normal +z.
+    assert!((ns - expected).length() < 1e-5, "{ns} for {expected}");
+    assert!(ns.x > 0.55, "{ns}");
+    assert_eq!(n, Vec3::Z);
 }

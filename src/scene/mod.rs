@@ -379,7 +379,7 @@ impl Scene {
                             &asked_by,
                             &mut self.warnings,
                         );
-                        obj::set_map(&mut defined, map.slot, texture);
+                        obj::set_map(&mut defined, map, texture);
                     }
                     self.materials.push(defined);
                     self.materials.len() as u32 - 1

@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 use crate::error::{Error, Result};
 use crate::scene::MAX_COLOUR;
 use crate::scene::textures::{Placement, statement};
-use crate::shading::{Material, Texture};
+use crate::shading::{Bump, Material, Texture};
 
 /// One of a material's texture statements: which map it is, where it is
 /// asked for, its placement, and the image file (relative to the library's
@@ -32,6 +32,10 @@ pub(crate) enum MapSlot {
     Albedo,
     /// `map_d`: the cut-out mask.
     Alpha,
+    /// `bump`, `map_Bump`: a height map, with `-bm`.
+    Bump,
+    /// `norm`: a tangent-space normal map.
+    Normal,
 }
 
 impl MapSlot {
@@ -39,6 +43,8 @@ impl MapSlot {
         Some(match keyword {
             "map_Kd" => MapSlot::Albedo,
             "map_d" => MapSlot::Alpha,
+            "bump" | "map_Bump" | "map_bump" => MapSlot::Bump,
+            "norm" => MapSlot::Normal,
             _ => return None,
         })
     }
@@ -53,10 +59,17 @@ impl MapSlot {
 /// Puts a map's texture into the material's slot for it; `None` (a file
 /// that could not be read, already warned about) leaves the slot's neutral
 /// value: the plain colour, no cut-out.
-pub(crate) fn set_map(material: &mut Material, slot: MapSlot, texture: Option<Texture>) {
-    match slot {
+pub(crate) fn set_map(material: &mut Material, map: &TextureMap, texture: Option<Texture>) {
+    match map.slot {
         MapSlot::Albedo => material.albedo_map = texture,
         MapSlot::Alpha => material.maps.alpha = texture,
+        MapSlot::Bump => {
+            material.maps.bump = texture.map(|heights| Bump {
+                heights,
+                scale: map.placement.bump,
+            });
+        }
+        MapSlot::Normal => material.maps.normal = texture,
     }
 }
 
@@ -87,7 +100,7 @@ fn expectation(keyword: &str) -> Option<Expect> {
         "d" | "Pr" | "Pm" => Expect::Fraction,
         "illum" => Expect::Model,
         "newmtl" | "map_Ka" | "map_Kd" | "map_Ks" | "map_Bump" | "map_bump" | "map_Ns"
-        | "map_ns" | "map_NS" | "bump" | "map_d" => Expect::Text,
+        | "map_ns" | "map_NS" | "bump" | "map_d" | "norm" => Expect::Text,
         _ => return None,
     })
 }
