@@ -260,13 +260,7 @@ impl Primitives {
     #[inline]
     pub(super) fn occludes(&self, index: usize, ray: &Ray) -> bool {
         match self.list[index] {
-            Primitive::Triangle {
-                corners,
-                geom_id,
-                prim_id,
-                inst_id,
-            } => triangle::intersect(&corners, ray)
-                .is_some_and(|h| !self.cut([geom_id, prim_id, inst_id], h.u, h.v)),
+            Primitive::Triangle { .. } => self.intersect(index, ray).is_some(),
             Primitive::Shape { index, inst_id, .. } => {
                 UserPrimitive::occluded(&self.shapes[index as usize], &self.local(inst_id, ray))
             }
