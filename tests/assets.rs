@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{scratch, sturmray, write};
+use common::{png_bytes, scratch, sturmray, write};
 
 #[test]
 fn a_blender_export_without_its_library_renders_grey_with_warnings() {
@@ -242,10 +242,6 @@ fn a_uv_checker_lands_on_the_right_squares() {
 /// An 8 × 8 RGBA PNG whose quadrants are one colour each (8-bit sRGB):
 /// top left red, top right green, bottom left blue, bottom right grey 50%.
 fn quadrants_png() -> Vec<u8> {
-    let mut bytes = Vec::new();
-    let mut encoder = png::Encoder::new(&mut bytes, 8, 8);
-    encoder.set_color(png::ColorType::Rgba);
-    encoder.set_depth(png::BitDepth::Eight);
     let mut data = Vec::new();
     for y in 0..8 {
         for x in 0..8 {
@@ -257,12 +253,7 @@ fn quadrants_png() -> Vec<u8> {
             });
         }
     }
-    encoder
-        .write_header()
-        .unwrap()
-        .write_image_data(&data)
-        .unwrap();
-    bytes
+    png_bytes(8, 8, png::ColorType::Rgba, &data)
 }
 
 #[test]

@@ -2,6 +2,7 @@
 //! answers the same queries for the same scene.
 
 mod analytic;
+pub mod cutout;
 #[allow(unsafe_code)]
 pub mod embree;
 pub mod ftz;
@@ -15,6 +16,7 @@ use crate::error::{Error, Result};
 use crate::geometry::{Mesh, Shape};
 use crate::math::{Hit, Ray};
 use crate::scene::Scene;
+use crate::shading::Material;
 
 /// Which BVH traces the rays.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -66,14 +68,17 @@ pub enum Accel {
     Bvh(rust_bvh::SahScene),
 }
 
-/// Mesh i as Embree geometry i, the shapes as one more geometry after them.
+/// Mesh i as Embree geometry i, with its cut-outs (its triangles'
+/// materials are `materials`), the shapes as one more geometry after them.
 fn add_geometry(
     builder: &mut embree::SceneBuilder,
     meshes: &[Mesh],
     shapes: &[Shape],
+    materials: &[Material],
 ) -> Result<()> {
     for (id, mesh) in meshes.iter().enumerate() {
-        builder.add_triangles(id as u32, &mesh.positions, &mesh.triangles)?;
+        let cutout = cutout::Cutout::of(mesh, materials);
+        builder.add_triangles(id as u32, &mesh.positions, &mesh.triangles, cutout)?;
     }
     builder.add_user(meshes.len() as u32, shapes.to_vec())
 }
@@ -93,14 +98,14 @@ impl Accel {
                 let device = embree::Device::with_config(&config)?;
                 let options = embree::SceneOptions::default();
                 let mut builder = embree::SceneBuilder::new(&device, options)?;
-                add_geometry(&mut builder, &scene.meshes, &scene.shapes)?;
+                add_geometry(&mut builder, &scene.meshes, &scene.shapes, &scene.materials)?;
                 if !scene.instances.is_empty() {
                     let prototypes = scene
                         .prototypes
                         .iter()
                         .map(|p| {
                             let mut prototype = builder.prototype(options)?;
-                            add_geometry(&mut prototype, &p.meshes, &p.shapes)?;
+                            add_geometry(&mut prototype, &p.meshes, &p.shapes, &scene.materials)?;
                             Ok((prototype.commit()?, p.shapes_geom_id()))
                         })
                         .collect::<Result<Vec<_>>>()?;

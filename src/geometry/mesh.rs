@@ -85,6 +85,28 @@ impl Mesh {
         Some(t0 * (1.0 - b1 - b2) + t1 * b1 + t2 * b2)
     }
 
+    /// The derivatives dp/du and dp/dv of a triangle's positions in its
+    /// texture coordinates (pbrt's), or `None` without uv or where the
+    /// triangle's uv are degenerate.
+    pub fn uv_derivatives(&self, prim: u32) -> Option<(Vec3, Vec3)> {
+        if self.uvs.is_empty() {
+            return None;
+        }
+        let corners = self.triangles[prim as usize];
+        let [p0, p1, p2] = corners.map(|i| self.positions[i as usize]);
+        let [t0, t1, t2] = corners.map(|i| self.uvs[i as usize]);
+        let (duv02, duv12) = (t0 - t2, t1 - t2);
+        let (dp02, dp12) = (p0 - p2, p1 - p2);
+        let det = duv02.x * duv12.y - duv02.y * duv12.x;
+        if det.abs() < 1e-12 || !det.is_finite() {
+            return None;
+        }
+        let inv = 1.0 / det;
+        let dpdu = (duv12.y * dp02 - duv02.y * dp12) * inv;
+        let dpdv = (duv02.x * dp12 - duv12.x * dp02) * inv;
+        (dpdu.is_finite() && dpdv.is_finite()).then_some((dpdu, dpdv))
+    }
+
     /// The unit geometric normal of a triangle, (p1 − p0) × (p2 − p0) normalised,
     /// or zero for a degenerate one. Normalised by `unit`: edges 1e10 long
     /// give a normal whose squared length overflows f32.

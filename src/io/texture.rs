@@ -19,6 +19,9 @@ pub struct Decoded {
     pub texels: Vec<[f32; 4]>,
     /// Whether the file holds light values (EXR, HDR): never sRGB-decoded.
     pub linear: bool,
+    /// Whether the file has an alpha channel (else every alpha is 1): a
+    /// cut-out map (`map_d`) reads it where there is one.
+    pub alpha: bool,
     /// SHA-256 of the file, hex: what the scene hash records of it.
     pub sha256: String,
 }
@@ -35,7 +38,7 @@ pub fn read(path: &Path) -> Result<Decoded> {
     let is_exr = path
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("exr"));
-    let (width, height, texels, linear) = if is_exr {
+    let (width, height, texels, linear, alpha) = if is_exr {
         exr_rgba(&bytes).map_err(|e| bad(format!("not a readable OpenEXR image: {e}")))?
     } else {
         let mut reader = image::ImageReader::new(std::io::Cursor::new(&bytes))
@@ -50,10 +53,11 @@ pub fn read(path: &Path) -> Result<Decoded> {
             .decode()
             .map_err(|e| bad(format!("not a readable image: {e}")))?;
         let linear = matches!(format, Some(image::ImageFormat::Hdr));
+        let alpha = image.color().has_alpha();
         let rgba = image.to_rgba32f();
         let (w, h) = rgba.dimensions();
         let texels = rgba.pixels().map(|p| p.0).collect();
-        (w, h, texels, linear)
+        (w, h, texels, linear, alpha)
     };
     if width == 0 || height == 0 {
         return Err(bad("the image has no texels".into()));
@@ -63,11 +67,13 @@ pub fn read(path: &Path) -> Result<Decoded> {
         height,
         texels,
         linear,
+        alpha,
         sha256,
     })
 }
 
-type Rgba = (u32, u32, Vec<[f32; 4]>, bool);
+/// Width, height, texels, linear, has alpha.
+type Rgba = (u32, u32, Vec<[f32; 4]>, bool, bool);
 
 fn exr_rgba(bytes: &[u8]) -> std::result::Result<Rgba, String> {
     use exr::prelude::*;
@@ -96,5 +102,6 @@ fn exr_rgba(bytes: &[u8]) -> std::result::Result<Rgba, String> {
     if w > MAX_SIDE || h > MAX_SIDE || image.layer_data.channel_data.pixels.1.is_empty() {
         return Err(format!("{w}x{h} is larger than {MAX_SIDE} a side"));
     }
-    Ok((w, h, image.layer_data.channel_data.pixels.1, true))
+    let alpha = image.layer_data.channel_data.channels.3.is_some();
+    Ok((w, h, image.layer_data.channel_data.pixels.1, true, alpha))
 }

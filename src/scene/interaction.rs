@@ -61,6 +61,22 @@ impl Scene {
         }
     }
 
+    /// The shading normal of a mesh hit whose material has a bump or
+    /// normal map and which has texture coordinates there, in the mesh's
+    /// space: the interpolated normal (or the face's) bent by the map.
+    fn mapped_normal(&self, mesh: &Mesh, hit: &Hit, uv: Option<Vec2>) -> Option<Vec3> {
+        let uv = uv?;
+        let maps = &self.materials.get(self.material_of(hit) as usize)?.maps;
+        if !maps.bends() {
+            return None;
+        }
+        let (dpdu, dpdv) = mesh.uv_derivatives(hit.prim_id)?;
+        let ns = mesh
+            .shading_normal(hit.prim_id, hit.u, hit.v)
+            .unwrap_or_else(|| mesh.normal(hit.prim_id));
+        Some(maps.shading_normal(ns, dpdu, dpdv, uv))
+    }
+
     /// The shading point of `hit`, which must be a hit of `ray` in this scene.
     /// On an instance the point, its error and the shading normal are found
     /// in the prototype's space and moved to world space; the hit's own
@@ -91,6 +107,7 @@ impl Scene {
             let b0 = 1.0 - b1 - b2;
             shading = mesh.shading_normal(hit.prim_id, b1, b2);
             uv = mesh.uv(hit.prim_id, b1, b2);
+            shading = self.mapped_normal(mesh, hit, uv).or(shading);
             colour = mesh.colour(hit.prim_id, b1, b2);
             let p = b0 * p0 + b1 * p1 + b2 * p2;
             // pbrt bounds each axis by that axis's own terms, which is zero on an axis

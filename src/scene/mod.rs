@@ -375,15 +375,16 @@ impl Scene {
             let own = match (named(&m.name), m.defined) {
                 (Some(replaced), _) => replaced,
                 (None, Some(mut defined)) => {
-                    if let Some(map) = &m.albedo_map {
+                    for map in &m.maps {
                         let asked_by = format!("{}:{}", map.library.display(), map.line);
-                        defined.albedo_map = textures.texture(
+                        let texture = textures.texture(
                             &map.file,
-                            true,
+                            map.slot.srgb(),
                             &map.placement,
                             &asked_by,
                             &mut self.warnings,
                         );
+                        obj::set_map(&mut defined, map, texture);
                     }
                     self.materials.push(defined);
                     self.materials.len() as u32 - 1

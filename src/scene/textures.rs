@@ -1,6 +1,7 @@
 //! The texture images of one scene: each file read once however many
 //! materials use it, and a file that cannot be read is a warning (the
-//! material keeps its plain colour), never an error.
+//! material keeps the map's neutral value: its plain colour, no cut-out),
+//! never an error.
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -17,12 +18,13 @@ pub(crate) struct Textures {
 }
 
 /// A texture statement's placement, MTL's options: `-s u v`, `-o u v`,
-/// `-clamp on`.
+/// `-clamp on`, and a bump map's multiplier `-bm`.
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct Placement {
     pub scale: Vec2,
     pub offset: Vec2,
     pub clamp: bool,
+    pub bump: f32,
 }
 
 impl Default for Placement {
@@ -31,6 +33,7 @@ impl Default for Placement {
             scale: Vec2::ONE,
             offset: Vec2::ZERO,
             clamp: false,
+            bump: 1.0,
         }
     }
 }
@@ -56,7 +59,8 @@ impl Textures {
                 Ok(decoded) => Some(Arc::new(image(path, decoded, srgb))),
                 Err(e) => {
                     warnings.push(format!(
-                        "{asked_by}: texture {}: {e}; the material's plain colour is used",
+                        "{asked_by}: texture {}: {e}; the map is left out (the material's \
+                         plain colour, no cut-out)",
                         path.display()
                     ));
                     None
@@ -86,6 +90,7 @@ fn image(path: &Path, decoded: crate::io::texture::Decoded, srgb: bool) -> Image
         width: decoded.width,
         height: decoded.height,
         texels,
+        alpha: decoded.alpha,
         source: TextureSource {
             path: path.to_owned(),
             sha256: decoded.sha256,
@@ -141,7 +146,11 @@ pub(crate) fn statement(args: &str) -> Result<(Placement, String), String> {
                 i += 1;
             }
             "-blendu" | "-blendv" | "-cc" | "-imfchan" | "-type" => i += 1,
-            "-bm" | "-boost" | "-texres" => drop(numbers(&mut i, 1)),
+            "-bm" => match numbers(&mut i, 1).first() {
+                Some(&v) if v.is_finite() => placement.bump = v,
+                _ => return Err("`-bm` expects a finite number".into()),
+            },
+            "-boost" | "-texres" => drop(numbers(&mut i, 1)),
             "-mm" => drop(numbers(&mut i, 2)),
             "-t" => drop(numbers(&mut i, 3)),
             _ => return Err(format!("unknown texture option `{word}`")),
@@ -171,11 +180,13 @@ mod tests {
             Placement {
                 scale: Vec2::new(2.0, 3.0),
                 offset: Vec2::new(0.5, 0.0),
-                clamp: true
+                clamp: true,
+                bump: 0.3
             }
         );
         assert!(statement("-s x.png").unwrap_err().contains("`-s` expects"));
         assert!(statement("-clamp maybe x.png").is_err());
+        assert!(statement("-bm x.png").unwrap_err().contains("`-bm`"));
         assert!(statement("-zz x.png").unwrap_err().contains("`-zz`"));
         assert!(statement("-s 1 1").unwrap_err().contains("file name"));
     }

@@ -55,6 +55,82 @@ pub struct Material {
     /// instead of `albedo`; left out of the scene hash when absent.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub albedo_map: Option<Texture>,
+    /// The MTL maps beyond `map_Kd`, each used where the surface has
+    /// texture coordinates; left out of the scene hash when there are none.
+    #[serde(skip_serializing_if = "Maps::is_empty")]
+    pub maps: Maps,
+}
+
+/// A material's image maps other than the albedo's (MTL's `map_d`,
+/// `map_Ks`, `map_Ke`, `map_Pr`, `map_Pm`, `bump`, `norm`).
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
+pub struct Maps {
+    /// A cut-out mask (`map_d`): where its opacity ([`Texture::opacity`])
+    /// is below [`Material::CUTOFF`], rays pass through as if nothing were
+    /// there, in every backend and for every kind of ray.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub alpha: Option<Texture>,
+    /// A height map (`bump`, `map_Bump`) that tilts the shading normal.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub bump: Option<Bump>,
+    /// A tangent-space normal map (`norm`): RGB in [0, 1] is the normal's
+    /// components in [−1, 1] along the tangent (dp/du), the bitangent and
+    /// the normal.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub normal: Option<Texture>,
+}
+
+/// A bump map: heights (the luminance of a linear image) times `scale`
+/// (MTL's `-bm`), in the scene's units, along the normal.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct Bump {
+    pub heights: Texture,
+    pub scale: f32,
+}
+
+/// The uv step of a bump map's finite differences, pbrt-v4's where a ray
+/// has no differentials.
+const BUMP_DU: f32 = 0.0005;
+
+impl Maps {
+    pub fn is_empty(&self) -> bool {
+        *self == Maps::default()
+    }
+
+    /// Whether the maps change the shading normal.
+    pub fn bends(&self) -> bool {
+        self.bump.is_some() || self.normal.is_some()
+    }
+
+    /// The shading normal at `uv` with the normal or bump map applied, as
+    /// pbrt-v4's `NormalMap` and `BumpMap` do (without the dn/du terms): `ns`
+    /// is the unmapped unit normal, `dpdu` and `dpdv` the surface's
+    /// derivatives in uv. The geometric normal is not changed; the caller
+    /// turns the result to its side. A normal map wins over a bump map.
+    pub fn shading_normal(&self, ns: Vec3, dpdu: Vec3, dpdv: Vec3, uv: Vec2) -> Vec3 {
+        if let Some(map) = &self.normal {
+            let local = (2.0 * map.rgb(uv) - Vec3::ONE).normalize_or(Vec3::Z);
+            let t = (dpdu - ns * ns.dot(dpdu)).normalize_or_zero();
+            if t == Vec3::ZERO {
+                return ns;
+            }
+            let b = ns.cross(t);
+            return (local.x * t + local.y * b + local.z * ns).normalize_or(ns);
+        }
+        let Some(bump) = &self.bump else {
+            return ns;
+        };
+        let height = |uv: Vec2| bump.scale * bump.heights.scalar(uv);
+        let here = height(uv);
+        let du = (height(uv + Vec2::new(BUMP_DU, 0.0)) - here) / BUMP_DU;
+        let dv = (height(uv + Vec2::new(0.0, BUMP_DU)) - here) / BUMP_DU;
+        let bumped = (dpdu + du * ns).cross(dpdv + dv * ns).normalize_or(ns);
+        if bumped.dot(ns) < 0.0 {
+            -bumped
+        } else {
+            bumped
+        }
+    }
 }
 
 impl Material {
@@ -76,8 +152,15 @@ impl Material {
             finish: Finish::default(),
             checker: None,
             albedo_map: None,
+            maps: Maps::default(),
         }
     }
+
+    /// The opacity below which a cut-out mask lets rays through, as
+    /// Blender's alpha clip and pbrt-v4's alpha test (which skips a hit whose
+    /// alpha is 0 and, between 0 and 1, stochastically; a fixed threshold
+    /// keeps every backend's answers and renders deterministic).
+    pub const CUTOFF: f32 = 0.5;
 
     /// Maps an MTL material: Ke > 0 → emissive; the PBR extension's metallic
     /// Pm ≥ 0.5 → metal (F0 = Kd, roughness Pr, else from Ns); illum 3 → mirror
@@ -127,6 +210,7 @@ impl Material {
             finish: Finish::default(),
             checker: None,
             albedo_map: None,
+            maps: Maps::default(),
         }
     }
 

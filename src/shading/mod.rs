@@ -12,6 +12,6 @@ pub use bsdf::{
     Plastic, Transport, shininess_to_alpha,
 };
 pub use finish::Finish;
-pub use material::{Material, MaterialKind};
+pub use material::{Bump, Maps, Material, MaterialKind};
 pub use pattern::Checker;
 pub use texture::{Image, Texture, TextureSource, srgb_to_linear};

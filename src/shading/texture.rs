@@ -11,6 +11,8 @@ pub struct Image {
     pub width: u32,
     pub height: u32,
     pub texels: Vec<[f32; 4]>,
+    /// Whether the file has an alpha channel (`Decoded::alpha`).
+    pub alpha: bool,
     /// Where it was read from and the file's SHA-256: the scene hash's
     /// record of it (its texels would be too many to hash each time).
     pub source: TextureSource,
@@ -116,6 +118,24 @@ impl Texture {
         let [r, g, b, _] = self.rgba(uv);
         Vec3::new(r, g, b)
     }
+
+    /// A scalar map's value at `uv` (a bump map's height): the luminance of
+    /// its linear colour, MTL's default channel (`-imfchan l`) for scalar maps.
+    pub fn scalar(&self, uv: Vec2) -> f32 {
+        self.rgb(uv).dot(crate::math::LUMINANCE)
+    }
+
+    /// A cut-out map's opacity at `uv`: its alpha channel where the file has
+    /// one (as Blender's importer links the image's alpha to the material's),
+    /// else the luminance (a grey mask, as pbrt reads a float texture).
+    pub fn opacity(&self, uv: Vec2) -> f32 {
+        let [r, g, b, a] = self.rgba(uv);
+        if self.image.alpha {
+            a
+        } else {
+            Vec3::new(r, g, b).dot(crate::math::LUMINANCE)
+        }
+    }
 }
 
 /// sRGB's transfer function inverted: an 8-bit colour's stored value to light.
@@ -142,6 +162,7 @@ mod tests {
                 [0.0, 0.0, 1.0, 1.0],
                 [1.0, 1.0, 1.0, 0.0],
             ],
+            alpha: true,
             source: TextureSource {
                 path: "q.png".into(),
                 sha256: String::new(),
@@ -182,6 +203,24 @@ mod tests {
         };
         assert_eq!(placed.rgb(Vec2::new(0.5, 1.5)), Vec3::Y);
         assert_eq!(t.rgb(Vec2::splat(f32::NAN)), t.rgb(Vec2::ZERO));
+    }
+
+    #[test]
+    fn opacity_is_the_alpha_channel_or_else_the_luminance() {
+        let t = quad();
+        // White with alpha 0: the alpha decides.
+        assert_eq!(t.opacity(Vec2::new(0.75, 0.25)), 0.0);
+        assert_eq!(t.opacity(Vec2::new(0.25, 0.75)), 1.0);
+        let image = Image {
+            alpha: false,
+            texels: t.image.texels.clone(),
+            source: t.image.source.clone(),
+            ..*t.image
+        };
+        let grey = Texture::new(Arc::new(image));
+        // Without an alpha channel: white is opaque, pure red its luminance.
+        assert!((grey.opacity(Vec2::new(0.75, 0.25)) - 1.0).abs() < 1e-6);
+        assert_eq!(grey.opacity(Vec2::new(0.25, 0.75)), 0.2126);
     }
 
     #[test]

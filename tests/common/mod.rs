@@ -92,3 +92,17 @@ irradiance = [2, 2, 2]
 {extra}"#
     )
 }
+
+/// An 8-bit PNG of `width` × `height` texels of `colour`, rows from the top.
+pub fn png_bytes(width: u32, height: u32, colour: png::ColorType, data: &[u8]) -> Vec<u8> {
+    let mut bytes = Vec::new();
+    let mut encoder = png::Encoder::new(&mut bytes, width, height);
+    encoder.set_color(colour);
+    encoder.set_depth(png::BitDepth::Eight);
+    encoder
+        .write_header()
+        .unwrap()
+        .write_image_data(data)
+        .unwrap();
+    bytes
+}

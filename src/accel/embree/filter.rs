@@ -1,6 +1,7 @@
 //! Filter functions: the all-hits query, whose filter records every
-//! candidate hit and rejects it so traversal goes on, and the protocol by
-//! which the user-geometry callback offers each crossing to the filters.
+//! candidate hit and rejects it so traversal goes on; the cut-out filter of
+//! triangle geometries with alpha masks; and the protocol by which the
+//! user-geometry callback offers each crossing to the filters.
 //!
 //! The query's filter rides in the query (Embree 3: the intersect context's
 //! `filter`, with the scene flag `RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION`;
@@ -9,6 +10,7 @@
 //! through the context, which is the first field of a `Collector`.
 
 use std::mem::MaybeUninit;
+use std::sync::Arc;
 
 use super::query::{self, Coherence};
 use super::scene::CommittedScene;
@@ -17,6 +19,7 @@ use super::user::{
     GEOM_ID, HIT_FIELDS, INST_ID, MAX_LANES, NG_X, PRIM_ID, Packet, RAY_FIELDS, TFAR, U, V,
     write_hit,
 };
+use crate::accel::cutout::Cutout;
 use crate::accel::panics::PanicSlot;
 use crate::accel::primitive::UserHit;
 use crate::math::{Hit, Ray, Vec3};
@@ -82,6 +85,45 @@ extern "C" fn collect(args: *const sys::RTCFilterFunctionNArguments) {
                 ng: Vec3::new(hit.f32(NG_X, i), hit.f32(NG_X + 1, i), hit.f32(NG_X + 2, i)),
             });
             *valid = 0;
+        }
+    });
+}
+
+/// What a triangle geometry with cut-outs holds as its user pointer.
+pub(super) struct CutoutData {
+    pub(super) cutout: Cutout,
+    pub(super) panics: Arc<PanicSlot>,
+}
+
+/// A triangle geometry's intersection and occlusion filter: rejects each
+/// valid lane whose candidate hit its cut-out skips. Embree runs a
+/// geometry's filter before the query's (the all-hits collector), so a
+/// cut-away hit is never collected; on an instance it runs in the
+/// prototype's scene, where primID, u and v are the prototype triangle's.
+pub(super) extern "C" fn cut_out(args: *const sys::RTCFilterFunctionNArguments) {
+    // SAFETY: Embree passes valid arguments for the duration of the call.
+    let args = unsafe { &*args };
+    let n = args.N as usize;
+    if n > MAX_LANES {
+        return;
+    }
+    // SAFETY: this filter is set only by `add_triangles`, on a geometry whose user
+    // pointer is a `CutoutData` the scene owns for as long as Embree may call it.
+    let data = unsafe { &*args.geometryUserPtr.cast::<CutoutData>() };
+    // SAFETY: `hit` is a live RTCHitN of N lanes whose valid lanes Embree initialised,
+    // lent to this call; only read here.
+    let hit = unsafe { Packet::<u32>::new(args.hit.cast(), PRIM_ID + 1, n) };
+    data.panics.guard((), || {
+        for i in 0..n {
+            // SAFETY: `valid` has N initialised, writable entries, lent to this call.
+            let valid = unsafe { &mut *args.valid.wrapping_add(i) };
+            if *valid == -1
+                && data
+                    .cutout
+                    .skips(hit.u32(PRIM_ID, i), hit.f32(U, i), hit.f32(V, i))
+            {
+                *valid = 0;
+            }
         }
     });
 }

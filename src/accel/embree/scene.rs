@@ -7,11 +7,13 @@ use std::ptr::NonNull;
 use std::sync::Arc;
 
 use super::device::Device;
+use super::filter::{self, CutoutData};
 use super::instance::Instances;
 use super::owned::UserPtr;
 use super::query::{self, Coherence};
 use super::sys;
 use super::user::{self, UserData};
+use crate::accel::cutout::Cutout;
 use crate::accel::panics::PanicSlot;
 use crate::accel::primitive::UserPrimitive;
 use crate::error::{Error, Result};
@@ -152,12 +154,15 @@ impl SceneBuilder {
 
     /// Adds a triangle mesh as geometry `geom_id`. The data are copied into
     /// buffers Embree allocates (padded for its 16-byte loads). An empty mesh
-    /// attaches nothing: no ray can hit it.
+    /// attaches nothing: no ray can hit it. With a `cutout`, the geometry's
+    /// intersection and occlusion filters skip the hits it cuts away
+    /// (`filter::cut_out`); without, it has no filter and pays nothing.
     pub fn add_triangles(
         &mut self,
         geom_id: u32,
         positions: &[Vec3],
         triangles: &[[u32; 3]],
+        cutout: Option<Cutout>,
     ) -> Result<()> {
         if triangles.is_empty() {
             return Ok(());
@@ -185,6 +190,24 @@ impl SceneBuilder {
         if !(vertices && indices) {
             self.device.check()?;
             return Err(Error::Embree("cannot allocate geometry buffers".into()));
+        }
+        if let Some(cutout) = cutout {
+            let data: UserPtr<dyn Any + Send + Sync> = UserPtr::new(Box::new(CutoutData {
+                cutout,
+                panics: Arc::clone(&self.panics),
+            }));
+            let user_ptr = data.as_c_void();
+            // Stored before Embree sees the pointer, so it stays alive on every path.
+            self.user_data.push(data);
+            let g = geometry.0.as_ptr();
+            // SAFETY: `g` is a new, unshared triangle geometry; the user pointer is the
+            // CutoutData that `self.user_data` owns until after Embree's scene is released
+            // (field order); the filters only read it through `&`.
+            unsafe { sys::rtcSetGeometryUserData(g, user_ptr) };
+            // SAFETY: as above; `cut_out` reads the user pointer as the CutoutData just set.
+            unsafe { sys::rtcSetGeometryIntersectFilterFunction(g, Some(filter::cut_out)) };
+            // SAFETY: as above.
+            unsafe { sys::rtcSetGeometryOccludedFilterFunction(g, Some(filter::cut_out)) };
         }
         self.attach(geometry, geom_id)
     }

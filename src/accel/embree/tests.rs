@@ -14,7 +14,9 @@ fn triangle_scene() -> CommittedScene {
     let device = Device::new().unwrap();
     let mut builder = SceneBuilder::new(&device, SceneOptions::default()).unwrap();
     let positions = [Vec3::ZERO, Vec3::X, Vec3::Y];
-    builder.add_triangles(0, &positions, &[[0, 1, 2]]).unwrap();
+    builder
+        .add_triangles(0, &positions, &[[0, 1, 2]], None)
+        .unwrap();
     builder.commit().unwrap()
 }
 
@@ -122,7 +124,7 @@ fn out_of_range_index_is_refused_before_embree_sees_it() {
     let device = Device::new().unwrap();
     let mut builder = SceneBuilder::new(&device, SceneOptions::default()).unwrap();
     let err = builder
-        .add_triangles(0, &[Vec3::ZERO, Vec3::X, Vec3::Y], &[[0, 1, 3]])
+        .add_triangles(0, &[Vec3::ZERO, Vec3::X, Vec3::Y], &[[0, 1, 3]], None)
         .unwrap_err();
     assert!(matches!(err, Error::Input(_)), "{err}");
 }
@@ -132,9 +134,11 @@ fn embree_errors_arrive_through_the_device_callback() {
     let device = Device::new().unwrap();
     let mut builder = SceneBuilder::new(&device, SceneOptions::default()).unwrap();
     let tri = [Vec3::ZERO, Vec3::X, Vec3::Y];
-    builder.add_triangles(7, &tri, &[[0, 1, 2]]).unwrap();
+    builder.add_triangles(7, &tri, &[[0, 1, 2]], None).unwrap();
     // Embree refuses a geometry ID that is already in use.
-    let err = builder.add_triangles(7, &tri, &[[0, 1, 2]]).unwrap_err();
+    let err = builder
+        .add_triangles(7, &tri, &[[0, 1, 2]], None)
+        .unwrap_err();
     assert!(matches!(err, Error::Embree(_)), "{err}");
 }
 
@@ -216,6 +220,7 @@ fn mixed_scene(panic_below: f32) -> CommittedScene {
                 Vec3::new(0.0, 1.0, 3.0),
             ],
             &[[0, 1, 2]],
+            None,
         )
         .unwrap();
     let spheres = vec![

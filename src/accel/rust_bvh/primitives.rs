@@ -3,6 +3,7 @@
 //! give it (mesh index and triangle index; `shapes_geom_id` and shape index).
 
 use super::triangle;
+use crate::accel::cutout::Cutout;
 use crate::accel::primitive::{UserHit, UserPrimitive, crossings};
 use crate::error::{Error, Result};
 use crate::geometry::Mesh;
@@ -37,6 +38,12 @@ pub(super) struct Primitives {
     /// instances place it).
     shapes: Box<[Shape]>,
     instances: Box<[Instance]>,
+    /// The cut-outs of the scene's meshes, by geometry id, then of each
+    /// prototype's meshes (an instance's triangles use its prototype's).
+    cutouts: Box<[Option<Cutout>]>,
+    prototype_cutouts: Box<[Box<[Option<Cutout>]>]>,
+    /// Whether any mesh has a cut-out: without, a hit costs one branch more.
+    any_cutout: bool,
 }
 
 impl Primitives {
@@ -83,11 +90,42 @@ impl Primitives {
                 }),
             );
         }
+        let cutouts = Cutout::of_meshes(&scene.meshes, &scene.materials);
+        let prototype_cutouts: Box<[_]> = scene
+            .prototypes
+            .iter()
+            .map(|p| Cutout::of_meshes(&p.meshes, &scene.materials))
+            .collect();
+        let any_cutout = cutouts
+            .iter()
+            .chain(prototype_cutouts.iter().flatten())
+            .any(Option::is_some);
         Ok(Primitives {
             list,
             shapes: shapes.into_boxed_slice(),
             instances: scene.instances.clone().into_boxed_slice(),
+            cutouts,
+            prototype_cutouts,
+            any_cutout,
         })
+    }
+
+    /// Whether the hit at barycentrics (u, v) of triangle `prim_id` of mesh
+    /// `geom_id` (of the scene, or of instance `inst_id`'s prototype) is cut
+    /// away, as Embree's cut-out filter decides.
+    #[inline]
+    fn cut(&self, [geom_id, prim_id, inst_id]: [u32; 3], u: f32, v: f32) -> bool {
+        if !self.any_cutout {
+            return false;
+        }
+        let meshes = match self.instances.get(inst_id as usize) {
+            Some(instance) => &self.prototype_cutouts[instance.prototype as usize],
+            None => &self.cutouts,
+        };
+        meshes
+            .get(geom_id as usize)
+            .and_then(Option::as_ref)
+            .is_some_and(|c| c.skips(prim_id, u, v))
     }
 
     pub(super) fn is_empty(&self) -> bool {
@@ -147,15 +185,17 @@ impl Primitives {
                 geom_id,
                 prim_id,
                 inst_id,
-            } => triangle::intersect(&corners, ray).map(|h| Hit {
-                t: h.t,
-                geom_id,
-                prim_id,
-                inst_id,
-                u: h.u,
-                v: h.v,
-                ng: h.ng,
-            }),
+            } => triangle::intersect(&corners, ray)
+                .filter(|h| !self.cut([geom_id, prim_id, inst_id], h.u, h.v))
+                .map(|h| Hit {
+                    t: h.t,
+                    geom_id,
+                    prim_id,
+                    inst_id,
+                    u: h.u,
+                    v: h.v,
+                    ng: h.ng,
+                }),
             // As Embree's callback does: a hit only within [tnear, tfar) (the
             // f64 root rounded to f32 may land on tfar, which the shape excluded).
             Primitive::Shape {
@@ -220,7 +260,7 @@ impl Primitives {
     #[inline]
     pub(super) fn occludes(&self, index: usize, ray: &Ray) -> bool {
         match self.list[index] {
-            Primitive::Triangle { corners, .. } => triangle::intersect(&corners, ray).is_some(),
+            Primitive::Triangle { .. } => self.intersect(index, ray).is_some(),
             Primitive::Shape { index, inst_id, .. } => {
                 UserPrimitive::occluded(&self.shapes[index as usize], &self.local(inst_id, ray))
             }

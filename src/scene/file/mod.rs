@@ -405,7 +405,35 @@ fn material(check: &Check, name: &str, m: &MaterialFile) -> Result<Material> {
         finish,
         // Read by `load`, which keeps the scene's textures.
         albedo_map: None,
+        maps: Default::default(),
     })
+}
+
+/// Material `index` as an analytic object placed by `to_world` shows it: a
+/// checker in the object's own space (issue 16: "in object space for
+/// analytic shapes"), so it moves, turns and scales with the object, as
+/// POV-Ray's pigment does. A copy of the material with the checker placed,
+/// shared by objects placed alike; the material itself where it has no
+/// checker or the object is not moved.
+fn placed(scene: &mut Scene, index: u32, to_world: DAffine3) -> u32 {
+    let material = &scene.materials[index as usize];
+    let Some(checker) = material.checker.filter(|_| to_world != DAffine3::IDENTITY) else {
+        return index;
+    };
+    let placed = Material {
+        checker: Some(Checker {
+            to_pattern: checker.to_pattern * to_world.inverse(),
+            ..checker
+        }),
+        ..material.clone()
+    };
+    match scene.materials.iter().position(|m| *m == placed) {
+        Some(i) => i as u32,
+        None => {
+            scene.materials.push(placed);
+            scene.materials.len() as u32 - 1
+        }
+    }
 }
 
 /// `albedo = { checker = [A, B], scale = s }`: both colours checked, the
@@ -548,6 +576,8 @@ impl Objects<'_> {
         }
         let built = self.built(key, kind, file)?;
         let to_world = self.transform(key, &file.transform)?;
+        // The object's own space, where its checker lies.
+        let object = to_world;
         let clip = self.clip(key, file)?;
         let (surface, to_world, clip) = match built {
             Built::Surface {
@@ -573,9 +603,18 @@ impl Objects<'_> {
                     depth: 0,
                 };
                 let root = self.node(key, file, built, &parent, &mut leaves)?;
+                // A part's own material follows the whole object too.
+                for leaf in &mut leaves {
+                    leaf.material = placed(scene, leaf.material, object);
+                }
                 let tree = Csg::new(root, leaves).map_err(|e| check.error(key, e))?;
                 (Surface::Csg(Box::new(tree)), DAffine3::IDENTITY, None)
             }
+        };
+        // A tree's parts carry their own (placed above).
+        let material = match surface {
+            Surface::Csg(_) => material,
+            _ => placed(scene, material, object),
         };
         let shape = Shape::new(surface, to_world, clip, material, self.solver)
             .map_err(|e| check.error(key, e))?;

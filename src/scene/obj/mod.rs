@@ -7,7 +7,7 @@
 
 mod mtl;
 
-pub(crate) use mtl::AlbedoMap;
+pub(crate) use mtl::{TextureMap, set_map};
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -47,8 +47,9 @@ pub struct ObjFile {
 pub struct ObjMaterial {
     pub name: String,
     pub defined: Option<Material>,
-    /// Its `map_Kd`, read when the scene takes the material.
-    pub(crate) albedo_map: Option<AlbedoMap>,
+    /// Its texture statements (`map_Kd`, `map_d`, …), read when the scene
+    /// takes the material.
+    pub(crate) maps: Vec<TextureMap>,
     /// The line that first named it: its `usemtl`, for the warning.
     pub line: usize,
 }
@@ -247,7 +248,7 @@ impl Reader<'_> {
             let material = ObjMaterial {
                 name: m.name.clone(),
                 defined: Some(Material::from_mtl(m)),
-                albedo_map: maps.remove(&m.name),
+                maps: maps.remove(&m.name).unwrap_or_default(),
                 line: self.line,
             };
             // A later library's definition of a name replaces the earlier one.
@@ -276,7 +277,7 @@ impl Reader<'_> {
                 self.materials.push(ObjMaterial {
                     name: name.to_owned(),
                     defined: None,
-                    albedo_map: None,
+                    maps: Vec::new(),
                     line: self.line,
                 });
                 index

@@ -11,16 +11,70 @@ use std::path::{Path, PathBuf};
 use crate::error::{Error, Result};
 use crate::scene::MAX_COLOUR;
 use crate::scene::textures::{Placement, statement};
+use crate::shading::{Bump, Material, Texture};
 
-/// A material's `map_Kd`: where it is asked for, its placement, and the
-/// image file (relative to the library's folder).
+/// One of a material's texture statements: which map it is, where it is
+/// asked for, its placement, and the image file (relative to the library's
+/// folder).
 #[derive(Clone, Debug)]
-pub(crate) struct AlbedoMap {
+pub(crate) struct TextureMap {
+    pub slot: MapSlot,
     pub library: PathBuf,
     pub line: usize,
     pub placement: Placement,
     pub file: PathBuf,
 }
+
+/// Which of a material's parameters a texture statement maps.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum MapSlot {
+    /// `map_Kd`.
+    Albedo,
+    /// `map_d`: the cut-out mask.
+    Alpha,
+    /// `bump`, `map_Bump`: a height map, with `-bm`.
+    Bump,
+    /// `norm`: a tangent-space normal map.
+    Normal,
+}
+
+impl MapSlot {
+    fn of(keyword: &str) -> Option<MapSlot> {
+        Some(match keyword {
+            "map_Kd" => MapSlot::Albedo,
+            "map_d" => MapSlot::Alpha,
+            "bump" | "map_Bump" | "map_bump" => MapSlot::Bump,
+            "norm" => MapSlot::Normal,
+            _ => return None,
+        })
+    }
+
+    /// Whether the map holds colours, sRGB-decoded; data maps (alpha,
+    /// heights, normals, roughness) are read as stored.
+    pub fn srgb(self) -> bool {
+        matches!(self, MapSlot::Albedo)
+    }
+}
+
+/// Puts a map's texture into the material's slot for it; `None` (a file
+/// that could not be read, already warned about) leaves the slot's neutral
+/// value: the plain colour, no cut-out.
+pub(crate) fn set_map(material: &mut Material, map: &TextureMap, texture: Option<Texture>) {
+    match map.slot {
+        MapSlot::Albedo => material.albedo_map = texture,
+        MapSlot::Alpha => material.maps.alpha = texture,
+        MapSlot::Bump => {
+            material.maps.bump = texture.map(|heights| Bump {
+                heights,
+                scale: map.placement.bump,
+            });
+        }
+        MapSlot::Normal => material.maps.normal = texture,
+    }
+}
+
+/// Each material's texture statements, by material name.
+pub(super) type MapsByName = HashMap<String, Vec<TextureMap>>;
 
 /// What the numbers of a statement must be.
 enum Expect {
@@ -46,7 +100,7 @@ fn expectation(keyword: &str) -> Option<Expect> {
         "d" | "Pr" | "Pm" => Expect::Fraction,
         "illum" => Expect::Model,
         "newmtl" | "map_Ka" | "map_Kd" | "map_Ks" | "map_Bump" | "map_bump" | "map_Ns"
-        | "map_ns" | "map_NS" | "bump" | "map_d" => Expect::Text,
+        | "map_ns" | "map_NS" | "bump" | "map_d" | "norm" => Expect::Text,
         _ => return None,
     })
 }
@@ -92,8 +146,9 @@ fn problem(keyword: &str, args: &[&str], expect: &Expect) -> Option<String> {
 }
 
 /// Reads the materials of an MTL file, refusing bad statements by line,
-/// with each material's `map_Kd` by name.
-pub(super) fn load(path: &Path) -> Result<(Vec<tobj::Material>, HashMap<String, AlbedoMap>)> {
+/// with each material's texture statements by name (a later statement for
+/// the same map replaces an earlier one).
+pub(super) fn load(path: &Path) -> Result<(Vec<tobj::Material>, MapsByName)> {
     let text = crate::io::input::read_text(path)?;
     let error = |line: usize, message: String| Error::Mesh {
         path: path.to_owned(),
@@ -114,22 +169,23 @@ pub(super) fn load(path: &Path) -> Result<(Vec<tobj::Material>, HashMap<String, 
         {
             return Err(error(number + 1, message));
         }
-        match keyword {
-            "newmtl" => current = Some(args.join(" ")),
-            "map_Kd" => {
-                let (placement, file) = statement(&args.join(" "))
-                    .map_err(|m| error(number + 1, format!("`map_Kd`: {m}")))?;
-                if let Some(name) = &current {
-                    let map = AlbedoMap {
-                        library: path.to_owned(),
-                        line: number + 1,
-                        placement,
-                        file: dir.join(file),
-                    };
-                    maps.insert(name.clone(), map);
-                }
+        if keyword == "newmtl" {
+            current = Some(args.join(" "));
+        } else if let Some(slot) = MapSlot::of(keyword) {
+            let (placement, file) = statement(&args.join(" "))
+                .map_err(|m| error(number + 1, format!("`{keyword}`: {m}")))?;
+            if let Some(name) = &current {
+                let map = TextureMap {
+                    slot,
+                    library: path.to_owned(),
+                    line: number + 1,
+                    placement,
+                    file: dir.join(file),
+                };
+                let list: &mut Vec<TextureMap> = maps.entry(name.clone()).or_default();
+                list.retain(|m| m.slot != slot);
+                list.push(map);
             }
-            _ => {}
         }
     }
     let (materials, _) = tobj::load_mtl_buf(&mut text.as_bytes())

@@ -378,6 +378,7 @@ impl Builder<'_> {
             finish,
             checker,
             albedo_map: None,
+            maps: Default::default(),
         };
         let same = |m: &Material| Material {
             name: String::new(),

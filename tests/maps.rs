@@ -1,0 +1,277 @@
+//! MTL maps beyond `map_Kd` (issue 16 §1): `map_d` cut-outs on every
+//! backend and for every kind of ray.
+
+mod common;
+
+use common::{png_bytes, scratch, sturmray, write};
+use sturmray::accel::{Accel, Backend};
+use sturmray::math::{Hit, Ray, Vec3};
+use sturmray::scene::Scene;
+
+/// An 8 × 8 PNG mask, opaque on its left half (u < 0.5) and clear on its
+/// right: with an alpha channel (RGBA, black and white, so the luminance
+/// would say the opposite), or grey without one (white left, black right).
+fn half_mask(alpha: bool) -> Vec<u8> {
+    let mut data = Vec::new();
+    for _ in 0..8 {
+        for x in 0..8 {
+            let opaque = x < 4;
+            if alpha {
+                // Black where opaque, white where clear: only the alpha tells.
+                let c = if opaque { 0 } else { 255 };
+                data.extend_from_slice(&[c, c, c, if opaque { 255 } else { 0 }]);
+            } else {
+                data.push(if opaque { 255 } else { 0 });
+            }
+        }
+    }
+    let colour = if alpha {
+        png::ColorType::Rgba
+    } else {
+        png::ColorType::Grayscale
+    };
+    png_bytes(8, 8, colour, &data)
+}
+
+/// Two squares over x, y ∈ [-1, 1]: `leaf` at z = 1 with uv (its material
+/// cut by `mask.png`), `wall` at z = 0, opaque.
+const LEAF_OBJ: &str = "mtllib m.mtl\n\
+    o leaf\nv -1 -1 1\nv 1 -1 1\nv 1 1 1\nv -1 1 1\n\
+    vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nusemtl leaf\nf 1/1 2/2 3/3 4/4\n\
+    o wall\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nusemtl wall\nf 5 6 7 8\n";
+
+const LEAF_MTL: &str = "newmtl leaf\nKd 0.2 0.8 0.2\nmap_d mask.png\nnewmtl wall\nKd 0.5 0.5 0.5\n";
+
+/// The leaf and wall in a folder with `mask`, as a bare OBJ scene.
+fn leaf_scene(dir: &std::path::Path, mask: &[u8]) -> Scene {
+    std::fs::write(dir.join("mask.png"), mask).unwrap();
+    write(dir, "m.mtl", LEAF_MTL);
+    Scene::load(&write(dir, "leaf.obj", LEAF_OBJ)).unwrap()
+}
+
+/// Rays straight down from z = 5 on a grid over the squares, clear of the
+/// mask's middle (x = 0), where bilinear filtering blends the halves, and
+/// off the squares' diagonal (x = y), where both triangles are hit.
+fn down_rays() -> Vec<Ray> {
+    let mut rays = Vec::new();
+    for i in 0..8 {
+        for j in 0..8 {
+            let x = -0.9 + 0.2 * i as f32 + if i < 4 { 0.0 } else { 0.05 };
+            let y = -0.87 + 0.2 * j as f32;
+            rays.push(Ray::new(Vec3::new(x, y, 5.0), Vec3::new(0.0, 0.0, -1.0)));
+        }
+    }
+    rays
+}
+
+/// What each ray must find: over the opaque half the leaf (geometry 0, t =
+/// 4), over the clear half the wall behind it (geometry 1, t = 5).
+fn check_hits(accel: &Accel, rays: &[Ray], what: &str) {
+    let mut batch = vec![Hit::MISS; rays.len()];
+    accel.intersect_batch(rays, &mut batch, true).unwrap();
+    for (ray, batched) in rays.iter().zip(&batch) {
+        let hit = accel.intersect(ray);
+        let opaque = ray.origin.x < 0.0;
+        let (geom_id, t) = if opaque { (0, 4.0) } else { (1, 5.0) };
+        assert_eq!((hit.geom_id, hit.t), (geom_id, t), "{what}: {ray:?}");
+        assert_eq!(*batched, hit, "{what}: batch, {ray:?}");
+        // A shadow ray that ends between the squares is blocked only by the leaf.
+        let mut shadow = *ray;
+        shadow.tfar = 4.5;
+        assert_eq!(accel.occluded(&shadow), opaque, "{what}: shadow {ray:?}");
+        // All hits: the leaf only where it is there, and the wall always.
+        let mut all = Vec::new();
+        accel.intersect_all(ray, &mut all);
+        let found: Vec<u32> = all.iter().map(|h| h.geom_id).collect();
+        let expected = if opaque { vec![0, 1] } else { vec![1] };
+        assert_eq!(found, expected, "{what}: all hits {ray:?}");
+    }
+    accel.check().unwrap();
+}
+
+#[test]
+fn rays_pass_the_cut_out_parts_on_every_backend() {
+    for alpha in [true, false] {
+        let dir = scratch("cutout");
+        let scene = leaf_scene(&dir, &half_mask(alpha));
+        assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+        for backend in Backend::ALL {
+            let accel = Accel::build(&scene, backend, None).unwrap();
+            check_hits(&accel, &down_rays(), &format!("alpha {alpha}, {backend:?}"));
+        }
+    }
+}
+
+#[test]
+fn instances_keep_their_prototypes_cut_outs() {
+    let dir = scratch("cutout_instances");
+    leaf_scene(&dir, &half_mask(true));
+    let toml = "[[prototypes.leaf.objects]]\ntype = \"mesh\"\nfile = \"leaf.obj\"\n\
+                [[objects]]\ntype = \"instance\"\nprototype = \"leaf\"\n\
+                transform = { translate = [0, 0, -1] }\n";
+    let scene = Scene::load(&write(&dir, "i.toml", toml)).unwrap();
+    // Moved 1 down: rays from z = 4 see what rays from 5 saw before.
+    let rays: Vec<Ray> = down_rays()
+        .into_iter()
+        .map(|r| Ray::new(r.origin - Vec3::Z, r.dir))
+        .collect();
+    for backend in Backend::ALL {
+        let accel = Accel::build(&scene, backend, None).unwrap();
+        for ray in &rays {
+            let hit = accel.intersect(ray);
+            let expected = if ray.origin.x < 0.0 {
+                (0, 4.0)
+            } else {
+                (1, 5.0)
+            };
+            assert_eq!((hit.geom_id, hit.t), expected, "{backend:?}: {ray:?}");
+            assert_eq!(hit.inst_id, 0, "{backend:?}");
+        }
+    }
+}
+
+#[test]
+fn a_missing_mask_is_a_warning_and_nothing_is_cut() {
+    let dir = scratch("cutout_missing");
+    write(&dir, "m.mtl", LEAF_MTL);
+    let scene = Scene::load(&write(&dir, "leaf.obj", LEAF_OBJ)).unwrap();
+    let warnings = scene.warnings.join("\n");
+    assert!(
+        warnings.contains("m.mtl:3: texture") && warnings.contains("mask.png"),
+        "{warnings}"
+    );
+    for backend in Backend::ALL {
+        let accel = Accel::build(&scene, backend, None).unwrap();
+        for ray in down_rays() {
+            assert_eq!(accel.intersect(&ray).geom_id, 0, "{backend:?}");
+        }
+    }
+}
+
+#[test]
+fn a_render_with_cut_outs_is_the_same_for_any_thread_count() {
+    let dir = scratch("cutout_threads");
+    leaf_scene(&dir, &half_mask(true));
+    let mut images = Vec::new();
+    for threads in ["1", "2"] {
+        let out = format!("t{threads}.exr");
+        let run = sturmray(
+            &dir,
+            &[
+                "render",
+                "leaf.obj",
+                "-o",
+                &out,
+                "--width",
+                "24",
+                "--spp",
+                "2",
+                "--threads",
+                threads,
+            ],
+        );
+        assert!(
+            run.status.success(),
+            "{}",
+            String::from_utf8_lossy(&run.stderr)
+        );
+        images.push(std::fs::read(dir.join(&out)).unwrap());
+    }
+    assert_eq!(images[0], images[1]);
+}
+
+#[test]
+fn a_checker_on_an_analytic_shape_moves_with_it() {
+    let dir = scratch("object_checker");
+    let offset = Vec3::new(5.17, 0.41, -0.2);
+    let toml = format!(
+        "[materials.c]\ntype = \"diffuse\"\n\
+         albedo = {{ checker = [[1, 0, 0], [0, 0, 1]], scale = 0.3 }}\n\
+         [[objects]]\ntype = \"sphere\"\nradius = 1\nmaterial = \"c\"\n\
+         [[objects]]\ntype = \"sphere\"\nradius = 1\nmaterial = \"c\"\n\
+         transform = {{ translate = [{}, {}, {}] }}\n",
+        offset.x, offset.y, offset.z
+    );
+    let scene = Scene::load(&write(&dir, "c.toml", &toml)).unwrap();
+    let accel = Accel::build(&scene, Backend::Embree, None).unwrap();
+    let albedo = |ray: &Ray| {
+        let hit = accel.intersect(ray);
+        assert!(hit.is_hit(), "{ray:?}");
+        let it = scene.interaction(ray, &hit);
+        (it.albedo(&scene.materials[it.material as usize]), it.p)
+    };
+    let mut differs_in_world_space = 0;
+    for k in 0..100 {
+        let (x, y) = ((k % 10) as f32 * 0.14 - 0.63, (k / 10) as f32 * 0.14 - 0.62);
+        let ray = Ray::new(Vec3::new(x, y, 5.0), Vec3::new(0.0, 0.0, -1.0));
+        let moved = Ray::new(ray.origin + offset, ray.dir);
+        let ((a, _), (b, p)) = (albedo(&ray), albedo(&moved));
+        assert_eq!(a, b, "{ray:?}");
+        // The scene material's checker, unplaced, would lie in world space.
+        differs_in_world_space += usize::from(scene.materials[0].albedo_at(p, None) != b);
+    }
+    // So the test can fail: in world space the pattern would not follow.
+    assert!(differs_in_world_space > 10, "{differs_in_world_space}");
+}
+
+/// A 16 × 1 grey PNG, 8 bits: `value(x)` for texel x.
+fn grey_row(value: impl Fn(u32) -> u8) -> Vec<u8> {
+    let data: Vec<u8> = (0..16).map(value).collect();
+    png_bytes(16, 1, png::ColorType::Grayscale, &data)
+}
+
+/// A 1 × 1 RGB PNG of one colour.
+fn rgb_png(rgb: [u8; 3]) -> Vec<u8> {
+    png_bytes(1, 1, png::ColorType::Rgb, &rgb)
+}
+
+/// The shading and geometric normals where a ray down the z axis at (x, y)
+/// meets the square [-1, 1]² at z = 0 (u along x, v along y), whose
+/// material `m` is `mtl`, with `image` as `map.png`.
+fn mapped_normals(name: &str, mtl: &str, image: &[u8], x: f32, y: f32) -> (Vec3, Vec3) {
+    let dir = scratch(name);
+    std::fs::write(dir.join("map.png"), image).unwrap();
+    write(&dir, "m.mtl", &format!("newmtl m\nKd 0.5 0.5 0.5\n{mtl}\n"));
+    let obj = "mtllib m.mtl\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\n\
+               vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nusemtl m\nf 1/1 2/2 3/3 4/4\n";
+    let scene = Scene::load(&write(&dir, "m.obj", obj)).unwrap();
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let accel = Accel::build(&scene, Backend::Embree, None).unwrap();
+    let ray = Ray::new(Vec3::new(x, y, 3.0), Vec3::new(0.0, 0.0, -1.0));
+    let it = scene.interaction(&ray, &accel.intersect(&ray));
+    (it.ns, it.n)
+}
+
+#[test]
+fn a_linear_height_ramp_tilts_the_normal_by_its_slope() {
+    // Heights rising 16/255 a texel, 16 texels across u: dh/du = 256/255
+    // (bilinear between texel centres, linear data); × -bm 0.5, over a
+    // square 2 wide in u: the height rises s = 0.5 · 256/255 per 2 along x.
+    let ramp = grey_row(|x| (16 * x) as u8);
+    let (ns, n) = mapped_normals("bump", "bump -bm 0.5 map.png", &ramp, -0.1, 0.3);
+    let slope = 0.5 * 256.0 / 255.0 / 2.0;
+    let expected = Vec3::new(-slope, 0.0, 1.0).normalize();
+    assert!((ns - expected).length() < 1e-3, "{ns} for {expected}");
+    assert_eq!(n, Vec3::Z, "the geometric normal stays");
+    // Twice the multiplier, twice the slope; a flat map changes nothing.
+    let (steeper, _) = mapped_normals("bump2", "map_Bump -bm 1 map.png", &ramp, -0.1, 0.3);
+    assert!(
+        (steeper.x / steeper.z + 2.0 * slope).abs() < 1e-3,
+        "{steeper}"
+    );
+    let (flat, _) = mapped_normals("bump0", "bump map.png", &grey_row(|_| 90), 0.2, 0.3);
+    assert_eq!(flat, Vec3::Z);
+}
+
+#[test]
+fn a_normal_map_turns_the_normal_in_the_tangent_frame() {
+    // (0.6, 0, 0.8) in tangent space: RGB (0.8, 0.5, 0.9), as 8 bits.
+    let map = rgb_png([204, 128, 230]);
+    let (ns, n) = mapped_normals("norm", "norm map.png", &map, 0.3, -0.2);
+    let decoded = |c: f32| 2.0 * c / 255.0 - 1.0;
+    let expected = Vec3::new(decoded(204.0), decoded(128.0), decoded(230.0)).normalize();
+    // The tangent is dp/du = +x, the bitangent +y, the normal +z.
+    assert!((ns - expected).length() < 1e-5, "{ns} for {expected}");
+    assert!(ns.x > 0.55, "{ns}");
+    assert_eq!(n, Vec3::Z);
+}
