@@ -59,6 +59,17 @@ lint:
 test-rust:
 	cargo test --workspace
 
+# The module cargo built in the profile folder $(1) (what maturin's build
+# runs: python/'s lib with extension-module), as the package $(1)/python/sturmray:
+# with $(1)/python on PYTHONPATH, pytest and tools import that build, and the
+# venv's editable install (test-python's; the venv may be shared) is left alone.
+define stage_module
+	rm -rf $(1)/python/sturmray && mkdir -p $(1)/python
+	cp -r python/sturmray $(1)/python/
+	cp $(1)/lib_sturmray.so $(1)/python/sturmray/_sturmray$$($(PYTHON) -c \
+	  'import sysconfig; print(sysconfig.get_config_var("EXT_SUFFIX"))')
+endef
+
 # The binary the Rust tests build (`cargo test --workspace --no-run` makes it
 # for the integration tests): `cargo build` would rebuild every dependency
 # whose features the dev-dependencies change, and so would a `cargo test`
@@ -131,12 +142,14 @@ povray-speed: setup
 # Issue 18's speed table: Scene.intersect against `sturmray trace` and
 # embreex's run on 1M rays through a 1.3M-triangle mesh, one thread each;
 # fails if the module is below 90% of the CLI or not faster than embreex.
+# Before it, what add_mesh and commit add to the peak RSS (docs/python.md).
 # Release builds of both; not part of `make test`.
 python-speed: setup
 	cargo build --release
-	VIRTUAL_ENV=$(CURDIR)/$(VENV) $(VENV)/bin/maturin develop --release -m python/Cargo.toml -q
-	$(PYTHON) tools/python_speed.py --sturmray $(RELEASE_BIN)
-	VIRTUAL_ENV=$(CURDIR)/$(VENV) $(VENV)/bin/maturin develop --profile dev -m python/Cargo.toml -q
+	cargo build --release --manifest-path python/Cargo.toml --features extension-module --lib
+	$(call stage_module,target/release)
+	PYTHONPATH=target/release/python $(PYTHON) tools/python_memory.py
+	PYTHONPATH=target/release/python $(PYTHON) tools/python_speed.py --sturmray $(RELEASE_BIN)
 
 # What the photon pass costs with its default radius on scenes/glass_floor.toml,
 # a glass ball over a floor 2000 units wide (issue 15: at most 1.2x the render
