@@ -90,8 +90,16 @@ embree4:
 # Its target folder starts as hard links to the dependencies `make test` built
 # (same sources, same profile), so only embree-sys and sturmray compile again:
 # on a fresh clone that saves CI a second build of every dependency.
-# tests/python/ is left out: the module `make test` installs links Embree 3
-# (the CLI tests cover all-hits on Embree 4).
+# tests/python/ runs on a module built there (stage_module), which finds
+# libembree4 through LD_LIBRARY_PATH (only sturmray's own binaries get the rpath).
+# EMBREE4_KNOWN_FAILURES are deselected, by name, until fixed: on Embree 4 the
+# all-hits query gets no crossings of analytic shapes (Embree 4 never calls an
+# argument filter for user geometry, embree/embree#478) and no hits inside
+# instances (docs/python.md, "Not done yet").
+EMBREE4_KNOWN_FAILURES := \
+  tests/python/test_module.py::test_intersect_all_reports_shared_edges_and_every_crossing[embree] \
+  tests/python/test_module.py::test_instances_report_their_index[embree] \
+  tests/python/test_module.py::test_quadric_and_algebraic_shapes
 test-embree4: setup embree4
 	@if [ ! -d $(EMBREE4_TARGET)/debug ] && [ -d target/debug/deps ]; then \
 	  mkdir -p $(EMBREE4_TARGET)/debug/deps; \
@@ -102,7 +110,14 @@ test-embree4: setup embree4
 	EMBREE_DIR=$(EMBREE4_DIR) cargo test --workspace --target-dir $(EMBREE4_TARGET)
 	EMBREE_DIR=$(EMBREE4_DIR) cargo test --workspace --no-run --target-dir $(EMBREE4_TARGET)
 	$(EMBREE4_TARGET)/debug/sturmray info scenes/knot.toml | grep -q "^backend    Embree 4\."
-	STURMRAY_BIN=$(EMBREE4_TARGET)/debug/sturmray $(PYTHON) -m pytest tests -q --ignore=tests/python
+	EMBREE_DIR=$(EMBREE4_DIR) cargo build --manifest-path python/Cargo.toml --features extension-module \
+	  --lib --target-dir $(EMBREE4_TARGET)
+	$(call stage_module,$(EMBREE4_TARGET)/debug)
+	LD_LIBRARY_PATH=$(EMBREE4_DIR)/lib PYTHONPATH=$(EMBREE4_TARGET)/debug/python $(PYTHON) -c \
+	  'import sturmray; s = sturmray.Scene.load("scenes/knot.toml"); assert s.backend.startswith("Embree 4."), s.backend'
+	LD_LIBRARY_PATH=$(EMBREE4_DIR)/lib PYTHONPATH=$(EMBREE4_TARGET)/debug/python \
+	  STURMRAY_BIN=$(EMBREE4_TARGET)/debug/sturmray $(PYTHON) -m pytest tests -q \
+	  $(foreach t,$(EMBREE4_KNOWN_FAILURES),--deselect '$(t)')
 
 bench: setup
 	cargo build --release
