@@ -59,6 +59,17 @@ lint:
 test-rust:
 	cargo test --workspace
 
+# The module cargo built in the profile folder $(1) (what maturin's build
+# runs: python/'s lib with extension-module), as the package $(1)/python/sturmray:
+# with $(1)/python on PYTHONPATH, pytest and tools import that build, and the
+# venv's editable install (test-python's; the venv may be shared) is left alone.
+define stage_module
+	rm -rf $(1)/python/sturmray && mkdir -p $(1)/python
+	cp -r python/sturmray $(1)/python/
+	cp $(1)/lib_sturmray.so $(1)/python/sturmray/_sturmray$$($(PYTHON) -c \
+	  'import sysconfig; print(sysconfig.get_config_var("EXT_SUFFIX"))')
+endef
+
 # The binary the Rust tests build (`cargo test --workspace --no-run` makes it
 # for the integration tests): `cargo build` would rebuild every dependency
 # whose features the dev-dependencies change, and so would a `cargo test`
@@ -79,8 +90,16 @@ embree4:
 # Its target folder starts as hard links to the dependencies `make test` built
 # (same sources, same profile), so only embree-sys and sturmray compile again:
 # on a fresh clone that saves CI a second build of every dependency.
-# tests/python/ is left out: the module `make test` installs links Embree 3
-# (the CLI tests cover all-hits on Embree 4).
+# tests/python/ runs on a module built there (stage_module), which finds
+# libembree4 through LD_LIBRARY_PATH (only sturmray's own binaries get the rpath).
+# EMBREE4_KNOWN_FAILURES are deselected, by name, until fixed: on Embree 4 the
+# all-hits query gets no crossings of analytic shapes (Embree 4 never calls an
+# argument filter for user geometry, embree/embree#478) and no hits inside
+# instances (docs/python.md, "Not done yet").
+EMBREE4_KNOWN_FAILURES := \
+  tests/python/test_module.py::test_intersect_all_reports_shared_edges_and_every_crossing[embree] \
+  tests/python/test_module.py::test_instances_report_their_index[embree] \
+  tests/python/test_module.py::test_quadric_and_algebraic_shapes
 test-embree4: setup embree4
 	@if [ ! -d $(EMBREE4_TARGET)/debug ] && [ -d target/debug/deps ]; then \
 	  mkdir -p $(EMBREE4_TARGET)/debug/deps; \
@@ -91,7 +110,14 @@ test-embree4: setup embree4
 	EMBREE_DIR=$(EMBREE4_DIR) cargo test --workspace --target-dir $(EMBREE4_TARGET)
 	EMBREE_DIR=$(EMBREE4_DIR) cargo test --workspace --no-run --target-dir $(EMBREE4_TARGET)
 	$(EMBREE4_TARGET)/debug/sturmray info scenes/knot.toml | grep -q "^backend    Embree 4\."
-	STURMRAY_BIN=$(EMBREE4_TARGET)/debug/sturmray $(PYTHON) -m pytest tests -q --ignore=tests/python
+	EMBREE_DIR=$(EMBREE4_DIR) cargo build --manifest-path python/Cargo.toml --features extension-module \
+	  --lib --target-dir $(EMBREE4_TARGET)
+	$(call stage_module,$(EMBREE4_TARGET)/debug)
+	LD_LIBRARY_PATH=$(EMBREE4_DIR)/lib PYTHONPATH=$(EMBREE4_TARGET)/debug/python $(PYTHON) -c \
+	  'import sturmray; s = sturmray.Scene.load("scenes/knot.toml"); assert s.backend.startswith("Embree 4."), s.backend'
+	LD_LIBRARY_PATH=$(EMBREE4_DIR)/lib PYTHONPATH=$(EMBREE4_TARGET)/debug/python \
+	  STURMRAY_BIN=$(EMBREE4_TARGET)/debug/sturmray $(PYTHON) -m pytest tests -q \
+	  $(foreach t,$(EMBREE4_KNOWN_FAILURES),--deselect '$(t)')
 
 bench: setup
 	cargo build --release
@@ -131,12 +157,14 @@ povray-speed: setup
 # Issue 18's speed table: Scene.intersect against `sturmray trace` and
 # embreex's run on 1M rays through a 1.3M-triangle mesh, one thread each;
 # fails if the module is below 90% of the CLI or not faster than embreex.
+# Before it, what add_mesh and commit add to the peak RSS (docs/python.md).
 # Release builds of both; not part of `make test`.
 python-speed: setup
 	cargo build --release
-	VIRTUAL_ENV=$(CURDIR)/$(VENV) $(VENV)/bin/maturin develop --release -m python/Cargo.toml -q
-	$(PYTHON) tools/python_speed.py --sturmray $(RELEASE_BIN)
-	VIRTUAL_ENV=$(CURDIR)/$(VENV) $(VENV)/bin/maturin develop --profile dev -m python/Cargo.toml -q
+	cargo build --release --manifest-path python/Cargo.toml --features extension-module --lib
+	$(call stage_module,target/release)
+	PYTHONPATH=target/release/python $(PYTHON) tools/python_memory.py
+	PYTHONPATH=target/release/python $(PYTHON) tools/python_speed.py --sturmray $(RELEASE_BIN)
 
 # What the photon pass costs with its default radius on scenes/glass_floor.toml,
 # a glass ball over a floor 2000 units wide (issue 15: at most 1.2x the render

@@ -88,6 +88,12 @@ fn trace_writes_one_hit_per_ray() {
         ],
     );
     assert!(out.status.success(), "{}", stderr(&out));
+    // The trace's own time, which tools/python_speed.py reads.
+    assert!(
+        stderr(&out).contains("(2 rays traced in "),
+        "{}",
+        stderr(&out)
+    );
     // A version 1.0 header (its length at bytes 8..10) then 2 records;
     // numpy's reading of the records is checked in tests/test_embreex.py.
     let bytes = std::fs::read(dir.join("hits.npy")).unwrap();

@@ -3,9 +3,11 @@
 //! of per-ray offsets) or only whether anything blocks it (`--any-hit`).
 
 use std::path::{Path, PathBuf};
+use std::time::Instant;
 
 use sturmray::accel::{Accel, check_rays};
 use sturmray::io;
+use sturmray::io::console::note;
 use sturmray::io::output::Role;
 use sturmray::render::{AllHits, all_hits_batch, occluded_batch, thread_pool};
 
@@ -54,23 +56,41 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let signals = Signals::catch_at_once()?;
     let rays = io::npy::read_rays(&args.rays)?;
     let accel = Accel::build(&scene, args.backend.into(), None)?;
+    // The trace alone is timed (not the reading, the BVH build or the
+    // writing), so that tools/python_speed.py compares the module with it.
+    let start = Instant::now();
     if args.any_hit {
         check_rays(&rays)?;
         let mut blocked = vec![false; rays.len()];
         thread_pool(None)?.install(|| occluded_batch(&accel, &rays, &mut blocked))?;
+        let seconds = start.elapsed().as_secs_f64();
         let _writing = signals.writing();
         io::npy::write_bools(&args.out, &blocked)?;
+        wrote(&args.out, rays.len(), seconds);
     } else if args.all_hits {
         check_rays(&rays)?;
         let mut all = AllHits::default();
         thread_pool(None)?.install(|| all_hits_batch(&accel, &rays, None, &mut all))?;
+        let seconds = start.elapsed().as_secs_f64();
         let _writing = signals.writing();
         io::npy::write_hits(&args.out, &all.hits)?;
         io::npy::write_offsets(&offsets, &all.offsets)?;
+        wrote(&args.out, rays.len(), seconds);
     } else {
         let hits = sturmray::render::trace_all(&accel, &rays, None)?;
+        let seconds = start.elapsed().as_secs_f64();
         let _writing = signals.writing();
         io::npy::write_hits(&args.out, &hits)?;
+        wrote(&args.out, rays.len(), seconds);
     }
     Ok(())
+}
+
+/// The note after a trace: its rays, and the seconds of the trace alone.
+fn wrote(out: &Path, rays: usize, seconds: f64) {
+    note(format_args!(
+        "wrote {} ({rays} rays traced in {seconds:.6} s, {:.2} Mrays/s)",
+        out.display(),
+        rays as f64 / seconds / 1e6
+    ));
 }
