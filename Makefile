@@ -92,14 +92,6 @@ embree4:
 # on a fresh clone that saves CI a second build of every dependency.
 # tests/python/ runs on a module built there (stage_module), which finds
 # libembree4 through LD_LIBRARY_PATH (only sturmray's own binaries get the rpath).
-# EMBREE4_KNOWN_FAILURES are deselected, by name, until fixed: on Embree 4 the
-# all-hits query gets no crossings of analytic shapes (Embree 4 never calls an
-# argument filter for user geometry, embree/embree#478) and no hits inside
-# instances (docs/python.md, "Not done yet").
-EMBREE4_KNOWN_FAILURES := \
-  tests/python/test_module.py::test_intersect_all_reports_shared_edges_and_every_crossing[embree] \
-  tests/python/test_module.py::test_instances_report_their_index[embree] \
-  tests/python/test_module.py::test_quadric_and_algebraic_shapes
 test-embree4: setup embree4
 	@if [ ! -d $(EMBREE4_TARGET)/debug ] && [ -d target/debug/deps ]; then \
 	  mkdir -p $(EMBREE4_TARGET)/debug/deps; \
@@ -116,8 +108,7 @@ test-embree4: setup embree4
 	LD_LIBRARY_PATH=$(EMBREE4_DIR)/lib PYTHONPATH=$(EMBREE4_TARGET)/debug/python $(PYTHON) -c \
 	  'import sturmray; s = sturmray.Scene.load("scenes/knot.toml"); assert s.backend.startswith("Embree 4."), s.backend'
 	LD_LIBRARY_PATH=$(EMBREE4_DIR)/lib PYTHONPATH=$(EMBREE4_TARGET)/debug/python \
-	  STURMRAY_BIN=$(EMBREE4_TARGET)/debug/sturmray $(PYTHON) -m pytest tests -q \
-	  $(foreach t,$(EMBREE4_KNOWN_FAILURES),--deselect '$(t)')
+	  STURMRAY_BIN=$(EMBREE4_TARGET)/debug/sturmray $(PYTHON) -m pytest tests -q
 
 bench: setup
 	cargo build --release

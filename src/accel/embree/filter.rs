@@ -37,6 +37,36 @@ type Context = sys::RTCIntersectContext;
 #[cfg(embree4)]
 type Context = sys::RTCRayQueryContext;
 
+#[cfg(embree4)]
+thread_local! {
+    /// The context of the all-hits query running on this thread, if any.
+    /// Embree 4 never calls a query's argument filter for user geometry
+    /// (embree/embree#478: `rtcInvokeIntersectFilterFromGeometry` runs only
+    /// the geometry's own), so `offer` hands a crossing to `collect` itself
+    /// when the query it serves is this one.
+    static COLLECTING: std::cell::Cell<*const Context> =
+        const { std::cell::Cell::new(std::ptr::null()) };
+}
+
+/// Marks the all-hits query on this thread for as long as it lives.
+#[cfg(embree4)]
+struct Collecting;
+
+#[cfg(embree4)]
+impl Collecting {
+    fn start(context: *const Context) -> Collecting {
+        COLLECTING.with(|c| c.set(context));
+        Collecting
+    }
+}
+
+#[cfg(embree4)]
+impl Drop for Collecting {
+    fn drop(&mut self) {
+        COLLECTING.with(|c| c.set(std::ptr::null()));
+    }
+}
+
 /// An all-hits query's context: Embree's context first, so the filter finds
 /// the rest from the context pointer it is given.
 #[repr(C)]
@@ -170,10 +200,16 @@ pub(super) fn offer(args: &sys::RTCIntersectFunctionNArguments, i: usize, hit: &
         sys::rtcFilterIntersection(args, &filter_args)
     };
     #[cfg(embree4)]
-    // SAFETY: as above.
-    unsafe {
-        sys::rtcInvokeIntersectFilterFromGeometry(args, &filter_args)
-    };
+    {
+        // SAFETY: as above.
+        unsafe { sys::rtcInvokeIntersectFilterFromGeometry(args, &filter_args) };
+        // The query's filter, which Embree 4 leaves out here (see `COLLECTING`):
+        // only for the all-hits query whose context this is, so `collect` finds
+        // its `Collector` there.
+        if mask[i] == -1 && COLLECTING.with(|c| c.get()) == args.context.cast_const() {
+            collect(&filter_args);
+        }
+    }
     let accepted = mask[i] == -1;
     if !accepted {
         // SAFETY: as above; the filters have returned.
@@ -226,6 +262,7 @@ impl CommittedScene {
             args.filter = Some(collect);
             // Embree 4 calls an argument filter only when the query asks for it.
             args.flags |= sys::RTCRayQueryFlags_RTC_RAY_QUERY_FLAG_INVOKE_ARGUMENT_FILTER;
+            let _collecting = Collecting::start(whole.cast_const().cast());
             // SAFETY: scene committed; `args` points at the context, the first field of
             // `collector`, made from the whole struct; all outlive the call.
             unsafe { sys::rtcIntersect1(self.raw(), &mut record, &mut args) };
