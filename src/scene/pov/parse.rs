@@ -325,6 +325,26 @@ impl Parser {
         Ok(())
     }
 
+    /// Skips the rest of a map's entry, up to and with the `]` that closes
+    /// it, over any groups inside it.
+    pub fn skip_entry(&mut self) -> Result<()> {
+        loop {
+            match self.peek()? {
+                Some(Tok::Punct(']')) => {
+                    self.next()?;
+                    return Ok(());
+                }
+                Some(Tok::Punct('[')) => self.skip_group('[', ']')?,
+                Some(Tok::Punct('{')) => self.skip_group('{', '}')?,
+                Some(Tok::Punct('(')) => self.skip_group('(', ')')?,
+                Some(_) => {
+                    self.next()?;
+                }
+                None => return Err(self.error("this `[` is never closed")),
+            }
+        }
+    }
+
     /// Skips a balanced `( … )` if one is next.
     pub fn skip_parens(&mut self) -> Result<()> {
         if self.peek()? == Some(Tok::Punct('(')) {

@@ -714,3 +714,31 @@ fn a_wide_camera_of_another_kind_falls_back_to_the_default_angle() {
         load("camera { location <0, 0, -5> look_at 0 angle 200 }\nsphere { 0, 1 }").unwrap_err();
     assert!(err.to_string().contains("below 180"), "{err}");
 }
+
+/// A pigment map's entries may be declared pigments (their colour counts)
+/// or patterns of their own (left out, with a warning), as in POV-Ray's
+/// pigment samples.
+#[test]
+fn pigment_map_entries_take_declared_pigments_and_skip_patterns() {
+    let scene = load(&format!(
+        "{VIEW}light_source {{ <0, 0, -5> rgb 1 }}\n\
+         #declare Red = pigment {{ rgb <1, 0, 0> }}\n\
+         sphere {{ 0, 1 pigment {{ gradient y pigment_map {{\n\
+           [0 Red]\n\
+           [0.5 gradient z color_map {{ [0 rgb 0] [1 rgb 1] }} translate -z]\n\
+           [1, rgb <0, 0, 1>] }} }} }}\n"
+    ))
+    .unwrap();
+    assert_eq!(scene.shapes.len(), 1);
+    let albedo = scene.materials[scene.shapes[0].material as usize].albedo;
+    // The mean of the two colours read: red and blue.
+    assert!(
+        (albedo - crate::math::Vec3::new(0.5, 0.0, 0.5))
+            .abs()
+            .max_element()
+            < 1e-6,
+        "{albedo}"
+    );
+    let warnings = scene.warnings.join("\n");
+    assert!(warnings.contains("t.pov:6:6: `gradient`"), "{warnings}");
+}

@@ -249,12 +249,31 @@ impl Parser {
                     while !self.eat(']')? {
                         let loc = self.here();
                         let w = self.peek_word()?;
-                        if let Some(w) = w
-                            && self.starts_colour(&w)
-                            && !matches!(self.symbol(&w), Some(Value::Float(_)))
+                        let declared = w.as_deref().and_then(|w| self.symbol(w)).cloned();
+                        if let Some(Value::Pigment(p)) = &declared {
+                            // A declared pigment as an entry (a pigment_map's):
+                            // its colour, a checker's mean.
+                            colours.push(match p {
+                                Pigment::Colour(c) => *c,
+                                Pigment::Checker { colours, .. } => mean(colours),
+                            });
+                            self.next()?;
+                        } else if let Some(name) = w.as_deref()
+                            && self.starts_colour(name)
+                            && !matches!(declared, Some(Value::Float(_)))
                         {
                             let v = self.colour_rest(None)?;
                             colours.push(self.as_colour(&v, loc)?);
+                        } else if w.is_some()
+                            && !self.starts_number()?
+                            && !matches!(declared, Some(Value::Vector(_)))
+                        {
+                            // A pattern pigment as an entry (`[0.5 gradient z
+                            // color_map { … }]`): outside the subset.
+                            let w = w.unwrap_or_default();
+                            self.skip_warning(loc, &w, "a pattern in a map entry is left out");
+                            self.skip_entry()?;
+                            break;
                         } else {
                             self.expression(false)?;
                         }
