@@ -85,7 +85,8 @@ extern "C" fn collect(args: *const sys::RTCFilterFunctionNArguments) {
         return;
     }
     // SAFETY: this filter is set only by `intersect_all`, whose context pointer is
-    // that of a live `Collector` (repr(C), context first), made from the whole struct.
+    // that of a live `Collector` (repr(C), context first), made from the whole struct;
+    // on Embree 4 `offer` also calls it, only with that same query's context.
     let collector = unsafe { &*args.context.cast::<Collector>() };
     // SAFETY: `ray` is a live RTCRayN of N lanes, its tfar the candidate's t, lent to
     // this call.
