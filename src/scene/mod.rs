@@ -367,6 +367,12 @@ impl Scene {
                     file.display()
                 ));
             }
+            for (library, line, keyword) in &obj.unread_maps {
+                self.warnings.push(format!(
+                    "{}:{line}: `{keyword}` is not read yet: the material's own value is used",
+                    library.display()
+                ));
+            }
         }
         // Every material a library defines is added, used or not, in file
         // order, so the scene hash of files that loaded before is unchanged.

@@ -383,6 +383,7 @@ fn finish(path: &Path, mut mesh: Mesh) -> Result<ObjFile> {
         meshes,
         materials: Vec::new(),
         missing_libraries: Vec::new(),
+        unread_maps: Vec::new(),
         degenerate,
         sources: vec![path.to_owned()],
     })

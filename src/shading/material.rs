@@ -61,8 +61,8 @@ pub struct Material {
     pub maps: Maps,
 }
 
-/// A material's image maps other than the albedo's (MTL's `map_d`,
-/// `map_Ks`, `map_Ke`, `map_Pr`, `map_Pm`, `bump`, `norm`).
+/// A material's image maps other than the albedo's (MTL's `map_d`, `bump`,
+/// `norm`; `map_Ks`, `map_Ke`, `map_Pr` and `map_Pm` are not read yet).
 #[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
 pub struct Maps {
     /// A cut-out mask (`map_d`): where its opacity ([`Texture::opacity`])

@@ -27,6 +27,9 @@ pub struct ObjFile {
     /// `mtllib` files that are not there: a warning each, not an error, as
     /// Blender writes the line whether or not it wrote the file.
     pub missing_libraries: Vec<(usize, PathBuf)>,
+    /// Map statements of the libraries that are not read yet (library,
+    /// line, keyword): a warning each.
+    pub unread_maps: Vec<(PathBuf, usize, String)>,
     /// Triangles of zero area (repeated or collinear corners). They stay in the
     /// meshes, so triangle numbers never shift, and Embree never hits them.
     pub degenerate: usize,
@@ -63,6 +66,7 @@ struct Reader<'a> {
     materials: Vec<ObjMaterial>,
     material_names: HashMap<String, u32>,
     missing_libraries: Vec<(usize, PathBuf)>,
+    unread_maps: Vec<(PathBuf, usize, String)>,
     current_material: u32,
     meshes: Vec<Mesh>,
     mesh: Mesh,
@@ -239,10 +243,15 @@ impl Reader<'_> {
             return Ok(());
         }
         // A library that cannot be read is named with the line that asks for it.
-        let (materials, mut maps) = mtl::load(&file).map_err(|e| match e {
+        let (materials, mut maps, unread) = mtl::load(&file).map_err(|e| match e {
             Error::Io { .. } => self.error(e.to_string()),
             other => other,
         })?;
+        self.unread_maps.extend(
+            unread
+                .into_iter()
+                .map(|(line, keyword)| (file.clone(), line, keyword)),
+        );
         self.libraries.push(file);
         for m in &materials {
             let material = ObjMaterial {
@@ -300,6 +309,7 @@ pub fn load_obj(path: &Path) -> Result<ObjFile> {
         materials: Vec::new(),
         material_names: HashMap::new(),
         missing_libraries: Vec::new(),
+        unread_maps: Vec::new(),
         current_material: INVALID_ID,
         meshes: Vec::new(),
         mesh: Mesh {
@@ -360,6 +370,7 @@ pub fn load_obj(path: &Path) -> Result<ObjFile> {
         meshes: r.meshes,
         materials: r.materials,
         missing_libraries: r.missing_libraries,
+        unread_maps: r.unread_maps,
         degenerate: r.degenerate,
         sources,
     })

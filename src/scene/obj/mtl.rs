@@ -76,6 +76,16 @@ pub(crate) fn set_map(material: &mut Material, map: &TextureMap, texture: Option
 /// Each material's texture statements, by material name.
 pub(super) type MapsByName = HashMap<String, Vec<TextureMap>>;
 
+/// The unread map statements of a library: line and keyword.
+pub(super) type UnreadMaps = Vec<(usize, String)>;
+
+/// Map statements sturmray does not read yet: each is a warning (its line
+/// and keyword), so a material never renders differently without a word.
+const UNREAD_MAPS: &[&str] = &[
+    "map_Ka", "map_Ks", "map_Ke", "map_Ns", "map_ns", "map_NS", "map_Pr", "map_Pm", "map_Ps",
+    "disp", "decal", "refl",
+];
+
 /// What the numbers of a statement must be.
 enum Expect {
     /// Three finite numbers from 0 to [`MAX_COLOUR`] (a colour).
@@ -148,7 +158,7 @@ fn problem(keyword: &str, args: &[&str], expect: &Expect) -> Option<String> {
 /// Reads the materials of an MTL file, refusing bad statements by line,
 /// with each material's texture statements by name (a later statement for
 /// the same map replaces an earlier one).
-pub(super) fn load(path: &Path) -> Result<(Vec<tobj::Material>, MapsByName)> {
+pub(super) fn load(path: &Path) -> Result<(Vec<tobj::Material>, MapsByName, UnreadMaps)> {
     let text = crate::io::input::read_text(path)?;
     let error = |line: usize, message: String| Error::Mesh {
         path: path.to_owned(),
@@ -157,6 +167,7 @@ pub(super) fn load(path: &Path) -> Result<(Vec<tobj::Material>, MapsByName)> {
     };
     let dir = path.parent().unwrap_or(Path::new("."));
     let mut maps = HashMap::new();
+    let mut unread = Vec::new();
     let mut current = None;
     for (number, line) in text.lines().enumerate() {
         let mut words = line.split_whitespace();
@@ -171,6 +182,8 @@ pub(super) fn load(path: &Path) -> Result<(Vec<tobj::Material>, MapsByName)> {
         }
         if keyword == "newmtl" {
             current = Some(args.join(" "));
+        } else if UNREAD_MAPS.contains(&keyword) {
+            unread.push((number + 1, keyword.to_owned()));
         } else if let Some(slot) = MapSlot::of(keyword) {
             let (placement, file) = statement(&args.join(" "))
                 .map_err(|m| error(number + 1, format!("`{keyword}`: {m}")))?;
@@ -190,5 +203,5 @@ pub(super) fn load(path: &Path) -> Result<(Vec<tobj::Material>, MapsByName)> {
     }
     let (materials, _) = tobj::load_mtl_buf(&mut text.as_bytes())
         .map_err(|e| error(0, format!("malformed material library: {e}")))?;
-    Ok((materials, maps))
+    Ok((materials, maps, unread))
 }
