@@ -19,7 +19,7 @@ EMBREE4_TARGET := target/embree4
 
 .PHONY: setup render test test-rust test-python lint bench scenes clean embree4 test-embree4 \
 	fuzz check-memory wrapper-overhead povray-compare povray-speed photon-radius peers \
-	sampler-study test-farm python-speed
+	sampler-study test-farm python-speed python-speed-embree4
 
 # Installs those of the Debian packages $(1) that are missing (none: no apt-get at all).
 define apt_install
@@ -63,6 +63,17 @@ test-rust:
 # runs: python/'s lib with extension-module), as the package $(1)/python/sturmray:
 # with $(1)/python on PYTHONPATH, pytest and tools import that build, and the
 # venv's editable install (test-python's; the venv may be shared) is left alone.
+# Seeds $(EMBREE4_TARGET)/$(1) (a profile folder) with hard links to what
+# target/$(1) built, so only embree-sys and sturmray compile again there.
+define seed_embree4
+	@if [ ! -d $(EMBREE4_TARGET)/$(1) ] && [ -d target/$(1)/deps ]; then \
+	  mkdir -p $(EMBREE4_TARGET)/$(1)/deps; \
+	  find target/$(1)/deps -maxdepth 1 -name 'lib*' ! -name 'libsturmray*' ! -name 'libembree_sys*' \
+	    -exec cp -al -t $(EMBREE4_TARGET)/$(1)/deps/ {} +; \
+	  cp -a target/$(1)/build target/$(1)/.fingerprint $(EMBREE4_TARGET)/$(1)/; \
+	fi
+endef
+
 define stage_module
 	rm -rf $(1)/python/sturmray && mkdir -p $(1)/python
 	cp -r python/sturmray $(1)/python/
@@ -93,12 +104,7 @@ embree4:
 # tests/python/ runs on a module built there (stage_module), which finds
 # libembree4 through LD_LIBRARY_PATH (only sturmray's own binaries get the rpath).
 test-embree4: setup embree4
-	@if [ ! -d $(EMBREE4_TARGET)/debug ] && [ -d target/debug/deps ]; then \
-	  mkdir -p $(EMBREE4_TARGET)/debug/deps; \
-	  find target/debug/deps -maxdepth 1 -name 'lib*' ! -name 'libsturmray*' ! -name 'libembree_sys*' \
-	    -exec cp -al -t $(EMBREE4_TARGET)/debug/deps/ {} +; \
-	  cp -a target/debug/build target/debug/.fingerprint $(EMBREE4_TARGET)/debug/; \
-	fi
+	$(call seed_embree4,debug)
 	EMBREE_DIR=$(EMBREE4_DIR) cargo test --workspace --target-dir $(EMBREE4_TARGET)
 	EMBREE_DIR=$(EMBREE4_DIR) cargo test --workspace --no-run --target-dir $(EMBREE4_TARGET)
 	$(EMBREE4_TARGET)/debug/sturmray info scenes/knot.toml | grep -q "^backend    Embree 4\."
@@ -156,6 +162,17 @@ python-speed: setup
 	$(call stage_module,target/release)
 	PYTHONPATH=target/release/python $(PYTHON) tools/python_memory.py
 	PYTHONPATH=target/release/python $(PYTHON) tools/python_speed.py --sturmray $(RELEASE_BIN)
+
+# The same table with the CLI and the module built against Embree 4, the
+# Embree embreex's wheel bundles: the two engines on the same Embree.
+python-speed-embree4: setup embree4
+	$(call seed_embree4,release)
+	EMBREE_DIR=$(EMBREE4_DIR) cargo build --release --target-dir $(EMBREE4_TARGET)
+	EMBREE_DIR=$(EMBREE4_DIR) cargo build --release --manifest-path python/Cargo.toml \
+	  --features extension-module --lib --target-dir $(EMBREE4_TARGET)
+	$(call stage_module,$(EMBREE4_TARGET)/release)
+	LD_LIBRARY_PATH=$(EMBREE4_DIR)/lib PYTHONPATH=$(EMBREE4_TARGET)/release/python \
+	  $(PYTHON) tools/python_speed.py --sturmray $(EMBREE4_TARGET)/release/sturmray
 
 # What the photon pass costs with its default radius on scenes/glass_floor.toml,
 # a glass ball over a floor 2000 units wide (issue 15: at most 1.2x the render

@@ -13,6 +13,7 @@ use sturmray::accel::{Accel, Backend, check_rays};
 use sturmray::geometry::Mesh;
 use sturmray::math::{Hit, Ray, Vec3};
 use sturmray::poly::query::Query;
+use sturmray::render::order::CoherentOrder;
 use sturmray::render::{
     AllHits, RenderOptions, all_hits_batch, occluded_batch, thread_pool, trace_batch,
 };
@@ -64,6 +65,33 @@ impl PyScene {
         self.committed
             .as_ref()
             .ok_or_else(|| value_error("the scene is not committed: call commit() first"))
+    }
+
+    /// One result per ray from `trace`, which is handed the rays in their
+    /// coherent order (`render::order`), in batches (`in_batches`); the
+    /// results come back in the caller's order.
+    fn per_ray<T: Copy + Send + Sync>(
+        &self,
+        py: Python<'_>,
+        rays: &[Ray],
+        empty: T,
+        trace: impl Fn(&Accel, &[Ray], &mut [T]) -> sturmray::error::Result<()> + Sync,
+    ) -> PyResult<Vec<T>> {
+        let pool = thread_pool(self.threads).map_err(to_py)?;
+        let (order, sorted_rays) = py.detach(|| {
+            pool.install(|| {
+                let order = CoherentOrder::new(rays);
+                let sorted = order.gather(rays);
+                (order, sorted)
+            })
+        });
+        let mut sorted = vec![empty; rays.len()];
+        self.in_batches(py, &sorted_rays, |accel, range| {
+            trace(accel, &sorted_rays[range.clone()], &mut sorted[range])
+        })?;
+        let mut results = vec![empty; rays.len()];
+        order.scatter(&sorted, &mut results);
+        Ok(results)
     }
 
     /// Runs `trace` over the rays in batches with the GIL released, on one
@@ -309,10 +337,7 @@ impl PyScene {
         tfar: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyDict>> {
         let rays = ray_args(py, origins, directions, tnear, tfar)?;
-        let mut hits = vec![Hit::MISS; rays.len()];
-        self.in_batches(py, &rays, |accel, range| {
-            trace_batch(accel, &rays[range.clone()], &mut hits[range])
-        })?;
+        let hits = self.per_ray(py, &rays, Hit::MISS, trace_batch)?;
         hit_columns(py, &hits)
     }
 
@@ -327,10 +352,7 @@ impl PyScene {
         tfar: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyArray1<bool>>> {
         let rays = ray_args(py, origins, directions, tnear, tfar)?;
-        let mut blocked = vec![false; rays.len()];
-        self.in_batches(py, &rays, |accel, range| {
-            occluded_batch(accel, &rays[range.clone()], &mut blocked[range])
-        })?;
+        let blocked = self.per_ray(py, &rays, false, occluded_batch)?;
         Ok(PyArray1::from_vec(py, blocked))
     }
 

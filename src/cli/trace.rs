@@ -9,7 +9,7 @@ use sturmray::accel::{Accel, check_rays};
 use sturmray::io;
 use sturmray::io::console::note;
 use sturmray::io::output::Role;
-use sturmray::render::{AllHits, all_hits_batch, occluded_batch, thread_pool};
+use sturmray::render::{AllHits, all_hits_batch, thread_pool};
 
 use super::shared::{BackendArg, IncludeArgs, check_outputs, load, scene_inputs};
 use super::signals::Signals;
@@ -60,9 +60,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     // writing), so that tools/python_speed.py compares the module with it.
     let start = Instant::now();
     if args.any_hit {
-        check_rays(&rays)?;
-        let mut blocked = vec![false; rays.len()];
-        thread_pool(None)?.install(|| occluded_batch(&accel, &rays, &mut blocked))?;
+        let blocked = sturmray::render::occluded_all(&accel, &rays, None)?;
         let seconds = start.elapsed().as_secs_f64();
         let _writing = signals.writing();
         io::npy::write_bools(&args.out, &blocked)?;

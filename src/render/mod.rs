@@ -2,6 +2,7 @@
 
 pub mod job;
 pub mod merge;
+pub mod order;
 mod passes;
 mod path;
 pub mod photon;
@@ -420,12 +421,37 @@ fn progress_bar(wanted: bool, pixels: u64) -> Option<indicatif::ProgressBar> {
 /// Rays one parallel task traces: enough that scheduling costs nothing.
 const TRACE_CHUNK: usize = 4096;
 
-/// Traces every ray to its nearest hit, in parallel chunks through the batch path.
+/// Traces every ray to its nearest hit, in parallel chunks through the batch
+/// path, in coherent order (`order`); the hits come back in the rays' order.
 pub fn trace_all(accel: &Accel, rays: &[Ray], threads: Option<usize>) -> Result<Vec<Hit>> {
     crate::accel::check_rays(rays)?;
-    let mut hits = vec![Hit::MISS; rays.len()];
-    thread_pool(threads)?.install(|| trace_batch(accel, rays, &mut hits))?;
-    Ok(hits)
+    thread_pool(threads)?
+        .install(|| in_coherent_order(rays, Hit::MISS, |rays, hits| trace_batch(accel, rays, hits)))
+}
+
+/// Whether anything blocks each ray, as `trace_all` traces.
+pub fn occluded_all(accel: &Accel, rays: &[Ray], threads: Option<usize>) -> Result<Vec<bool>> {
+    crate::accel::check_rays(rays)?;
+    thread_pool(threads)?.install(|| {
+        in_coherent_order(rays, false, |rays, blocked| {
+            occluded_batch(accel, rays, blocked)
+        })
+    })
+}
+
+/// One result per ray from `trace`, which is given the rays in their
+/// coherent order; the results come back in the caller's order.
+fn in_coherent_order<T: Copy + Send + Sync>(
+    rays: &[Ray],
+    empty: T,
+    trace: impl FnOnce(&[Ray], &mut [T]) -> Result<()>,
+) -> Result<Vec<T>> {
+    let order = order::CoherentOrder::new(rays);
+    let mut sorted = vec![empty; rays.len()];
+    trace(&order.gather(rays), &mut sorted)?;
+    let mut results = vec![empty; rays.len()];
+    order.scatter(&sorted, &mut results);
+    Ok(results)
 }
 
 /// Nearest hits on the current rayon pool, into `hits`. The rays are
