@@ -290,7 +290,7 @@ fn map_kd_is_read_once_and_a_missing_texture_is_a_warning() {
         &dir,
         "m.mtl",
         "newmtl a\nKd 0.2 0.2 0.2\nmap_Kd -s 2 2 q.png\nnewmtl b\nmap_Kd q.png\n\
-         newmtl c\nKd 0.3 0.3 0.3\nmap_Kd gone.png\nmap_Ks q.png\n",
+         newmtl c\nKd 0.3 0.3 0.3\nmap_Kd gone.png\nmap_Ns q.png\n",
     );
     let obj = format!("mtllib m.mtl\n{UV_SQUARE}").replace("f 1/1", "usemtl a\nf 1/1")
         + "usemtl b\nf 1/1 2/2 3/3\nusemtl c\nf 1/1 2/2 3/3\n";
@@ -317,7 +317,7 @@ fn map_kd_is_read_once_and_a_missing_texture_is_a_warning() {
     assert_eq!(c.albedo, sturmray::math::Vec3::splat(0.3));
     // A map that is not read yet is named, not passed over in silence.
     assert!(
-        warnings.contains("m.mtl:9: `map_Ks` is not read yet"),
+        warnings.contains("m.mtl:9: `map_Ns` is not read yet"),
         "{warnings}"
     );
 }

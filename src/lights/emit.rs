@@ -31,6 +31,8 @@ struct SurfacePoint {
     /// Unit normal of the emitting side.
     n: Vec3,
     error: Vec3,
+    /// The radiance's factor there: an emission map's colour, else 1.
+    factor: Vec3,
 }
 
 /// The disk through the scene's centre, perpendicular to the light, that a
@@ -63,9 +65,12 @@ impl Light {
                 let (_, radius) = bounding_disk(bounds);
                 *irradiance * (PI * radius * radius)
             }
-            // A Lambertian emitter of radiance L sends π L per unit area.
-            Light::Sphere { radiance, .. } | Light::Triangle { radiance, .. } => {
-                PI * self.area() * *radiance
+            // A Lambertian emitter of radiance L sends π L per unit area;
+            // with an emission map, the image's mean stands for the
+            // footprint's (see `EmissionMap`).
+            Light::Sphere { radiance, .. } => PI * self.area() * *radiance,
+            Light::Triangle { radiance, map, .. } => {
+                PI * self.area() * *radiance * map.as_ref().map_or(Vec3::ONE, |m| m.mean)
             }
         }
     }
@@ -121,7 +126,7 @@ impl Light {
                     flux,
                 })
             }
-            Light::Sphere { .. } | Light::Triangle { .. } => {
+            Light::Sphere { radiance, .. } | Light::Triangle { radiance, .. } => {
                 let point = self.surface_point([u[0], u[1]])?;
                 // Cosine-weighted about the normal: the Lambertian emitter's own
                 // distribution, so every photon carries the same flux.
@@ -132,7 +137,8 @@ impl Light {
                     normal: point.n,
                     error: point.error,
                     dir: (local.x * s + local.y * t + local.z * point.n).normalize(),
-                    flux,
+                    // π L(p) A: its mean over uniform points is the power.
+                    flux: PI * self.area() * *radiance * point.factor,
                 })
             }
         }
@@ -162,10 +168,15 @@ impl Light {
                     p: *center + *radius * n,
                     n,
                     error,
+                    factor: Vec3::ONE,
                 }
             }
             Light::Triangle {
-                p0, edge1, edge2, ..
+                p0,
+                edge1,
+                edge2,
+                map,
+                ..
             } => {
                 let (b1, b2) = warp::uniform_triangle(u);
                 let error = gamma(6) * (p0.abs() + edge1.abs() + edge2.abs());
@@ -173,6 +184,7 @@ impl Light {
                     p: *p0 + b1 * *edge1 + b2 * *edge2,
                     n: edge1.cross(*edge2).normalize(),
                     error,
+                    factor: super::emission_map::factor(map.as_deref(), b1, b2),
                 }
             }
             Light::Point { .. }
@@ -234,6 +246,7 @@ mod tests {
             edge1: Vec3::new(2.0, 0.0, 0.0),
             edge2: Vec3::new(0.0, 3.0, 0.0),
             radiance: Vec3::splat(0.5),
+            map: None,
         };
         // π L A, A = 3.
         assert!(close(triangle.power(bounds()), Vec3::splat(PI * 0.5 * 3.0)));
@@ -347,6 +360,7 @@ mod tests {
             edge1: Vec3::new(0.0, 1.0, 0.0),
             edge2: Vec3::new(1.0, 0.0, 0.0),
             radiance: Vec3::ONE,
+            map: None,
         };
         // edge1 × edge2 = -z: the triangle shines down.
         for e in emissions(&light, 5_000) {

@@ -11,8 +11,11 @@ mod pick;
 
 pub use pick::{LightPick, LightPicker, LightRef};
 
+mod emission_map;
 mod emit;
 mod environment;
+
+pub use emission_map::EmissionMap;
 
 pub use emit::Emission;
 pub use environment::{Environment, EnvironmentSource};
@@ -46,7 +49,8 @@ pub enum Light {
         radius: f32,
         radiance: Vec3,
     },
-    /// An emissive triangle p0, p0 + edge1, p0 + edge2 of uniform radiance,
+    /// An emissive triangle p0, p0 + edge1, p0 + edge2 of radiance
+    /// `radiance` (times its emission map's colour, where it has one),
     /// emitting on the side edge1 × edge2 points to: the side a hit calls its
     /// front (the counter-clockwise side), as pbrt and Mitsuba area lights do.
     Triangle {
@@ -54,6 +58,8 @@ pub enum Light {
         edge1: Vec3,
         edge2: Vec3,
         radiance: Vec3,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        map: Option<Box<EmissionMap>>,
     },
 }
 
@@ -152,8 +158,10 @@ impl Light {
                 edge1,
                 edge2,
                 radiance,
+                map,
             } => {
                 let (b1, b2) = warp::uniform_triangle(u);
+                let radiance = *radiance * emission_map::factor(map.as_deref(), b1, b2);
                 let point = *p0 + b1 * *edge1 + b2 * *edge2;
                 let to = point - p;
                 let distance = to.length();
@@ -162,7 +170,7 @@ impl Light {
                 (pdf > 0.0).then(|| Incident {
                     wi,
                     distance,
-                    irradiance: *radiance / pdf,
+                    irradiance: radiance / pdf,
                     pdf,
                 })
             }
@@ -343,12 +351,14 @@ mod tests {
                 edge1: y_edge,
                 edge2: x_edge + y_edge,
                 radiance,
+                map: None,
             },
             Light::Triangle {
                 p0: corner,
                 edge1: x_edge + y_edge,
                 edge2: x_edge,
                 radiance,
+                map: None,
             },
         ];
         let (x, y) = (0.5f32, 0.5f32);
@@ -381,6 +391,7 @@ mod tests {
                 edge1: Vec3::new(0.0, 1.5, -0.5),
                 edge2: Vec3::new(2.0, 0.5, 0.0),
                 radiance: Vec3::ONE,
+                map: None,
             },
         ];
         let p = Vec3::new(0.1, 0.2, -0.3);

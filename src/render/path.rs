@@ -103,10 +103,9 @@ impl PathTracer<'_> {
             let it = self.scene.interaction(&ray, &hit);
             let u = Bounce::draw(sampler);
             let material = &self.scene.materials[it.material as usize];
-            // Looked up once a hit: a texture's lookup is the costliest part of it.
-            let albedo = it.albedo(material);
+            let surface = it.surface(material);
             if depth == 0 {
-                first = Some((hit.t, it.ns, albedo));
+                first = Some((hit.t, it.ns, surface.albedo));
             }
             let mut add = Vec3::ZERO;
             // Emitters shine from their front side only.
@@ -120,10 +119,10 @@ impl PathTracer<'_> {
                         }
                         _ => 1.0,
                     };
-                    add += beta * material.emission * weight;
+                    add += beta * surface.emission * weight;
                 }
             }
-            let bsdf = Bsdf::with_albedo(material, albedo);
+            let bsdf = Bsdf::at(material, &surface);
             let frame = it.frame();
             let wo = -ray.dir;
             if let Some(map) = self.caustics

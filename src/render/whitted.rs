@@ -16,7 +16,7 @@ use crate::math::{Hit, Ray, Vec3, offset};
 use crate::sampling::Sampler;
 use crate::scene::{Interaction, Scene};
 use crate::shading::fresnel;
-use crate::shading::{Material, MaterialKind};
+use crate::shading::{MaterialKind, Surface};
 
 /// What one sample's walk down the tree carries: the counts and its sampler
 /// (area lights pick a point on themselves with it).
@@ -63,7 +63,9 @@ impl Whitted<'_> {
             weight: 1.0,
             depth: hit.t,
             normal: it.ns,
-            albedo: it.albedo(&self.scene.materials[it.material as usize]),
+            albedo: it
+                .surface(&self.scene.materials[it.material as usize])
+                .albedo,
         }
     }
 
@@ -113,16 +115,17 @@ impl Whitted<'_> {
     ) -> Vec3 {
         let material = &self.scene.materials[it.material as usize];
         let wo = -ray.dir;
+        let surface = it.surface(material);
         // Emitters shine from their front side only.
         let mut radiance = if it.front {
-            material.emission
+            surface.emission
         } else {
             Vec3::ZERO
         };
         match material.kind {
             MaterialKind::Mirror => {
                 if self.plan.reflection {
-                    let r = material.reflectance(it.albedo(material));
+                    let r = material.reflectance(&surface);
                     let dir = fresnel::reflect(ray.dir, it.ns);
                     radiance +=
                         r * self.spawn(it, dir, depth, weight * r, RayKind::Reflection, walk);
@@ -151,8 +154,7 @@ impl Whitted<'_> {
             | MaterialKind::Plastic
             | MaterialKind::Metal
             | MaterialKind::Emissive => {
-                let albedo = it.albedo(material);
-                let brdf = |wi| material.local_brdf(albedo, it.ns, wo, wi);
+                let brdf = |wi| material.local_brdf(&surface, it.ns, wo, wi);
                 if self.plan.shadow {
                     radiance += self.direct(it, brdf, depth, weight, walk);
                 }
@@ -162,7 +164,7 @@ impl Whitted<'_> {
                 self.force(ray, it, depth, weight, [true, true], walk);
             }
             MaterialKind::Classic => {
-                radiance += self.classic(ray, it, material, depth, weight, walk);
+                radiance += self.classic(ray, it, &surface, depth, weight, walk);
             }
         }
         radiance
@@ -200,17 +202,18 @@ impl Whitted<'_> {
         &self,
         ray: &Ray,
         it: &Interaction,
-        material: &Material,
+        surface: &Surface,
         depth: u32,
         weight: Vec3,
         walk: &mut Walk<'_>,
     ) -> Vec3 {
+        let material = &self.scene.materials[it.material as usize];
         let finish = &material.finish;
         let wo = -ray.dir;
-        let albedo = it.albedo(material);
+        let albedo = surface.albedo;
         let mut radiance = finish.ambient_colour(albedo);
         if self.plan.shadow {
-            let brdf = |wi| material.local_brdf(albedo, it.ns, wo, wi);
+            let brdf = |wi| material.local_brdf(surface, it.ns, wo, wi);
             radiance += self.direct(it, brdf, depth, weight, walk);
         }
         let outward = it.outward();

@@ -7,7 +7,7 @@
 use std::collections::HashMap;
 
 use super::Scene;
-use crate::lights::{Incident, Light, LightPicker, LightRef};
+use crate::lights::{EmissionMap, Incident, Light, LightPicker, LightRef};
 use crate::math::Vec3;
 
 impl Scene {
@@ -16,6 +16,10 @@ impl Scene {
     /// scene is loaded.
     pub(crate) fn gather_emitters(&mut self) {
         let emissive = |m: u32| self.materials[m as usize].emits();
+        // Each emission map's mean, found once per material.
+        let means: Vec<Option<Vec3>> = (self.materials.iter())
+            .map(|m| m.maps.emission.as_ref().map(|t| t.image.mean()))
+            .collect();
         let mut emitters = HashMap::new();
         let mut found = Vec::new();
         for (geom, mesh) in self.meshes.iter().enumerate() {
@@ -25,12 +29,31 @@ impl Scene {
                 if !emissive(m) || edge1.cross(edge2).length_squared() == 0.0 {
                     continue;
                 }
+                let material = &self.materials[m as usize];
+                let map = (material.maps.emission.as_ref())
+                    .zip(means[m as usize])
+                    .zip(mesh.uv(prim as u32, 0.0, 0.0))
+                    .map(|((texture, mean), uv0)| {
+                        let corner = |b1, b2| mesh.uv(prim as u32, b1, b2).unwrap_or(uv0) - uv0;
+                        Box::new(EmissionMap {
+                            texture: texture.clone(),
+                            uv0,
+                            du: corner(1.0, 0.0),
+                            dv: corner(0.0, 1.0),
+                            mean,
+                        })
+                    });
+                // A map black everywhere leaves nothing to sample.
+                if map.as_ref().is_some_and(|m| m.mean.max_element() <= 0.0) {
+                    continue;
+                }
                 emitters.insert((geom as u32, prim as u32), found.len());
                 found.push(Light::Triangle {
                     p0,
                     edge1,
                     edge2,
-                    radiance: self.materials[m as usize].emission,
+                    radiance: material.emission,
+                    map,
                 });
             }
         }

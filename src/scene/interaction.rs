@@ -4,7 +4,7 @@
 use super::{Instance, Scene};
 use crate::geometry::{Mesh, Shape};
 use crate::math::{Frame, Hit, Ray, Vec2, Vec3, gamma};
-use crate::shading::Material;
+use crate::shading::{Material, Surface};
 
 /// The least cosine between the viewer and a shading normal: an
 /// interpolated normal the viewer is behind is bent towards the viewer until
@@ -147,11 +147,10 @@ impl Scene {
 }
 
 impl Interaction {
-    /// The albedo of material `m` here: the vertex colour where the mesh has
-    /// colours (as meshlab and trimesh show a coloured PLY; the material
-    /// keeps its kind), else the material's own ([`Material::albedo_at`]).
-    pub fn albedo(&self, m: &Material) -> Vec3 {
-        self.colour.unwrap_or_else(|| m.albedo_at(self.p, self.uv))
+    /// Material `m`'s values here ([`Material::surface_at`]): looked up
+    /// once a hit, as a texture's lookup is the costliest part of one.
+    pub fn surface(&self, m: &Material) -> Surface {
+        m.surface_at(self.p, self.uv, self.colour)
     }
 
     /// The BSDF's frame: around the shading normal, out of the material

@@ -383,6 +383,15 @@ impl Scene {
                 (None, Some(mut defined)) => {
                     for map in &m.maps {
                         let asked_by = format!("{}:{}", map.library.display(), map.line);
+                        if !map.slot.matters_for(defined.kind) {
+                            self.warnings.push(format!(
+                                "{asked_by}: material `{}` is {}, which has no parameter \
+                                 this map scales: the map is left out",
+                                m.name,
+                                format!("{:?}", defined.kind).to_lowercase()
+                            ));
+                            continue;
+                        }
                         let texture = textures.texture(
                             &map.file,
                             map.slot.srgb(),

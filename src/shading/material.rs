@@ -3,7 +3,7 @@
 use std::f32::consts::PI;
 
 use crate::math::{Vec2, Vec3};
-use crate::shading::{Checker, Finish, Texture};
+use crate::shading::{Checker, Finish, Surface, Texture};
 
 /// What a surface does with light. The local shading of the foundation
 /// renderer uses albedo, specular and emission; the specular kinds gain their
@@ -61,8 +61,9 @@ pub struct Material {
     pub maps: Maps,
 }
 
-/// A material's image maps other than the albedo's (MTL's `map_d`, `bump`,
-/// `norm`; `map_Ks`, `map_Ke`, `map_Pr` and `map_Pm` are not read yet).
+/// A material's image maps other than the albedo's: MTL's `map_d`, `bump`,
+/// `norm`, and the maps that scale a constant at each hit ([`Surface`]):
+/// `map_Ks`, `map_Pr`, `map_Pm`, `map_Ke`.
 #[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
 pub struct Maps {
     /// A cut-out mask (`map_d`): where its opacity ([`Texture::opacity`])
@@ -78,6 +79,27 @@ pub struct Maps {
     /// the normal.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub normal: Option<Texture>,
+    /// The specular colour's factor (`map_Ks`, an sRGB colour map).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub specular: Option<Texture>,
+    /// A metal's roughness factor (`map_Pr`, a linear scalar map).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub roughness: Option<Texture>,
+    /// A metal's metalness (`map_Pm`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub metallic: Option<Metallic>,
+    /// The emission's factor (`map_Ke`, an sRGB colour map).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub emission: Option<Texture>,
+}
+
+/// A metalness map (`map_Pm`, a linear scalar map) and the constant Pm it
+/// scales: where their product is below 0.5 a metal is its dielectric
+/// counterpart (the same threshold that makes an MTL material a metal).
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct Metallic {
+    pub map: Texture,
+    pub scale: f32,
 }
 
 /// A bump map: heights (the luminance of a linear image) times `scale`
@@ -95,6 +117,14 @@ const BUMP_DU: f32 = 0.0005;
 impl Maps {
     pub fn is_empty(&self) -> bool {
         *self == Maps::default()
+    }
+
+    /// Whether any map scales one of the constants of [`Surface`].
+    pub fn scales(&self) -> bool {
+        self.specular.is_some()
+            || self.roughness.is_some()
+            || self.metallic.is_some()
+            || self.emission.is_some()
     }
 
     /// Whether the maps change the shading normal.
@@ -166,23 +196,24 @@ impl Material {
     /// Pm ≥ 0.5 → metal (F0 = Kd, roughness Pr, else from Ns); illum 3 → mirror
     /// (Ks its reflectance); illum 4, 6, 7, 9 or d < 1 → dielectric with Ni; a
     /// nonzero Ks → plastic with Ns; otherwise diffuse. Kd defaults to 0.7 grey.
+    /// A map given without its constant (`map_Ks` without Ks, `map_Ke`
+    /// without Ke, `map_Pr` without Pr, `map_Pm` without Pm) takes the
+    /// constant 1: the map alone sets the value, as in Blender's importer.
     pub fn from_mtl(m: &tobj::Material) -> Material {
+        let mapped = |key: &str| m.unknown_param.contains_key(key);
         let albedo = m.diffuse.map_or(Vec3::splat(0.7), Vec3::from);
-        let specular = m.specular.map_or(Vec3::ZERO, Vec3::from);
-        let emission = m.emissive.map_or(Vec3::ZERO, Vec3::from);
+        let unset = |map: bool| if map { Vec3::ONE } else { Vec3::ZERO };
+        let specular = m
+            .specular
+            .map_or(unset(m.specular_texture.is_some()), Vec3::from);
+        let emission = m.emissive.map_or(unset(mapped("map_Ke")), Vec3::from);
         let illum = m
             .illumination_model
             .unwrap_or(if specular == Vec3::ZERO { 1 } else { 2 });
         let transparent = m.dissolve.is_some_and(|d| d < 1.0);
-        let pbr = |key: &str| {
-            m.unknown_param
-                .get(key)
-                .and_then(|v| v.trim().parse::<f32>().ok())
-                .filter(|v| v.is_finite())
-        };
         let kind = if emission.max_element() > 0.0 {
             MaterialKind::Emissive
-        } else if pbr("Pm").is_some_and(|metallic| metallic >= 0.5) {
+        } else if metalness(m) >= 0.5 {
             MaterialKind::Metal
         } else if illum == 3 {
             MaterialKind::Mirror
@@ -200,10 +231,11 @@ impl Material {
             specular,
             shininess: m.shininess.unwrap_or(0.0),
             // Without Pr, the GGX width that matches the Phong exponent (α = roughness²).
-            roughness: pbr("Pr").map_or_else(
-                || crate::shading::shininess_to_alpha(m.shininess.unwrap_or(0.0)).sqrt(),
-                |r| r.clamp(0.0, 1.0),
-            ),
+            roughness: match pbr(m, "Pr") {
+                Some(r) => r.clamp(0.0, 1.0),
+                None if mapped("map_Pr") => 1.0,
+                None => crate::shading::shininess_to_alpha(m.shininess.unwrap_or(0.0)).sqrt(),
+            },
             // Ni = 1 (or missing) in a glass material means "not set": use glass's 1.5.
             ior: m.optical_density.filter(|&n| n > 1.0).unwrap_or(1.5),
             emission,
@@ -214,7 +246,8 @@ impl Material {
         }
     }
 
-    /// Whether the surface is a light: emissive with some radiance.
+    /// Whether the surface is a light: emissive with some radiance (at some
+    /// point: an emission map may be dark in places).
     pub fn emits(&self) -> bool {
         self.kind == MaterialKind::Emissive && self.emission.max_element() > 0.0
     }
@@ -235,29 +268,30 @@ impl Material {
         }
     }
 
-    /// What a mirror reflects: its specular colour (MTL's Ks) if it has one,
-    /// else its albedo at the hit, `albedo` (from [`Material::albedo_at`]).
-    pub fn reflectance(&self, albedo: Vec3) -> Vec3 {
+    /// What a mirror reflects at a hit whose values are `s`: its specular
+    /// colour (MTL's Ks, times `map_Ks`) if the material has one, else its
+    /// albedo there.
+    pub fn reflectance(&self, s: &Surface) -> Vec3 {
         if self.specular.max_element() > 0.0 {
-            self.specular
+            s.specular
         } else {
-            albedo
+            s.albedo
         }
     }
 
     /// The local reflection model (cosine not included): Lambert plus, for
     /// plastic, a normalised Blinn-Phong lobe, for unit vectors n, wo (towards
     /// the viewer) and wi (towards the light); a classic material's is
-    /// POV-Ray's ([`Finish::local_brdf`]). `albedo` is the material's at the
-    /// hit ([`Material::albedo_at`]).
-    pub fn local_brdf(&self, albedo: Vec3, n: Vec3, wo: Vec3, wi: Vec3) -> Vec3 {
-        let diffuse = albedo / PI;
+    /// POV-Ray's ([`Finish::local_brdf`]); a metal's is its BSDF. `s` is
+    /// the material at the hit ([`Material::surface_at`]).
+    pub fn local_brdf(&self, s: &Surface, n: Vec3, wo: Vec3, wi: Vec3) -> Vec3 {
+        let diffuse = s.albedo / PI;
         match self.kind {
             MaterialKind::Plastic => {}
-            MaterialKind::Classic => return self.finish.local_brdf(albedo, n, wo, wi),
+            MaterialKind::Classic => return self.finish.local_brdf(s.albedo, n, wo, wi),
             MaterialKind::Metal => {
                 let frame = crate::math::Frame::from_normal(n);
-                return crate::shading::Bsdf::with_albedo(self, albedo).eval(&frame, wo, wi);
+                return crate::shading::Bsdf::at(self, s).eval(&frame, wo, wi);
             }
             _ => return diffuse,
         }
@@ -265,8 +299,27 @@ impl Material {
         let cos_h = n.dot(h).max(0.0);
         // (s + 8) / 8π keeps the lobe's energy roughly constant as s changes.
         let lobe = (self.shininess + 8.0) / (8.0 * PI) * cos_h.powf(self.shininess);
-        diffuse + self.specular * lobe
+        diffuse + s.specular * lobe
     }
+}
+
+/// A number of the MTL PBR extension (`Pr`, `Pm`), if the material has a
+/// finite one.
+fn pbr(m: &tobj::Material, key: &str) -> Option<f32> {
+    m.unknown_param
+        .get(key)
+        .and_then(|v| v.trim().parse::<f32>().ok())
+        .filter(|v| v.is_finite())
+}
+
+/// An MTL material's metalness: Pm, else 1 where `map_Pm` alone sets it,
+/// else 0.
+pub(crate) fn metalness(m: &tobj::Material) -> f32 {
+    pbr(m, "Pm").unwrap_or(if m.unknown_param.contains_key("map_Pm") {
+        1.0
+    } else {
+        0.0
+    })
 }
 
 #[cfg(test)]
@@ -324,6 +377,30 @@ mod tests {
         let light = mtl(|m| m.emissive = Some([4.0, 3.0, 2.0]));
         assert_eq!(light.kind, MaterialKind::Emissive);
         assert_eq!(light.emission, Vec3::new(4.0, 3.0, 2.0));
+        // A map without its constant: the constant is 1, the map alone.
+        let map = |key: &str| {
+            mtl(|m| {
+                m.unknown_param.insert(key.into(), "x.png".into());
+            })
+        };
+        let lit = map("map_Ke");
+        assert_eq!(
+            (lit.kind, lit.emission),
+            (MaterialKind::Emissive, Vec3::ONE)
+        );
+        assert_eq!(map("map_Pm").kind, MaterialKind::Metal);
+        assert_eq!(map("map_Pr").roughness, 1.0);
+        let shiny = mtl(|m| m.specular_texture = Some("x.png".into()));
+        assert_eq!(
+            (shiny.kind, shiny.specular),
+            (MaterialKind::Plastic, Vec3::ONE)
+        );
+        // Pm below one half stays below it whatever its map says.
+        let dull = mtl(|m| {
+            m.unknown_param.insert("Pm".into(), "0.3".into());
+            m.unknown_param.insert("map_Pm".into(), "x.png".into());
+        });
+        assert_eq!(dull.kind, MaterialKind::Diffuse);
     }
 
     #[test]
@@ -343,21 +420,21 @@ mod tests {
         });
         assert_eq!((m.albedo_at(even, None), m.albedo_at(odd, None)), (a, b));
         assert_eq!(
-            Bsdf::with_albedo(&m, m.albedo_at(odd, None)),
+            Bsdf::at(&m, &m.surface_at(odd, None, None)),
             Bsdf::Lambert(Lambert { albedo: b })
         );
         // The local model at the point: Lambert's albedo/π.
         assert_eq!(
-            m.local_brdf(m.albedo_at(odd, None), Vec3::Z, Vec3::Z, Vec3::Z),
+            m.local_brdf(&m.surface_at(odd, None, None), Vec3::Z, Vec3::Z, Vec3::Z),
             b / PI
         );
         m.kind = MaterialKind::Mirror;
         assert_eq!(
-            Bsdf::with_albedo(&m, m.albedo_at(even, None)),
+            Bsdf::at(&m, &m.surface_at(even, None, None)),
             Bsdf::Mirror(Mirror { reflectance: a })
         );
         m.kind = MaterialKind::Metal;
-        let Bsdf::Metal(Metal { f0, .. }) = Bsdf::with_albedo(&m, m.albedo_at(odd, None)) else {
+        let Bsdf::Metal(Metal { f0, .. }) = Bsdf::at(&m, &m.surface_at(odd, None, None)) else {
             panic!("a metal's BSDF");
         };
         assert_eq!(f0, b);
@@ -374,7 +451,7 @@ mod tests {
         for i in 0..steps {
             let theta = (i as f32 + 0.5) / steps as f32 * PI / 2.0;
             let wi = Vec3::new(theta.sin(), 0.0, theta.cos());
-            let f = m.local_brdf(m.albedo, n, n, wi).x;
+            let f = m.local_brdf(&m.constant_surface(), n, n, wi).x;
             sum += f * theta.cos() * theta.sin() * 2.0 * PI * (PI / 2.0 / steps as f32);
         }
         assert!((sum - 0.5).abs() < 1e-3, "{sum}");
@@ -391,8 +468,9 @@ mod tests {
         let mirror = Vec3::new(-0.6, 0.0, 0.8);
         let off = Vec3::new(-0.8, 0.0, 0.6);
         assert!(
-            m.local_brdf(m.albedo, n, wo, mirror).x > m.local_brdf(m.albedo, n, wo, off).x + 0.1
+            m.local_brdf(&m.constant_surface(), n, wo, mirror).x
+                > m.local_brdf(&m.constant_surface(), n, wo, off).x + 0.1
         );
-        assert!(m.local_brdf(m.albedo, n, wo, off).x >= 0.5 / PI);
+        assert!(m.local_brdf(&m.constant_surface(), n, wo, off).x >= 0.5 / PI);
     }
 }

@@ -5,13 +5,16 @@ mod finish;
 pub mod fresnel;
 mod material;
 mod pattern;
+mod surface;
 mod texture;
 
 pub use bsdf::{
-    Bsdf, BsdfSample, COS_EPS, Classic, Dielectric, Lambert, Lobe, MIN_ALPHA, Metal, Mirror,
-    Plastic, Transport, shininess_to_alpha,
+    Bsdf, BsdfSample, COS_EPS, Classic, DIELECTRIC_F0, Dielectric, Lambert, Lobe, MIN_ALPHA, Metal,
+    Mirror, Plastic, Transport, shininess_to_alpha,
 };
 pub use finish::Finish;
-pub use material::{Bump, Maps, Material, MaterialKind};
+pub(crate) use material::metalness;
+pub use material::{Bump, Maps, Material, MaterialKind, Metallic};
 pub use pattern::Checker;
+pub use surface::Surface;
 pub use texture::{Image, Texture, TextureSource, srgb_to_linear};

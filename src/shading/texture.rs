@@ -37,6 +37,23 @@ impl std::fmt::Debug for Image {
 }
 
 impl Image {
+    /// The mean of the texels' colours: a wrapping map's mean over any
+    /// whole number of periods.
+    pub fn mean(&self) -> Vec3 {
+        let sum = self.texels.iter().fold([0.0f64; 3], |mut sum, t| {
+            for c in 0..3 {
+                sum[c] += f64::from(t[c]);
+            }
+            sum
+        });
+        let count = self.texels.len().max(1) as f64;
+        Vec3::new(
+            (sum[0] / count) as f32,
+            (sum[1] / count) as f32,
+            (sum[2] / count) as f32,
+        )
+    }
+
     /// The texel at integer coordinates, wrapped or clamped into the image.
     fn texel(&self, x: i64, y: i64, clamp: bool) -> [f32; 4] {
         let (w, h) = (i64::from(self.width), i64::from(self.height));

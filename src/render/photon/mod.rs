@@ -206,7 +206,7 @@ impl Tracer<'_> {
             }
             let it = self.scene.interaction(&ray, &hit);
             let material = &self.scene.materials[it.material as usize];
-            let bsdf = Bsdf::with_albedo(material, it.albedo(material));
+            let bsdf = Bsdf::at(material, &it.surface(material));
             let wo = -ray.dir;
             if receives(&bsdf) {
                 // Straight from the light (depth 0) is direct light: not a caustic.

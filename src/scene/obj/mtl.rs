@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 use crate::error::{Error, Result};
 use crate::scene::MAX_COLOUR;
 use crate::scene::textures::{Placement, statement};
-use crate::shading::{Bump, Material, Texture};
+use crate::shading::{Bump, Material, MaterialKind, Metallic, Texture, metalness};
 
 /// One of a material's texture statements: which map it is, where it is
 /// asked for, its placement, and the image file (relative to the library's
@@ -23,6 +23,9 @@ pub(crate) struct TextureMap {
     pub line: usize,
     pub placement: Placement,
     pub file: PathBuf,
+    /// The constant a metalness map scales (the material's Pm); 1 for
+    /// other maps.
+    pub factor: f32,
 }
 
 /// Which of a material's parameters a texture statement maps.
@@ -36,6 +39,14 @@ pub(crate) enum MapSlot {
     Bump,
     /// `norm`: a tangent-space normal map.
     Normal,
+    /// `map_Ks`: the specular colour's factor.
+    Specular,
+    /// `map_Pr`: a metal's roughness factor.
+    Roughness,
+    /// `map_Pm`: a metal's metalness factor.
+    Metallic,
+    /// `map_Ke`: the emission's factor.
+    Emission,
 }
 
 impl MapSlot {
@@ -45,14 +56,33 @@ impl MapSlot {
             "map_d" => MapSlot::Alpha,
             "bump" | "map_Bump" | "map_bump" => MapSlot::Bump,
             "norm" => MapSlot::Normal,
+            "map_Ks" => MapSlot::Specular,
+            "map_Pr" => MapSlot::Roughness,
+            "map_Pm" => MapSlot::Metallic,
+            "map_Ke" => MapSlot::Emission,
             _ => return None,
         })
     }
 
     /// Whether the map holds colours, sRGB-decoded; data maps (alpha,
-    /// heights, normals, roughness) are read as stored.
+    /// heights, normals, roughness, metalness) are read as stored.
     pub fn srgb(self) -> bool {
-        matches!(self, MapSlot::Albedo)
+        matches!(
+            self,
+            MapSlot::Albedo | MapSlot::Specular | MapSlot::Emission
+        )
+    }
+
+    /// Whether a material of `kind` has the parameter the map scales: Ks
+    /// for plastic and mirror, roughness and metalness for metal, emission
+    /// for emissive; the albedo, cut-out and normal maps for every kind.
+    pub fn matters_for(self, kind: MaterialKind) -> bool {
+        match self {
+            MapSlot::Specular => matches!(kind, MaterialKind::Plastic | MaterialKind::Mirror),
+            MapSlot::Roughness | MapSlot::Metallic => kind == MaterialKind::Metal,
+            MapSlot::Emission => kind == MaterialKind::Emissive,
+            MapSlot::Albedo | MapSlot::Alpha | MapSlot::Bump | MapSlot::Normal => true,
+        }
     }
 }
 
@@ -70,6 +100,15 @@ pub(crate) fn set_map(material: &mut Material, map: &TextureMap, texture: Option
             });
         }
         MapSlot::Normal => material.maps.normal = texture,
+        MapSlot::Specular => material.maps.specular = texture,
+        MapSlot::Roughness => material.maps.roughness = texture,
+        MapSlot::Metallic => {
+            material.maps.metallic = texture.map(|texture| Metallic {
+                map: texture,
+                scale: map.factor,
+            });
+        }
+        MapSlot::Emission => material.maps.emission = texture,
     }
 }
 
@@ -82,8 +121,7 @@ pub(super) type UnreadMaps = Vec<(usize, String)>;
 /// Map statements sturmray does not read yet: each is a warning (its line
 /// and keyword), so a material never renders differently without a word.
 const UNREAD_MAPS: &[&str] = &[
-    "map_Ka", "map_Ks", "map_Ke", "map_Ns", "map_ns", "map_NS", "map_Pr", "map_Pm", "map_Ps",
-    "disp", "decal", "refl",
+    "map_Ka", "map_Ns", "map_ns", "map_NS", "map_Ps", "disp", "decal", "refl",
 ];
 
 /// What the numbers of a statement must be.
@@ -109,8 +147,8 @@ fn expectation(keyword: &str) -> Option<Expect> {
         "Ni" => Expect::Positive,
         "d" | "Pr" | "Pm" => Expect::Fraction,
         "illum" => Expect::Model,
-        "newmtl" | "map_Ka" | "map_Kd" | "map_Ks" | "map_Bump" | "map_bump" | "map_Ns"
-        | "map_ns" | "map_NS" | "bump" | "map_d" | "norm" => Expect::Text,
+        "newmtl" | "map_Ka" | "map_Kd" | "map_Ks" | "map_Ke" | "map_Pr" | "map_Pm" | "map_Bump"
+        | "map_bump" | "map_Ns" | "map_ns" | "map_NS" | "bump" | "map_d" | "norm" => Expect::Text,
         _ => return None,
     })
 }
@@ -194,6 +232,7 @@ pub(super) fn load(path: &Path) -> Result<(Vec<tobj::Material>, MapsByName, Unre
                     line: number + 1,
                     placement,
                     file: dir.join(file),
+                    factor: 1.0,
                 };
                 let list: &mut Vec<TextureMap> = maps.entry(name.clone()).or_default();
                 list.retain(|m| m.slot != slot);
@@ -203,5 +242,11 @@ pub(super) fn load(path: &Path) -> Result<(Vec<tobj::Material>, MapsByName, Unre
     }
     let (materials, _) = tobj::load_mtl_buf(&mut text.as_bytes())
         .map_err(|e| error(0, format!("malformed material library: {e}")))?;
+    for m in &materials {
+        let list = maps.get_mut(&m.name).into_iter().flatten();
+        for map in list.filter(|map| map.slot == MapSlot::Metallic) {
+            map.factor = metalness(m);
+        }
+    }
     Ok((materials, maps, unread))
 }

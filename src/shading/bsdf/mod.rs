@@ -49,7 +49,12 @@ pub use mirror::Mirror;
 pub use plastic::Plastic;
 
 use crate::math::{Frame, Vec3};
-use crate::shading::{Material, MaterialKind};
+use crate::shading::{Material, MaterialKind, Surface};
+
+/// The normal-incidence reflectance of a dielectric of index 1.5,
+/// ((1.5 − 1)/(1.5 + 1))²: what glTF and Blender's Principled BSDF give a
+/// surface that is not metal.
+pub const DIELECTRIC_F0: f32 = 0.04;
 
 /// Cosines smaller than this count as grazing: such directions get f = 0,
 /// pdf = 0 and no sample, which keeps every 1/cos finite.
@@ -148,32 +153,41 @@ pub enum Bsdf {
 }
 
 impl Bsdf {
-    /// The scattering function of a material away from any pattern: for the
-    /// plan's questions about its lobes, which the albedo does not change.
+    /// The scattering function of a material away from any pattern or map:
+    /// for the plan's questions about its lobes, which they do not change.
     pub fn from_material(m: &Material) -> Bsdf {
-        Bsdf::with_albedo(m, m.albedo)
+        Bsdf::at(m, &m.constant_surface())
     }
 
-    /// The scattering function of a material whose albedo at the hit is
-    /// `albedo` ([`Material::albedo_at`]). Emissive surfaces reflect as
+    /// The scattering function of a material whose values at the hit are
+    /// `s` ([`Material::surface_at`]). Emissive surfaces reflect as
     /// Lambert with their albedo; their emission belongs to the lights. A
     /// mirror reflects its specular colour (MTL Ks) if it has one, else its
-    /// albedo. Glass is untinted; an ior that is not a positive finite
-    /// number becomes 1.5 so a bad value cannot produce NaN.
-    pub fn with_albedo(m: &Material, albedo: Vec3) -> Bsdf {
+    /// albedo. A metal where its metalness is below 0.5 (`map_Pm`) is its
+    /// dielectric counterpart, glTF's and Blender's: plastic with the
+    /// albedo as base, F0 = [`DIELECTRIC_F0`] and the metal's roughness.
+    /// Glass is untinted; an ior that is not a positive finite number
+    /// becomes 1.5 so a bad value cannot produce NaN.
+    pub fn at(m: &Material, s: &Surface) -> Bsdf {
+        let albedo = s.albedo;
         match m.kind {
             MaterialKind::Diffuse | MaterialKind::Emissive => Bsdf::Lambert(Lambert { albedo }),
             MaterialKind::Plastic => Bsdf::Plastic(Plastic {
                 albedo,
-                specular: m.specular,
+                specular: s.specular,
                 roughness: shininess_to_alpha(m.shininess),
             }),
             MaterialKind::Mirror => Bsdf::Mirror(Mirror {
-                reflectance: m.reflectance(albedo),
+                reflectance: m.reflectance(s),
+            }),
+            MaterialKind::Metal if s.metallic < 0.5 => Bsdf::Plastic(Plastic {
+                albedo,
+                specular: Vec3::splat(DIELECTRIC_F0),
+                roughness: (s.roughness * s.roughness).clamp(MIN_ALPHA, 1.0),
             }),
             MaterialKind::Metal => Bsdf::Metal(Metal {
                 f0: albedo,
-                roughness: (m.roughness * m.roughness).clamp(MIN_ALPHA, 1.0),
+                roughness: (s.roughness * s.roughness).clamp(MIN_ALPHA, 1.0),
             }),
             MaterialKind::Dielectric => Bsdf::Dielectric(Dielectric {
                 ior: if m.ior.is_finite() && m.ior > 0.0 {
