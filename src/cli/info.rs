@@ -212,6 +212,20 @@ fn describe(scene: &Scene, accel: &Accel) -> String {
                 v(*position),
                 v(*irradiance)
             ),
+            Light::PovBeam {
+                position,
+                direction,
+                irradiance,
+                beam,
+                parallel,
+            } => writeln!(
+                s,
+                "  unfading {beam:?}{} (POV-Ray's) at {} along {} irradiance {}",
+                if *parallel { ", parallel" } else { "" },
+                v(*position),
+                v(*direction),
+                v(*irradiance)
+            ),
             Light::Directional {
                 direction,
                 irradiance,

@@ -11,9 +11,11 @@ mod pick;
 
 pub use pick::{LightPick, LightPicker, LightRef};
 
+mod beam;
 mod emit;
 mod environment;
 
+pub use beam::Beam;
 pub use emit::Emission;
 pub use environment::{Environment, EnvironmentSource};
 
@@ -28,6 +30,17 @@ pub enum Light {
     /// distance (its `fade_power 0`), not a physical light, for scenes read
     /// from POV-Ray's language.
     Unfading { position: Vec3, irradiance: Vec3 },
+    /// POV-Ray's `spotlight`, `cylinder` or `parallel` light: unfading,
+    /// times the share of its `beam` (see `beam`); `direction` is the unit
+    /// vector from the light to its `point_at`. With `parallel`, its rays
+    /// all run along `direction` from the plane through `position`.
+    PovBeam {
+        position: Vec3,
+        direction: Vec3,
+        irradiance: Vec3,
+        beam: Beam,
+        parallel: bool,
+    },
     /// Irradiance E on a surface facing the light; `direction` is where light travels.
     Directional { direction: Vec3, irradiance: Vec3 },
     /// A point light shining into a cone about the unit `direction` (pbrt-v4's
@@ -111,6 +124,13 @@ impl Light {
                     pdf: 0.0,
                 })
             }
+            Light::PovBeam {
+                position,
+                direction,
+                irradiance,
+                beam,
+                parallel,
+            } => beam::incident(*position, *direction, *irradiance, *beam, *parallel, p),
             Light::Directional {
                 direction,
                 irradiance,
@@ -178,6 +198,7 @@ impl Light {
             Light::Point { .. }
             | Light::Spot { .. }
             | Light::Unfading { .. }
+            | Light::PovBeam { .. }
             | Light::Directional { .. } => 0.0,
             Light::Sphere { center, radius, .. } => {
                 let sin2_max = radius * radius / (*center - p).length_squared();
@@ -211,6 +232,7 @@ impl Light {
             Light::Point { .. }
                 | Light::Spot { .. }
                 | Light::Unfading { .. }
+                | Light::PovBeam { .. }
                 | Light::Directional { .. }
         )
     }
