@@ -212,19 +212,14 @@ fn describe(scene: &Scene, accel: &Accel) -> String {
                 v(*position),
                 v(*irradiance)
             ),
-            Light::PovBeam {
-                position,
-                direction,
-                irradiance,
-                beam,
-                parallel,
-            } => writeln!(
+            Light::PovBeam(light) => writeln!(
                 s,
-                "  unfading {beam:?}{} (POV-Ray's) at {} along {} irradiance {}",
-                if *parallel { ", parallel" } else { "" },
-                v(*position),
-                v(*direction),
-                v(*irradiance)
+                "  unfading {:?}{} (POV-Ray's) at {} along {} irradiance {}",
+                light.beam,
+                if light.parallel { ", parallel" } else { "" },
+                v(light.position),
+                v(light.direction),
+                v(light.irradiance)
             ),
             Light::Directional {
                 direction,

@@ -79,78 +79,94 @@ impl Beam {
     }
 }
 
-/// What POV-Ray's beam light at `position`, aimed along the unit
-/// `direction`, sends to p (see [`super::Light::PovBeam`]).
-pub(super) fn incident(
-    position: Vec3,
-    direction: Vec3,
-    irradiance: Vec3,
-    beam: Beam,
-    parallel: bool,
-    p: Vec3,
-) -> Option<Incident> {
-    let (wi, distance, share) = if parallel {
-        // Parallel rays: the shadow ray runs back to the light's plane; a
-        // point behind the plane casts and receives no shadow (distance 0),
-        // as POV-Ray's `ComputeOneWhiteLightRay` has it.
-        let depth = (p - position).dot(direction);
-        let share = match beam {
-            Beam::Round => 1.0,
-            // The cone is measured along the parallel ray itself, so it
-            // is all or nothing: POV-Ray's own behaviour.
-            Beam::Spot { .. } => f32::from(u8::from(depth > 0.0)),
-            Beam::Cylinder {
-                radius,
-                falloff,
-                tightness,
-            } => {
-                if depth <= 0.0 {
-                    0.0
-                } else {
-                    let r = (p - position - depth * direction).length();
-                    Beam::cylinder(r, radius, falloff, tightness)
+/// POV-Ray's beam light (see [`super::Light::PovBeam`]).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct PovBeam {
+    pub position: Vec3,
+    /// The unit vector from the light to its `point_at`.
+    pub direction: Vec3,
+    pub irradiance: Vec3,
+    pub beam: Beam,
+    /// Rays all along `direction`, from the plane through `position`.
+    pub parallel: bool,
+}
+
+impl PovBeam {
+    /// What the light sends to p.
+    pub(super) fn incident(&self, p: Vec3) -> Option<Incident> {
+        let (position, direction) = (self.position, self.direction);
+        let (wi, distance, share) = if self.parallel {
+            // Parallel rays: the shadow ray runs back to the light's plane; a
+            // point behind the plane casts and receives no shadow (distance 0),
+            // as POV-Ray's `ComputeOneWhiteLightRay` has it.
+            let depth = (p - position).dot(direction);
+            let share = match self.beam {
+                Beam::Round => 1.0,
+                // The cone is measured along the parallel ray itself, so it
+                // is all or nothing: POV-Ray's own behaviour.
+                Beam::Spot { .. } => f32::from(u8::from(depth > 0.0)),
+                Beam::Cylinder {
+                    radius,
+                    falloff,
+                    tightness,
+                } => {
+                    if depth <= 0.0 {
+                        0.0
+                    } else {
+                        let r = (p - position - depth * direction).length();
+                        Beam::cylinder(r, radius, falloff, tightness)
+                    }
                 }
-            }
+            };
+            (-direction, depth.max(0.0), share)
+        } else {
+            let to = position - p;
+            let distance = to.length();
+            let wi = to / distance;
+            let share = match self.beam {
+                Beam::Spot {
+                    cos_radius,
+                    cos_falloff,
+                    tightness,
+                } => Beam::spot(-wi.dot(direction), cos_radius, cos_falloff, tightness),
+                Beam::Round | Beam::Cylinder { .. } => 1.0,
+            };
+            (wi, distance, share)
         };
-        (-direction, depth.max(0.0), share)
-    } else {
-        let to = position - p;
-        let distance = to.length();
-        let wi = to / distance;
-        let share = match beam {
-            Beam::Spot {
-                cos_radius,
-                cos_falloff,
-                tightness,
-            } => Beam::spot(-wi.dot(direction), cos_radius, cos_falloff, tightness),
-            Beam::Round | Beam::Cylinder { .. } => 1.0,
-        };
-        (wi, distance, share)
-    };
-    (share > 0.0).then(|| Incident {
-        wi,
-        distance,
-        irradiance: irradiance * share,
-        pdf: 0.0,
-    })
+        (share > 0.0).then(|| Incident {
+            wi,
+            distance,
+            irradiance: self.irradiance * share,
+            pdf: 0.0,
+        })
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    fn spot_light(parallel: bool) -> (Vec3, Vec3, Beam, bool) {
+    fn light(position: Vec3, direction: Vec3, beam: Beam, parallel: bool) -> PovBeam {
+        PovBeam {
+            position,
+            direction,
+            irradiance: Vec3::ONE,
+            beam,
+            parallel,
+        }
+    }
+
+    fn spot_light(parallel: bool) -> PovBeam {
         let beam = Beam::Spot {
             cos_radius: 20f32.to_radians().cos(),
             cos_falloff: 40f32.to_radians().cos(),
             tightness: 2.0,
         };
-        (Vec3::new(0.0, 10.0, 0.0), -Vec3::Y, beam, parallel)
+        light(Vec3::new(0.0, 10.0, 0.0), -Vec3::Y, beam, parallel)
     }
 
-    fn share(light: (Vec3, Vec3, Beam, bool), p: Vec3) -> f32 {
-        let (position, direction, beam, parallel) = light;
-        incident(position, direction, Vec3::ONE, beam, parallel, p).map_or(0.0, |i| i.irradiance.x)
+    fn share(light: PovBeam, p: Vec3) -> f32 {
+        light.incident(p).map_or(0.0, |i| i.irradiance.x)
     }
 
     #[test]
@@ -182,28 +198,18 @@ mod tests {
     #[test]
     fn a_parallel_spotlight_lights_all_in_front_of_its_plane_and_nothing_behind() {
         let light = spot_light(true);
-        let (position, direction, beam, parallel) = light;
-        let far_off = Vec3::new(40.0, 0.0, 3.0);
-        let inc = incident(position, direction, Vec3::ONE, beam, parallel, far_off).unwrap();
+        let inc = light.incident(Vec3::new(40.0, 0.0, 3.0)).unwrap();
         assert_eq!(inc.wi, Vec3::Y);
         assert_eq!(inc.distance, 10.0);
         assert_eq!(inc.irradiance, Vec3::ONE);
-        assert!(
-            incident(
-                position,
-                direction,
-                Vec3::ONE,
-                beam,
-                parallel,
-                Vec3::splat(11.0)
-            )
-            .is_none()
-        );
+        assert!(light.incident(Vec3::splat(11.0)).is_none());
     }
 
     #[test]
     fn a_parallel_point_light_lights_behind_its_plane_without_shadows() {
-        let inc = incident(Vec3::ZERO, Vec3::X, Vec3::ONE, Beam::Round, true, -Vec3::X).unwrap();
+        let inc = light(Vec3::ZERO, Vec3::X, Beam::Round, true)
+            .incident(-Vec3::X)
+            .unwrap();
         assert_eq!((inc.wi, inc.distance), (-Vec3::X, 0.0));
         assert_eq!(inc.irradiance, Vec3::ONE);
     }
@@ -215,25 +221,15 @@ mod tests {
             falloff: 2.0,
             tightness: 0.0,
         };
-        let at = |p: Vec3| {
-            incident(Vec3::ZERO, Vec3::Z, Vec3::ONE, beam, true, p).map_or(0.0, |i| i.irradiance.x)
-        };
+        let cylinder = light(Vec3::ZERO, Vec3::Z, beam, true);
         for z in [0.5, 50.0] {
-            assert_eq!(at(Vec3::new(0.9, 0.0, z)), 1.0);
-            assert_eq!(at(Vec3::new(0.0, 2.0, z)), 0.0);
+            assert_eq!(share(cylinder, Vec3::new(0.9, 0.0, z)), 1.0);
+            assert_eq!(share(cylinder, Vec3::new(0.0, 2.0, z)), 0.0);
             // r = 1.5: dist 0.25 on a spline over [0, 0.5]: t = 0.5.
-            assert!((at(Vec3::new(0.0, 1.5, z)) - 0.5).abs() < 1e-6);
+            assert!((share(cylinder, Vec3::new(0.0, 1.5, z)) - 0.5).abs() < 1e-6);
         }
-        assert_eq!(at(Vec3::new(0.0, 0.0, -1.0)), 0.0, "behind");
-        let inc = incident(
-            Vec3::ZERO,
-            Vec3::Z,
-            Vec3::ONE,
-            beam,
-            true,
-            Vec3::new(0.5, 0.0, 3.0),
-        )
-        .unwrap();
+        assert_eq!(share(cylinder, Vec3::new(0.0, 0.0, -1.0)), 0.0, "behind");
+        let inc = cylinder.incident(Vec3::new(0.5, 0.0, 3.0)).unwrap();
         assert_eq!((inc.wi, inc.distance), (-Vec3::Z, 3.0));
     }
 }

@@ -5,7 +5,7 @@
 
 use std::f32::consts::{PI, TAU};
 
-use super::{Beam, Light, basis};
+use super::{Beam, Light, PovBeam, basis};
 use crate::math::{Bounds, Vec3, gamma};
 use crate::sampling::warp;
 
@@ -63,12 +63,7 @@ impl Light {
                 let (_, radius) = bounding_disk(bounds);
                 *irradiance * (PI * radius * radius)
             }
-            Light::PovBeam {
-                irradiance,
-                beam,
-                parallel,
-                ..
-            } => *irradiance * beam_power(*beam, *parallel, bounding_disk(bounds).1),
+            Light::PovBeam(light) => light.irradiance * beam_power(light, bounding_disk(bounds).1),
             // A Lambertian emitter of radiance L sends π L per unit area.
             Light::Sphere { radiance, .. } | Light::Triangle { radiance, .. } => {
                 PI * self.area() * *radiance
@@ -111,21 +106,7 @@ impl Light {
                     flux: *intensity * self.spot_scale(dir) / warp::uniform_cone_pdf(*cos_end),
                 })
             }
-            Light::PovBeam {
-                position,
-                direction,
-                irradiance,
-                beam,
-                parallel,
-            } => beam_emit(
-                *position,
-                *direction,
-                *irradiance,
-                *beam,
-                *parallel,
-                u,
-                bounds,
-            ),
+            Light::PovBeam(light) => beam_emit(light, u, bounds),
             Light::Directional { direction, .. } => {
                 let (center, radius) = bounding_disk(bounds);
                 if radius <= 0.0 {
@@ -167,7 +148,7 @@ impl Light {
             Light::Point { .. }
             | Light::Spot { .. }
             | Light::Unfading { .. }
-            | Light::PovBeam { .. }
+            | Light::PovBeam(_)
             | Light::Directional { .. } => 0.0,
             Light::Sphere { radius, .. } => 4.0 * PI * radius * radius,
             Light::Triangle { edge1, edge2, .. } => 0.5 * edge1.cross(*edge2).length(),
@@ -202,7 +183,7 @@ impl Light {
             Light::Point { .. }
             | Light::Spot { .. }
             | Light::Unfading { .. }
-            | Light::PovBeam { .. }
+            | Light::PovBeam(_)
             | Light::Directional { .. } => {
                 return None;
             }
@@ -224,13 +205,13 @@ fn integral(a: f32, b: f32, f: impl Fn(f32) -> f32) -> f32 {
         * h
 }
 
-/// The power of a POV-Ray beam light of irradiance 1, by the convention of
+/// The power of a POV-Ray beam light per unit of its irradiance, by the convention of
 /// `Light::Unfading`: the unfading point light's πR² over the whole sphere
 /// (R the scene's bounding disk), here only where the beam shines; a
 /// parallel light sends πR² as a directional light does, and a cylinder
 /// what crosses its disk.
-fn beam_power(beam: Beam, parallel: bool, radius: f32) -> f32 {
-    match (beam, parallel) {
+fn beam_power(light: &PovBeam, radius: f32) -> f32 {
+    match (light.beam, light.parallel) {
         (
             Beam::Cylinder {
                 radius: inner,
@@ -264,15 +245,8 @@ fn beam_power(beam: Beam, parallel: bool, radius: f32) -> f32 {
 }
 
 /// One photon of a POV-Ray beam light (see [`beam_power`]).
-fn beam_emit(
-    position: Vec3,
-    direction: Vec3,
-    irradiance: Vec3,
-    beam: Beam,
-    parallel: bool,
-    u: [f32; 4],
-    bounds: Bounds,
-) -> Option<Emission> {
+fn beam_emit(light: &PovBeam, u: [f32; 4], bounds: Bounds) -> Option<Emission> {
+    let (position, direction, irradiance) = (light.position, light.direction, light.irradiance);
     let (center, radius) = bounding_disk(bounds);
     if radius <= 0.0 {
         return None;
@@ -292,7 +266,7 @@ fn beam_emit(
             tightness,
         },
         false,
-    ) = (beam, parallel)
+    ) = (light.beam, light.parallel)
     {
         // Uniform in the lit cone, weighted by the share over the density.
         let edge = Beam::spot_edge(cos_radius, cos_falloff);
@@ -303,7 +277,7 @@ fn beam_emit(
         return Some(emission(position, dir, flux));
     }
     let [x, y] = warp::concentric_disk([u[0], u[1]]);
-    let (base, disk) = match beam {
+    let (base, disk) = match light.beam {
         // Behind its plane a parallel point light still shines: start
         // outside the scene, as a directional light's photons do.
         Beam::Round => (center - radius * direction, radius),
@@ -315,7 +289,7 @@ fn beam_emit(
         Beam::Cylinder { falloff, .. } => (position, falloff),
     };
     let offset = disk * (x * s + y * t);
-    let share = match beam {
+    let share = match light.beam {
         Beam::Cylinder {
             radius: inner,
             falloff,
@@ -439,7 +413,7 @@ mod tests {
 
     #[test]
     fn pov_beam_photons_stay_in_the_beam_and_carry_its_power() {
-        let spot = Light::PovBeam {
+        let spot = Light::PovBeam(PovBeam {
             position: Vec3::new(1.0, 5.0, 1.0),
             direction: -Vec3::Y,
             irradiance: Vec3::new(1.0, 2.0, 3.0),
@@ -449,8 +423,8 @@ mod tests {
                 tightness: 3.0,
             },
             parallel: false,
-        };
-        let cylinder = Light::PovBeam {
+        });
+        let cylinder = Light::PovBeam(PovBeam {
             position: Vec3::new(1.0, 5.0, 1.0),
             direction: -Vec3::Y,
             irradiance: Vec3::new(1.0, 2.0, 3.0),
@@ -460,7 +434,7 @@ mod tests {
                 tightness: 1.0,
             },
             parallel: true,
-        };
+        });
         for (light, is_spot) in [(&spot, true), (&cylinder, false)] {
             let power = light.power(bounds());
             let all = emissions(light, 40_000);

@@ -15,7 +15,7 @@ mod beam;
 mod emit;
 mod environment;
 
-pub use beam::Beam;
+pub use beam::{Beam, PovBeam};
 pub use emit::Emission;
 pub use environment::{Environment, EnvironmentSource};
 
@@ -31,16 +31,8 @@ pub enum Light {
     /// from POV-Ray's language.
     Unfading { position: Vec3, irradiance: Vec3 },
     /// POV-Ray's `spotlight`, `cylinder` or `parallel` light: unfading,
-    /// times the share of its `beam` (see `beam`); `direction` is the unit
-    /// vector from the light to its `point_at`. With `parallel`, its rays
-    /// all run along `direction` from the plane through `position`.
-    PovBeam {
-        position: Vec3,
-        direction: Vec3,
-        irradiance: Vec3,
-        beam: Beam,
-        parallel: bool,
-    },
+    /// times the share of its beam (see `beam`).
+    PovBeam(PovBeam),
     /// Irradiance E on a surface facing the light; `direction` is where light travels.
     Directional { direction: Vec3, irradiance: Vec3 },
     /// A point light shining into a cone about the unit `direction` (pbrt-v4's
@@ -124,13 +116,7 @@ impl Light {
                     pdf: 0.0,
                 })
             }
-            Light::PovBeam {
-                position,
-                direction,
-                irradiance,
-                beam,
-                parallel,
-            } => beam::incident(*position, *direction, *irradiance, *beam, *parallel, p),
+            Light::PovBeam(light) => light.incident(p),
             Light::Directional {
                 direction,
                 irradiance,
@@ -198,7 +184,7 @@ impl Light {
             Light::Point { .. }
             | Light::Spot { .. }
             | Light::Unfading { .. }
-            | Light::PovBeam { .. }
+            | Light::PovBeam(_)
             | Light::Directional { .. } => 0.0,
             Light::Sphere { center, radius, .. } => {
                 let sin2_max = radius * radius / (*center - p).length_squared();
@@ -232,7 +218,7 @@ impl Light {
             Light::Point { .. }
                 | Light::Spot { .. }
                 | Light::Unfading { .. }
-                | Light::PovBeam { .. }
+                | Light::PovBeam(_)
                 | Light::Directional { .. }
         )
     }

@@ -22,7 +22,7 @@ use super::texture::{Pigment, Texture, default_texture};
 use super::{Globals, Statements};
 use crate::error::Result;
 use crate::geometry::{Box3, Csg, Mesh, Op, Part, Shape, Surface};
-use crate::lights::{Beam, Light};
+use crate::lights::{Beam, Light, PovBeam};
 use crate::math::Vec3;
 use crate::poly::solve::Solver;
 use crate::scene::{Camera, ImagePlane, Integrator, PhotonSettings, RenderSettings, Scene};
@@ -305,13 +305,13 @@ impl Builder<'_> {
                 position: position.as_vec3(),
                 irradiance: irradiance.as_vec3(),
             },
-            Some(beam) => Light::PovBeam {
+            Some(beam) => Light::PovBeam(PovBeam {
                 position: position.as_vec3(),
                 direction: direction.as_vec3(),
                 irradiance: irradiance.as_vec3(),
                 beam,
                 parallel: light.parallel,
-            },
+            }),
         };
         let Some((a, b, n1, n2)) = light.area else {
             self.scene.lights.push(one(position, colour));

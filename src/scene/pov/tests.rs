@@ -760,13 +760,7 @@ fn spotlights_cylinders_and_parallel_lights_take_povrays_defaults_and_order() {
         .lights
         .iter()
         .map(|l| match l {
-            Light::PovBeam {
-                position,
-                direction,
-                beam,
-                parallel,
-                ..
-            } => Some((*position, *direction, *beam, *parallel)),
+            Light::PovBeam(l) => Some((l.position, l.direction, l.beam, l.parallel)),
             _ => None,
         })
         .collect();
