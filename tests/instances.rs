@@ -296,3 +296,76 @@ fn embree_holds_a_prototype_once_however_many_instances_place_it() {
         "instanced {inst} bytes, flattened {flat} bytes"
     );
 }
+
+#[test]
+fn each_instances_checker_moves_with_it_on_every_backend() {
+    // A checkered sphere, moved inside its prototype, placed three times:
+    // at the origin, shifted, and turned a quarter about z and shifted.
+    // Each shows the checker in its own space (the same colour at the
+    // same place on it), not the world's; the fourth, with its own
+    // checkered material, shows that in the prototype's space.
+    let dir = scratch("instance_checker");
+    let toml = "[camera]\neye = [0, 0, 10]\nlook_at = [0, 0, 0]\nfov = 40\nwidth = 8\nheight = 8\n\
+                [materials.c]\ntype = \"diffuse\"\n\
+                albedo = { checker = [[1, 0, 0], [0, 0, 1]], scale = 0.3 }\n\
+                [materials.d]\ntype = \"diffuse\"\n\
+                albedo = { checker = [[0, 1, 0], [1, 1, 1]], scale = 0.4 }\n\
+                [[prototypes.ball.objects]]\ntype = \"sphere\"\nradius = 1\nmaterial = \"c\"\n\
+                transform = { translate = [0.2, 0.1, 0] }\n\
+                [[objects]]\ntype = \"instance\"\nprototype = \"ball\"\n\
+                [[objects]]\ntype = \"instance\"\nprototype = \"ball\"\n\
+                transform = { translate = [7.31, 0.43, -0.2] }\n\
+                [[objects]]\ntype = \"instance\"\nprototype = \"ball\"\n\
+                transform = { rotate = [0, 0, 90], translate = [0, 7, 0] }\n\
+                [[objects]]\ntype = \"instance\"\nprototype = \"ball\"\nmaterial = \"d\"\n\
+                transform = { translate = [0, -7, 0] }\n";
+    let scene = Scene::load(&write(&dir, "c.toml", toml)).unwrap();
+    let turn = |v: sturmray::math::Vec3| sturmray::math::Vec3::new(-v.y, v.x, v.z);
+    let shift = |x: f32, y: f32, z: f32| sturmray::math::Vec3::new(x, y, z);
+    for backend in Backend::ALL {
+        let accel = build(&scene, backend);
+        let albedo = |ray: &Ray| {
+            let hit = accel.intersect(ray);
+            assert!(hit.is_hit(), "{backend:?}: {ray:?}");
+            let it = scene.interaction(ray, &hit);
+            (
+                it.albedo(&scene.materials[it.material as usize]),
+                it.p,
+                hit.inst_id,
+            )
+        };
+        let (mut world_differs, mut colours) = (0, std::collections::BTreeSet::new());
+        for k in 0..100 {
+            let (x, y) = ((k % 10) as f32 * 0.14 - 0.43, (k / 10) as f32 * 0.14 - 0.52);
+            let ray = Ray::new(shift(x, y, 5.0), shift(0.0, 0.0, -1.0));
+            let (a, _, inst) = albedo(&ray);
+            assert_eq!(inst, 0);
+            colours.insert(format!("{a}"));
+            let moved = Ray::new(ray.origin + shift(7.31, 0.43, -0.2), ray.dir);
+            let (b, p, inst) = albedo(&moved);
+            assert_eq!((a, inst), (b, 1), "{backend:?}: shifted, {ray:?}");
+            // The checker unplaced by the instance would lie where the
+            // shape alone puts it, whatever the instance.
+            let unplaced =
+                scene.materials[scene.prototypes[0].shapes[0].material as usize].albedo_at(p, None);
+            world_differs += usize::from(unplaced != b);
+            let turned = Ray::new(turn(ray.origin) + shift(0.0, 7.0, 0.0), turn(ray.dir));
+            let (c, _, inst) = albedo(&turned);
+            assert_eq!((a, inst), (c, 2), "{backend:?}: turned, {ray:?}");
+            // Its own material: the checker in the prototype's space.
+            let own = Ray::new(ray.origin + shift(0.0, -7.0, 0.0), ray.dir);
+            let (d, p, inst) = albedo(&own);
+            let material_d = &scene.materials[1];
+            assert_eq!(inst, 3);
+            assert_eq!(
+                d,
+                material_d.albedo_at(p + shift(0.0, 7.0, 0.0), None),
+                "{backend:?}"
+            );
+        }
+        // So the test can fail: both colours are seen, and in world space
+        // the pattern would not follow the instance.
+        assert_eq!(colours.len(), 2, "{colours:?}");
+        assert!(world_differs > 10, "{backend:?}: {world_differs}");
+    }
+}

@@ -133,6 +133,72 @@ fn instances_keep_their_prototypes_cut_outs() {
     }
 }
 
+/// A square at z = 1 over x, y ∈ [-1, 1] with uv, of an opaque material.
+const BOARD_OBJ: &str = "mtllib b.mtl\no board\nv -1 -1 1\nv 1 -1 1\nv 1 1 1\nv -1 1 1\n\
+    vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nusemtl board\nf 1/1 2/2 3/3 4/4\n";
+
+#[test]
+fn an_instances_own_material_decides_its_cut_outs_on_every_backend() {
+    // As pbrt's and Mitsuba's instances: the instance's material replaces
+    // the prototype's, its `map_d` with it. Three leaves, at x = 0, 10, 20:
+    // the first keeps the leaf's mask, the second's material has none (the
+    // whole leaf is there), and a board whose own material is opaque takes
+    // the leaf's mask from its instance's material (set through the
+    // library, as TOML materials have no `map_d`).
+    let dir = scratch("cutout_override");
+    leaf_scene(&dir, &half_mask(true));
+    write(&dir, "b.mtl", "newmtl board\nKd 0.5 0.5 0.5\n");
+    write(&dir, "board.obj", BOARD_OBJ);
+    let toml = "[materials.plain]\ntype = \"diffuse\"\n\
+                [[prototypes.leaf.objects]]\ntype = \"mesh\"\nfile = \"leaf.obj\"\n\
+                [[prototypes.board.objects]]\ntype = \"mesh\"\nfile = \"board.obj\"\n\
+                [[objects]]\ntype = \"instance\"\nprototype = \"leaf\"\n\
+                [[objects]]\ntype = \"instance\"\nprototype = \"leaf\"\nmaterial = \"plain\"\n\
+                transform = { translate = [10, 0, 0] }\n\
+                [[objects]]\ntype = \"instance\"\nprototype = \"board\"\n\
+                transform = { translate = [20, 0, 0] }\n";
+    let mut scene = Scene::load(&write(&dir, "i.toml", toml)).unwrap();
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let leaf = scene.prototypes[1].meshes[0].materials[0];
+    assert!(scene.materials[leaf as usize].maps.alpha.is_some());
+    scene.instances[2].material = Some(leaf);
+    for backend in Backend::ALL {
+        let accel = Accel::build(&scene, backend, None).unwrap();
+        for ray in down_rays() {
+            let opaque = ray.origin.x < 0.0;
+            for (inst, shift) in [(0, 0.0), (1, 10.0), (2, 20.0)] {
+                let ray = Ray::new(ray.origin + Vec3::X * shift, ray.dir);
+                let hit = accel.intersect(&ray);
+                let mut shadow = ray;
+                shadow.tfar = 4.5;
+                let mut all = Vec::new();
+                accel.intersect_all(&ray, &mut all);
+                let what = format!("{backend:?}, instance {inst}: {ray:?}");
+                // The leaf (or board) is there where its instance's mask,
+                // if any, is opaque.
+                let there = opaque || inst == 1;
+                assert_eq!(accel.occluded(&shadow), there, "{what}");
+                let expected = match (there, inst) {
+                    (true, _) => Some((0, 4.0)),
+                    (false, 2) => None,
+                    (false, _) => Some((1, 5.0)),
+                };
+                let found = hit.is_hit().then_some((hit.geom_id, hit.t));
+                assert_eq!(found, expected, "{what}");
+                assert_eq!(
+                    all.iter().filter(|h| h.t == 4.0).count(),
+                    usize::from(there),
+                    "{what}"
+                );
+                if hit.is_hit() {
+                    assert_eq!(hit.inst_id, inst, "{what}");
+                }
+            }
+        }
+        accel.check().unwrap();
+    }
+}
+
 #[test]
 fn a_missing_mask_is_a_warning_and_nothing_is_cut() {
     let dir = scratch("cutout_missing");

@@ -14,8 +14,8 @@ use std::panic::{AssertUnwindSafe, catch_unwind};
 
 use crate::error::{Error, Result};
 use crate::geometry::{Mesh, Shape};
-use crate::math::{Hit, Ray};
-use crate::scene::Scene;
+use crate::math::{Hit, INVALID_ID, Ray};
+use crate::scene::{Instance, Scene};
 use crate::shading::Material;
 
 /// Which BVH traces the rays.
@@ -69,15 +69,17 @@ pub enum Accel {
 }
 
 /// Mesh i as Embree geometry i, with its cut-outs (its triangles'
-/// materials are `materials`), the shapes as one more geometry after them.
+/// materials are `materials`; for prototype `prototype`'s meshes, each of
+/// `instances` may choose its own, see `cutout`), the shapes as one more
+/// geometry after them.
 fn add_geometry(
     builder: &mut embree::SceneBuilder,
-    meshes: &[Mesh],
-    shapes: &[Shape],
+    (meshes, shapes): (&[Mesh], &[Shape]),
     materials: &[Material],
+    (prototype, instances, first): (u32, &[Instance], u32),
 ) -> Result<()> {
     for (id, mesh) in meshes.iter().enumerate() {
-        let cutout = cutout::Cutout::of(mesh, materials);
+        let cutout = cutout::Cutout::of(mesh, materials, prototype, instances, first);
         builder.add_triangles(id as u32, &mesh.positions, &mesh.triangles, cutout)?;
     }
     builder.add_user(meshes.len() as u32, shapes.to_vec())
@@ -98,19 +100,20 @@ impl Accel {
                 let device = embree::Device::with_config(&config)?;
                 let options = embree::SceneOptions::default();
                 let mut builder = embree::SceneBuilder::new(&device, options)?;
-                add_geometry(&mut builder, &scene.meshes, &scene.shapes, &scene.materials)?;
+                let own = (&scene.meshes[..], &scene.shapes[..]);
+                add_geometry(&mut builder, own, &scene.materials, (INVALID_ID, &[], 0))?;
                 if !scene.instances.is_empty() {
-                    let prototypes = scene
-                        .prototypes
-                        .iter()
-                        .map(|p| {
+                    // Instance i is the geometry after the shapes' plus i.
+                    let first = scene.shapes_geom_id() + 1;
+                    let prototypes = (scene.prototypes.iter().enumerate())
+                        .map(|(i, p)| {
                             let mut prototype = builder.prototype(options)?;
-                            add_geometry(&mut prototype, &p.meshes, &p.shapes, &scene.materials)?;
+                            let placed = (i as u32, &scene.instances[..], first);
+                            let geometry = (&p.meshes[..], &p.shapes[..]);
+                            add_geometry(&mut prototype, geometry, &scene.materials, placed)?;
                             Ok((prototype.commit()?, p.shapes_geom_id()))
                         })
                         .collect::<Result<Vec<_>>>()?;
-                    // Instance i is the geometry after the shapes' plus i.
-                    let first = scene.shapes_geom_id() + 1;
                     builder.add_instances(first, prototypes, &scene.instances)?;
                 }
                 Ok(Accel::Embree(builder.commit()?))

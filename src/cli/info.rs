@@ -212,6 +212,15 @@ fn describe(scene: &Scene, accel: &Accel) -> String {
                 v(*position),
                 v(*irradiance)
             ),
+            Light::PovBeam(light) => writeln!(
+                s,
+                "  unfading {:?}{} (POV-Ray's) at {} along {} irradiance {}",
+                light.beam,
+                if light.parallel { ", parallel" } else { "" },
+                v(light.position),
+                v(light.direction),
+                v(light.irradiance)
+            ),
             Light::Directional {
                 direction,
                 irradiance,

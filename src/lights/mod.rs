@@ -11,12 +11,13 @@ mod pick;
 
 pub use pick::{LightPick, LightPicker, LightRef};
 
+mod beam;
 mod emission_map;
 mod emit;
 mod environment;
 
+pub use beam::{Beam, PovBeam};
 pub use emission_map::EmissionMap;
-
 pub use emit::Emission;
 pub use environment::{Environment, EnvironmentSource};
 
@@ -31,6 +32,9 @@ pub enum Light {
     /// distance (its `fade_power 0`), not a physical light, for scenes read
     /// from POV-Ray's language.
     Unfading { position: Vec3, irradiance: Vec3 },
+    /// POV-Ray's `spotlight`, `cylinder` or `parallel` light: unfading,
+    /// times the share of its beam (see `beam`).
+    PovBeam(PovBeam),
     /// Irradiance E on a surface facing the light; `direction` is where light travels.
     Directional { direction: Vec3, irradiance: Vec3 },
     /// A point light shining into a cone about the unit `direction` (pbrt-v4's
@@ -117,6 +121,7 @@ impl Light {
                     pdf: 0.0,
                 })
             }
+            Light::PovBeam(light) => light.incident(p),
             Light::Directional {
                 direction,
                 irradiance,
@@ -186,6 +191,7 @@ impl Light {
             Light::Point { .. }
             | Light::Spot { .. }
             | Light::Unfading { .. }
+            | Light::PovBeam(_)
             | Light::Directional { .. } => 0.0,
             Light::Sphere { center, radius, .. } => {
                 let sin2_max = radius * radius / (*center - p).length_squared();
@@ -219,6 +225,7 @@ impl Light {
             Light::Point { .. }
                 | Light::Spot { .. }
                 | Light::Unfading { .. }
+                | Light::PovBeam(_)
                 | Light::Directional { .. }
         )
     }

@@ -69,6 +69,11 @@ pub struct Instance {
     mirrors: bool,
     /// Replaces every material of the prototype's geometry when given.
     pub material: Option<u32>,
+    /// The materials this instance's analytic shapes show in place of the
+    /// prototype's (or `material`), as (theirs, this instance's): a copy
+    /// with the checker moved with the instance (see `scene::file`), so it
+    /// stays in the shape's own space. Only materials with a checker.
+    pub shape_materials: Vec<(u32, u32)>,
 }
 
 impl Instance {
@@ -83,7 +88,16 @@ impl Instance {
             normal_to_world: Mat3::from(from_world.matrix3).transpose(),
             mirrors: to_world.matrix3.determinant() < 0.0,
             material,
+            shape_materials: Vec::new(),
         }
+    }
+
+    /// The material an analytic shape of material `m` (its own, or the
+    /// instance's `material`) shows through this instance.
+    pub fn shape_material(&self, m: u32) -> u32 {
+        (self.shape_materials.iter())
+            .find(|&&(from, _)| from == m)
+            .map_or(m, |&(_, to)| to)
     }
 
     /// The ray in prototype space. Its parameter is unchanged (the direction

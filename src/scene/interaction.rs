@@ -50,14 +50,13 @@ impl Scene {
     /// `interaction` says, without the work of finding the point and normal.
     pub fn material_of(&self, hit: &Hit) -> u32 {
         let (meshes, shapes, instance) = self.hit_geometry(hit);
-        if let Some(material) = instance.and_then(|i| i.material) {
-            return material;
-        }
+        let own = instance.and_then(|i| i.material);
         if hit.geom_id as usize == meshes.len() {
             // A shape's hit carries its CSG part in u (see accel::analytic).
-            shapes[hit.prim_id as usize].material_of(hit.u as u32)
+            let m = own.unwrap_or_else(|| shapes[hit.prim_id as usize].material_of(hit.u as u32));
+            instance.map_or(m, |i| i.shape_material(m))
         } else {
-            meshes[hit.geom_id as usize].materials[hit.prim_id as usize]
+            own.unwrap_or(meshes[hit.geom_id as usize].materials[hit.prim_id as usize])
         }
     }
 

@@ -130,7 +130,9 @@ pub(super) struct CutoutData {
 /// valid lane whose candidate hit its cut-out skips. Embree runs a
 /// geometry's filter before the query's (the all-hits collector), so a
 /// cut-away hit is never collected; on an instance it runs in the
-/// prototype's scene, where primID, u and v are the prototype triangle's.
+/// prototype's scene, where primID, u and v are the prototype triangle's
+/// and instID[0] (the instance's top-level geometry id) says whose
+/// material decides.
 pub(super) extern "C" fn cut_out(args: *const sys::RTCFilterFunctionNArguments) {
     // SAFETY: Embree passes valid arguments for the duration of the call.
     let args = unsafe { &*args };
@@ -142,16 +144,19 @@ pub(super) extern "C" fn cut_out(args: *const sys::RTCFilterFunctionNArguments) 
     // pointer is a `CutoutData` the scene owns for as long as Embree may call it.
     let data = unsafe { &*args.geometryUserPtr.cast::<CutoutData>() };
     // SAFETY: `hit` is a live RTCHitN of N lanes whose valid lanes Embree initialised,
-    // lent to this call; only read here.
-    let hit = unsafe { Packet::<u32>::new(args.hit.cast(), PRIM_ID + 1, n) };
+    // instance stack included, lent to this call; only read here.
+    let hit = unsafe { Packet::<u32>::new(args.hit.cast(), INST_ID + 1, n) };
     data.panics.guard((), || {
         for i in 0..n {
             // SAFETY: `valid` has N initialised, writable entries, lent to this call.
             let valid = unsafe { &mut *args.valid.wrapping_add(i) };
             if *valid == -1
-                && data
-                    .cutout
-                    .skips(hit.u32(PRIM_ID, i), hit.f32(U, i), hit.f32(V, i))
+                && data.cutout.skips(
+                    hit.u32(PRIM_ID, i),
+                    hit.f32(U, i),
+                    hit.f32(V, i),
+                    hit.u32(INST_ID, i),
+                )
             {
                 *valid = 0;
             }

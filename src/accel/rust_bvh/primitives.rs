@@ -90,11 +90,12 @@ impl Primitives {
                 }),
             );
         }
-        let cutouts = Cutout::of_meshes(&scene.meshes, &scene.materials);
-        let prototype_cutouts: Box<[_]> = scene
-            .prototypes
-            .iter()
-            .map(|p| Cutout::of_meshes(&p.meshes, &scene.materials))
+        let cutouts = Cutout::of_meshes(&scene.meshes, &scene.materials, INVALID_ID, &[], 0);
+        // A hit names instance i by i here.
+        let prototype_cutouts: Box<[_]> = (scene.prototypes.iter().enumerate())
+            .map(|(i, p)| {
+                Cutout::of_meshes(&p.meshes, &scene.materials, i as u32, &scene.instances, 0)
+            })
             .collect();
         let any_cutout = cutouts
             .iter()
@@ -125,7 +126,7 @@ impl Primitives {
         meshes
             .get(geom_id as usize)
             .and_then(Option::as_ref)
-            .is_some_and(|c| c.skips(prim_id, u, v))
+            .is_some_and(|c| c.skips(prim_id, u, v, inst_id))
     }
 
     pub(super) fn is_empty(&self) -> bool {

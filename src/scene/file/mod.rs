@@ -739,9 +739,27 @@ impl Objects<'_> {
         if material.is_some_and(|m| scene.materials[m as usize].emits()) {
             return Err(check.error(&format!("{key}.material"), EMISSIVE_INSTANCE));
         }
-        let to_world = self.transform(key, &file.transform)?;
-        let to_world = Affine3A::from_mat4(DMat4::from(to_world).as_mat4());
-        let instance = Instance::new(prototype as u32, to_world, material);
+        let placement = self.transform(key, &file.transform)?;
+        let to_world = Affine3A::from_mat4(DMat4::from(placement).as_mat4());
+        let mut instance = Instance::new(prototype as u32, to_world, material);
+        // The checker of an analytic shape moves with the instance: what its
+        // shapes show is placed once more, by the instance's transform. An
+        // instance's own material is placed by that alone (its checker in
+        // the prototype's space).
+        let shown = match material {
+            Some(m) => vec![m],
+            None => scene.prototypes[prototype]
+                .shapes
+                .iter()
+                .flat_map(Shape::materials)
+                .collect(),
+        };
+        for m in shown {
+            let moved = placed(scene, m, placement);
+            if moved != m && !instance.shape_materials.iter().any(|&(from, _)| from == m) {
+                instance.shape_materials.push((m, moved));
+            }
+        }
         let bounds = scene.prototypes[prototype].bounds();
         check.bounds(key, instance.bounds_to_world(bounds))?;
         scene.instances.push(instance);

@@ -16,13 +16,13 @@ use std::path::Path;
 use glam::{DAffine3, DVec3};
 
 use super::csg::tree;
-use super::object::{CsgOp, Kind, LightSource, Obj, clear};
+use super::object::{BeamKind, CsgOp, Kind, LightSource, Obj, clear};
 use super::parse::{Loc, Parser};
 use super::texture::{Pigment, Texture, default_texture};
 use super::{Globals, Statements};
 use crate::error::Result;
 use crate::geometry::{Box3, Csg, Mesh, Op, Part, Shape, Surface};
-use crate::lights::Light;
+use crate::lights::{Beam, Light, PovBeam};
 use crate::math::Vec3;
 use crate::poly::solve::Solver;
 use crate::scene::{Camera, ImagePlane, Integrator, PhotonSettings, RenderSettings, Scene};
@@ -298,11 +298,23 @@ impl Builder<'_> {
         // π: a light of colour 1 gives POV-Ray's unit diffuse shading (see
         // `Finish::local_brdf`).
         let colour = light.colour * std::f64::consts::PI;
-        let Some((a, b, n1, n2)) = light.area else {
-            self.scene.lights.push(Light::Unfading {
+        // One axis, from the centre, for every light of a grid (POV-Ray's).
+        let direction = (to_world.transform_point3(light.point_at) - position).normalize_or_zero();
+        let one = |position: DVec3, irradiance: DVec3| match beam(light) {
+            None => Light::Unfading {
                 position: position.as_vec3(),
-                irradiance: colour.as_vec3(),
-            });
+                irradiance: irradiance.as_vec3(),
+            },
+            Some(beam) => Light::PovBeam(PovBeam {
+                position: position.as_vec3(),
+                direction: direction.as_vec3(),
+                irradiance: irradiance.as_vec3(),
+                beam,
+                parallel: light.parallel,
+            }),
+        };
+        let Some((a, b, n1, n2)) = light.area else {
+            self.scene.lights.push(one(position, colour));
             return;
         };
         let (a, b) = (to_world.transform_vector3(a), to_world.transform_vector3(b));
@@ -316,10 +328,8 @@ impl Builder<'_> {
         let share = colour / f64::from(n1 * n2);
         for i in 0..n1 {
             for j in 0..n2 {
-                self.scene.lights.push(Light::Unfading {
-                    position: (position + step(i, n1) * a + step(j, n2) * b).as_vec3(),
-                    irradiance: share.as_vec3(),
-                });
+                let at = position + step(i, n1) * a + step(j, n2) * b;
+                self.scene.lights.push(one(at, share));
             }
         }
     }
@@ -418,5 +428,28 @@ impl Builder<'_> {
         }
         self.scene.meshes.push(mesh);
         Ok(())
+    }
+}
+
+/// A POV-Ray light's beam; None for a plain point light, which is
+/// `Light::Unfading`.
+fn beam(light: &LightSource) -> Option<Beam> {
+    let (radius, falloff, tightness) = (
+        light.radius as f32,
+        light.falloff as f32,
+        light.tightness as f32,
+    );
+    match light.beam {
+        BeamKind::Point => light.parallel.then_some(Beam::Round),
+        BeamKind::Spot => Some(Beam::Spot {
+            cos_radius: light.radius.to_radians().cos() as f32,
+            cos_falloff: light.falloff.to_radians().cos() as f32,
+            tightness,
+        }),
+        BeamKind::Cylinder => Some(Beam::Cylinder {
+            radius,
+            falloff,
+            tightness,
+        }),
     }
 }

@@ -27,7 +27,7 @@ pub enum CsgOp {
 }
 
 /// A light source: POV-Ray's point light (the same brightness at every
-/// distance), or an array of them (`area_light`).
+/// distance), or an array of them (`area_light`), optionally a beam.
 #[derive(Clone, Debug, PartialEq)]
 pub struct LightSource {
     pub position: DVec3,
@@ -35,6 +35,22 @@ pub struct LightSource {
     /// Two edge vectors and how many lights along each.
     pub area: Option<(DVec3, DVec3, u32, u32)>,
     pub shadowless: bool,
+    pub beam: BeamKind,
+    /// `radius`, `falloff` (degrees for a spotlight, distances for a
+    /// cylinder) and `tightness`, POV-Ray's defaults until given.
+    pub radius: f64,
+    pub falloff: f64,
+    pub tightness: f64,
+    pub parallel: bool,
+    pub point_at: DVec3,
+}
+
+/// Which of POV-Ray's light types a `light_source` is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BeamKind {
+    Point,
+    Spot,
+    Cylinder,
 }
 
 #[derive(Clone, Debug)]

@@ -5,7 +5,7 @@
 use glam::{DAffine3, DVec3};
 
 use super::lex::Tok;
-use super::object::{Kind, LightSource};
+use super::object::{BeamKind, Kind, LightSource};
 use super::parse::{Loc, Parser};
 use super::texture::Texture;
 use super::value::Value;
@@ -24,8 +24,16 @@ impl Parser {
             colour: DVec3::new(c[0], c[1], c[2]),
             area: None,
             shadowless: false,
+            beam: BeamKind::Point,
+            radius: 0.0,
+            falloff: 0.0,
+            tightness: 0.0,
+            parallel: false,
+            // POV-Ray's default aim.
+            point_at: DVec3::Z,
         };
         let mut transform = DAffine3::IDENTITY;
+        let mut area_at = None;
         while !self.eat('}')? {
             let iloc = self.here();
             let word = self.word()?;
@@ -44,6 +52,7 @@ impl Parser {
                     let n2 = self.float()?;
                     let count = |n: f64| n.clamp(1.0, 64.0).round() as u32;
                     light.area = Some((a, b, count(n1), count(n2)));
+                    area_at = Some(iloc);
                 }
                 "adaptive" | "area_illumination" => {
                     self.float()?;
@@ -70,19 +79,53 @@ impl Parser {
                         );
                     }
                 }
-                "spotlight" | "cylinder" | "parallel" | "point_at" | "radius" | "falloff"
-                | "tightness" | "looks_like" | "projected_through" => {
-                    self.skip_warning(iloc, &word, "the light is drawn as a plain point light");
+                // POV-Ray 3.7's defaults with each type (its parser).
+                "spotlight" => {
+                    (light.beam, light.radius, light.falloff) = (BeamKind::Spot, 30.0, 45.0);
+                    light.tightness = 0.0;
+                }
+                "cylinder" => {
+                    (light.beam, light.radius, light.falloff) = (BeamKind::Cylinder, 0.75, 1.0);
+                    light.tightness = 0.0;
+                    light.parallel = true;
+                }
+                "parallel" => light.parallel = true,
+                "point_at" => {
+                    if light.beam == BeamKind::Point && !light.parallel {
+                        return Err(self.light_order_error(iloc, "point_at"));
+                    }
+                    light.point_at = self.vector()?;
+                }
+                "radius" | "falloff" | "tightness" => {
+                    if light.beam == BeamKind::Point {
+                        return Err(self.light_order_error(iloc, &word));
+                    }
+                    *match word.as_str() {
+                        "radius" => &mut light.radius,
+                        "falloff" => &mut light.falloff,
+                        _ => &mut light.tightness,
+                    } = self.float()?;
+                }
+                "looks_like" | "projected_through" => {
+                    self.skip_warning(iloc, &word, "the light is drawn without it");
                     if self.peek()? == Some(Tok::Punct('{')) {
                         self.skip_block()?;
-                    } else if self.starts_number()? || self.peek()? == Some(Tok::Punct('<')) {
-                        self.expression(false)?;
                     }
                 }
                 other => self.unknown_item(iloc, other, "light_source")?,
             }
         }
+        if let Some(loc) = area_at.filter(|_| light.beam != BeamKind::Point || light.parallel) {
+            // POV-Ray attenuates an area light's beam once, from its centre;
+            // here each light of the grid is attenuated from where it is.
+            self.warn(
+                loc,
+                "an `area_light` with a beam (spotlight, cylinder, parallel) is drawn as a grid \
+                 of beams, each attenuated from its own place, not from the centre as in POV-Ray",
+            );
+        }
         light.position = transform.transform_point3(light.position);
+        light.point_at = transform.transform_point3(light.point_at);
         if let Some((a, b, n1, n2)) = light.area {
             light.area = Some((
                 transform.transform_vector3(a),
@@ -92,6 +135,20 @@ impl Parser {
             ));
         }
         Ok(light)
+    }
+
+    /// A light keyword before the type it belongs to: a parse error in
+    /// POV-Ray too.
+    fn light_order_error(&self, loc: Loc, keyword: &str) -> crate::error::Error {
+        let needs = if keyword == "point_at" {
+            "`spotlight`, `cylinder` or `parallel`"
+        } else {
+            "`spotlight` or `cylinder`"
+        };
+        self.error_at(
+            loc,
+            format!("`{keyword}` cannot be used with a standard light source: expected {needs} before it"),
+        )
     }
 
     /// `mesh { triangle { a, b, c [texture] } smooth_triangle { … } … }`.

@@ -742,3 +742,86 @@ fn pigment_map_entries_take_declared_pigments_and_skip_patterns() {
     let warnings = scene.warnings.join("\n");
     assert!(warnings.contains("t.pov:6:6: `gradient`"), "{warnings}");
 }
+
+#[test]
+fn spotlights_cylinders_and_parallel_lights_take_povrays_defaults_and_order() {
+    use crate::lights::Beam;
+    use crate::math::Vec3;
+    let scene = load(&format!(
+        "{VIEW}light_source {{ <0, 5, 0>, rgb 1 spotlight point_at <0, 5, 3> translate x }}\n\
+         light_source {{ <0, 5, 0>, rgb 1 spotlight radius 10 falloff 20 tightness 4 }}\n\
+         light_source {{ <0, 5, 0>, rgb 1 cylinder point_at 0 }}\n\
+         light_source {{ <0, 5, 0>, rgb 1 parallel point_at <0, 5, -2> }}\n\
+         light_source {{ <0, 5, 0>, rgb 1 }}\n"
+    ))
+    .unwrap();
+    let cos = |d: f32| d.to_radians().cos();
+    let beams: Vec<_> = scene
+        .lights
+        .iter()
+        .map(|l| match l {
+            Light::PovBeam(l) => Some((l.position, l.direction, l.beam, l.parallel)),
+            _ => None,
+        })
+        .collect();
+    // POV-Ray's spotlight: radius 30, falloff 45, tightness 0; the point_at
+    // moves with the light.
+    assert_eq!(
+        beams[0],
+        Some((
+            Vec3::new(1.0, 5.0, 0.0),
+            Vec3::Z,
+            Beam::Spot {
+                cos_radius: cos(30.0),
+                cos_falloff: cos(45.0),
+                tightness: 0.0
+            },
+            false
+        ))
+    );
+    // Without point_at: POV-Ray's default aim at <0, 0, 1>.
+    let (_, direction, beam, _) = beams[1].unwrap();
+    assert!((direction - Vec3::new(0.0, -5.0, 1.0).normalize()).length() < 1e-6);
+    assert_eq!(
+        beam,
+        Beam::Spot {
+            cos_radius: cos(10.0),
+            cos_falloff: cos(20.0),
+            tightness: 4.0
+        }
+    );
+    // A cylinder is parallel, radius 0.75 and falloff 1 (distances).
+    assert_eq!(
+        beams[2],
+        Some((
+            Vec3::new(0.0, 5.0, 0.0),
+            -Vec3::Y,
+            Beam::Cylinder {
+                radius: 0.75,
+                falloff: 1.0,
+                tightness: 0.0
+            },
+            true
+        ))
+    );
+    assert_eq!(
+        beams[3],
+        Some((Vec3::new(0.0, 5.0, 0.0), -Vec3::Z, Beam::Round, true))
+    );
+    assert_eq!(beams[4], None, "a plain point light stays unfading");
+    // A spotlight's keyword before `spotlight` is POV-Ray's parse error too.
+    for item in ["radius 10", "falloff 3", "tightness 2", "point_at 0"] {
+        let e = load(&format!(
+            "{VIEW}light_source {{ 0, rgb 1\n {item} spotlight }}"
+        ))
+        .unwrap_err();
+        assert!(e.is_bad_input());
+        let word = item.split(' ').next().unwrap();
+        assert!(
+            e.to_string().contains(&format!(
+                "t.pov:3:2: `{word}` cannot be used with a standard light source"
+            )),
+            "{e}"
+        );
+    }
+}
