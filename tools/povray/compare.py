@@ -296,10 +296,51 @@ def teardrop() -> ExactSurfaces:
     )
 
 
+def quartic_cylinder() -> ExactSurfaces:
+    """quarcyl.pov: the quartic x^2 y^2 + y^2 z^2 + 0.01 x^2 + 0.01 z^2 - 0.01 = 0
+    (a needle along y), scaled by 1.5, turned by <-30, 20, 50> and moved by 3z.
+    Its `bounded_by` sphere does not clip; unclipped, a count can only say
+    hit where POV-Ray's bound would not, which leaves such a pixel counted."""
+    return ExactSurfaces(
+        location=(0.0, 0.0, -3.0),
+        angle=55.0,
+        terms={(2, 2, 0): 1, (0, 2, 2): 1, (2, 0, 0): 0.01, (0, 0, 2): 0.01, (0, 0, 0): -0.01},
+        placements=((1.5 * rotation((-30.0, 20.0, 50.0)), (0.0, 0.0, 3.0)),),
+        reason="POV-Ray's isolated hits in empty space beside the needle",
+    )
+
+
+def bicorns() -> ExactSurfaces:
+    """grafbic.pov: shapesq.inc's Bicorn, scaled by 3, and by 2.99 moved by
+    0.01y, both moved by -1.5y and turned by <-20, -60, 0>. Their clipping
+    planes are left out: a count then says hit on more pixels than the
+    clipped surfaces have, which leaves those pixels counted."""
+    orient = rotation((-20.0, -60.0, 0.0))
+    return ExactSurfaces(
+        location=(0.0, 0.0, -8.0),
+        angle=65.0,
+        terms={
+            (4, 0, 0): 1, (2, 2, 0): 1, (2, 1, 0): 4, (2, 0, 2): 2, (2, 0, 0): -2,
+            (0, 2, 2): 1, (0, 2, 0): 3, (0, 1, 2): 4, (0, 1, 0): -4, (0, 0, 4): 1,
+            (0, 0, 2): -2, (0, 0, 0): 1,
+        },
+        placements=tuple(
+            (orient @ (scale * np.eye(3)), orient @ np.array([0.0, lift - 1.5, 0.0]))
+            for scale, lift in ((3.0, 0.0), (2.99, 0.01))
+        ),
+        reason="POV-Ray's hit beside the bicorn's edge, where neither bicorn has a root",
+    )
+
+
 # Scenes where POV-Ray's root finder is seen to err: each pixel where the two
 # renderers disagree is settled by the exact root count, and the pixels so
 # settled in sturmray's favour are counted apart (the rest as for any scene).
-SETTLED_EXACTLY = {"lemnisc2": lemniscates(), "tcubic": teardrop()}
+SETTLED_EXACTLY = {
+    "lemnisc2": lemniscates(),
+    "tcubic": teardrop(),
+    "quarcyl": quartic_cylinder(),
+    "grafbic": bicorns(),
+}
 
 # The two scenes shown side by side in the README.
 SIDE_BY_SIDE = ("helix", "intee1")

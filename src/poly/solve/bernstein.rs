@@ -202,23 +202,39 @@ impl<const S: usize> Piece<S> {
         // A k-th root is taken only where it can raise the maximum: a
         // quotient at most reach^k (less a margin for the power's own
         // rounding) has a root at most reach. Cube roots were a tenth of
-        // the pass on torus quartics (`valgrind --tool=callgrind`).
+        // the pass on torus quartics (`valgrind --tool=callgrind`). Nor is
+        // any taken once a quotient above half^k (plus the same margin)
+        // shows the bound past b: the interval is then (a, b] whatever the
+        // rest, as the bound below would also give.
+        let half = 0.5 * (b - a);
+        let mut half_power = 1.0f64;
+        let mut past_b = false;
         let mut reach = 0.0f64;
         let mut power = 1.0f64;
         for k in 1..=d {
             power *= reach;
+            half_power *= half;
             let other = shift_err * m[d - k] - sign * c[d - k];
             let ratio = other / lead.abs();
-            if other > 0.0 && ratio > power * (1.0 - 4.0 * k as f64 * f64::EPSILON) {
+            let margin = 4.0 * k as f64 * f64::EPSILON;
+            if other > 0.0 && ratio > half_power * (1.0 + margin) {
+                past_b = true;
+                break;
+            }
+            if other > 0.0 && ratio > power * (1.0 - margin) {
                 reach = reach.max(kth_root(ratio, k));
                 power = reach.powi(k as i32);
             }
         }
-        if reach == 0.0 {
+        if !past_b && reach == 0.0 {
             return Start::Empty;
         }
         // Twice, by the bound; the k-th roots' own rounding is far below 1e-9.
-        let w = (b - a).min(2.0 * reach * (1.0 + 1e-9));
+        let w = if past_b {
+            b - a
+        } else {
+            (b - a).min(2.0 * reach * (1.0 + 1e-9))
+        };
         // p(a + w u) in powers of u, then in the Bernstein basis:
         // b_i = Σ_k C(i, k) / C(n, k) q_k, as q_k / C(n, k) summed by n
         // passes of Pascal's rule.
@@ -269,16 +285,18 @@ impl<const S: usize> Piece<S> {
     /// The sign changes of the coefficients, if every sign is proven.
     fn changes(&self, n: usize) -> Option<u32> {
         // Without early exits: at n = 4 the loop unrolls into compares and
-        // adds, cheaper than the branches it would save.
-        let mut unproven = false;
+        // adds, cheaper than the branches it would save. A change is a
+        // difference of sign bits, which for proven (nonzero, finite)
+        // coefficients is a difference of signs.
+        let mut proven = true;
         let mut count = 0;
         for i in 0..=n {
-            unproven |= !self.proven(i);
+            proven &= self.proven(i);
         }
         for i in 1..=n {
-            count += u32::from((self.b[i - 1] < 0.0) != (self.b[i] < 0.0));
+            count += ((self.b[i - 1].to_bits() ^ self.b[i].to_bits()) >> 63) as u32;
         }
-        (!unproven).then_some(count)
+        proven.then_some(count)
     }
 
     /// A u in [0, 1] before which p has no root on the piece, from the

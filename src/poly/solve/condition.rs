@@ -130,11 +130,15 @@ pub(super) fn negligible_above<const S: usize>(p: &PolyN<S>, t_max: f64, rel: f6
         power *= t_max;
     }
     // Against the lower terms only: a term that overflows to infinity at
-    // t_max must not make every other term look negligible.
+    // t_max must not make every other term look negligible. `below[i]` is
+    // the largest of terms[..i], one pass instead of one per degree.
+    let mut below = [0.0f64; S];
+    for i in 1..=p.degree() {
+        below[i] = below[i - 1].max(terms[i - 1]);
+    }
     let mut degree = p.degree();
     while degree > 0 {
-        let rest = terms[..degree].iter().fold(0.0, |m: f64, x| m.max(*x));
-        if terms[degree] > rel * rest {
+        if terms[degree] > rel * below[degree] {
             break;
         }
         degree -= 1;
