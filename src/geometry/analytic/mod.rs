@@ -399,9 +399,7 @@ impl Shape {
     /// `ray_polynomial`'s Q of a surface that fits the quartic storage
     /// (`Surface::quartic`), trimmed, and its coefficient count before.
     fn small_polynomial(&self, frame: &RayFrame) -> (PolyN<QUARTIC_SLOTS>, usize) {
-        let q = self
-            .surface
-            .along_in::<QUARTIC_SLOTS>(frame.start, frame.d);
+        let q = self.surface.along_in::<QUARTIC_SLOTS>(frame.start, frame.d);
         let formed = q.coeffs().len();
         (q.trimmed(1e-14, frame.hi), formed)
     }
