@@ -49,10 +49,12 @@ impl Shape {
     /// gate's cost: a fifth of the instructions of POV-Ray's torus.pov,
     /// whose quartic has a bounding sphere (`valgrind --tool=callgrind`).
     fn comes_near(&self, o: DVec3, d: DVec3, tmin: f64) -> bool {
-        let Some(ray) = self.ray_polynomial(o, d, tmin, f64::INFINITY) else {
+        // In the quartic storage: a gate needs no solver's Q.
+        let Some(ray) = self.ray_frame(o, d, tmin, f64::INFINITY) else {
             return false;
         };
-        let c = ray.q.coeffs();
+        let c = self.small_polynomial(&ray).0;
+        let c = c.coeffs();
         let coeff = |k: usize| c.get(k).copied().unwrap_or(0.0);
         let (c0, c1, c2) = (coeff(0), coeff(1), coeff(2));
         let q = |s: f64| c0 + s * (c1 + s * c2);
