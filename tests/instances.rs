@@ -329,7 +329,7 @@ fn each_instances_checker_moves_with_it_on_every_backend() {
             assert!(hit.is_hit(), "{backend:?}: {ray:?}");
             let it = scene.interaction(ray, &hit);
             (
-                it.albedo(&scene.materials[it.material as usize]),
+                it.surface(&scene.materials[it.material as usize]).albedo,
                 it.p,
                 hit.inst_id,
             )
