@@ -191,12 +191,30 @@ fn bad_checkers_are_refused_with_line_and_key() {
         "{ checker = [[0, 0, -1], [1, 1, 1]] }",
         &["line 10", &format!("{key}.checker")],
     );
-    // Serde's own errors: a misspelt key, one colour, a colour of two values.
-    for albedo in [
+    // Serde's own errors, each precise: a misspelt key (with the key
+    // meant), one colour, a colour of two values.
+    refused(
         "{ checker = [[0, 0, 0], [1, 1, 1]], scael = 2 }",
+        &["line 10", "unknown field `scael`", "did you mean `scale`?"],
+    );
+    refused(
         "{ checker = [[0, 0, 0]] }",
+        &["line 10", "expected an array of length 2"],
+    );
+    refused(
         "{ checker = [[0, 0], [1, 1, 1]] }",
+        &["line 10", "expected an array of length 3"],
+    );
+    // A table that is neither a checker nor an image, or both.
+    for albedo in [
+        "{}",
+        "{ scale = 2 }",
+        "{ checker = [[0, 0, 0], [1, 1, 1]], texture = \"a.png\" }",
+        "{ texture = \"a.png\", scale = 2 }",
     ] {
-        refused(albedo, &["line 10", "checker = [[r, g, b], [r, g, b]]"]);
+        refused(
+            albedo,
+            &["line 10", key, "checker = [[r, g, b], [r, g, b]]"],
+        );
     }
 }

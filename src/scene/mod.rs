@@ -388,7 +388,7 @@ impl Scene {
                                 "{asked_by}: material `{}` is {}, which has no parameter \
                                  this map scales: the map is left out",
                                 m.name,
-                                format!("{:?}", defined.kind).to_lowercase()
+                                defined.kind.name()
                             ));
                             continue;
                         }
@@ -399,7 +399,13 @@ impl Scene {
                             &asked_by,
                             &mut self.warnings,
                         );
-                        obj::set_map(&mut defined, map, texture);
+                        obj::set_map(
+                            &mut defined,
+                            map.slot,
+                            texture,
+                            map.placement.bump,
+                            map.factor,
+                        );
                     }
                     self.materials.push(defined);
                     self.materials.len() as u32 - 1

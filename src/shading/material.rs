@@ -25,6 +25,24 @@ pub enum MaterialKind {
     Classic,
 }
 
+impl MaterialKind {
+    /// Every kind, for messages that list those a key suits.
+    pub const ALL: [MaterialKind; 7] = [
+        MaterialKind::Diffuse,
+        MaterialKind::Plastic,
+        MaterialKind::Mirror,
+        MaterialKind::Metal,
+        MaterialKind::Dielectric,
+        MaterialKind::Emissive,
+        MaterialKind::Classic,
+    ];
+
+    /// The kind as a scene file spells it.
+    pub fn name(self) -> String {
+        format!("{self:?}").to_lowercase()
+    }
+}
+
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct Material {
     pub name: String,

@@ -7,7 +7,7 @@
 
 mod mtl;
 
-pub(crate) use mtl::{TextureMap, set_map};
+pub(crate) use mtl::{MapSlot, TextureMap, set_map};
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
