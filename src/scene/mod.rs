@@ -343,6 +343,7 @@ impl Scene {
         named: impl Fn(&str) -> Option<u32>,
         textures: &mut Textures,
     ) {
+        self.warnings.extend(obj.unread);
         if obj.degenerate > 0 {
             self.warnings.push(format!(
                 "{}: {} degenerate triangle{} (zero area) skipped: never hit, but kept so \
