@@ -7,7 +7,7 @@
 
 mod common;
 
-use common::{png_bytes, scratch, write};
+use common::{png_bytes, refused_scene, scratch, write};
 use sturmray::accel::{Accel, Backend};
 use sturmray::lights::Light;
 use sturmray::render::{RenderOptions, render};
@@ -213,14 +213,7 @@ fn each_parameters_texture_renders_as_its_mtl_map_and_changes_only_its_bright_ha
 fn refused(material: &str, expected: &[&str]) {
     let dir = scratch("toml_maps_bad");
     write(&dir, "sq.obj", &format!("{SQUARE}f 1/1 2/2 3/3 4/4\n"));
-    let text = scene_text("whitted", material, QUAD);
-    let err = Scene::load(&write(&dir, "s.toml", &text))
-        .unwrap_err()
-        .to_string();
-    assert!(err.contains("s.toml"), "{err}");
-    for part in expected {
-        assert!(err.contains(part), "{part:?} not in {err}");
-    }
+    refused_scene(&dir, &scene_text("whitted", material, QUAD), expected);
 }
 
 #[test]
