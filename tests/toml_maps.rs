@@ -281,8 +281,10 @@ fn a_texture_that_cannot_be_read_warns_once_and_keeps_the_constant_one() {
          metallic = { texture = \"folder.png\" }",
         QUAD,
     );
-    // A second material reading the same missing file: one warning for it.
-    text += "[materials.n]\ntype = \"metal\"\nroughness = { texture = \"gone.png\" }\n";
+    // Two more materials reading the same missing file, as data and as
+    // colour: one warning for it.
+    text += "[materials.n]\ntype = \"metal\"\nroughness = { texture = \"gone.png\" }\n\
+             [materials.o]\ntype = \"plastic\"\nspecular = { texture = \"gone.png\" }\n";
     let scene = Scene::load(&write(&dir, "s.toml", &text)).unwrap();
     let warnings = scene.warnings.join("\n");
     assert_eq!(scene.warnings.len(), 2, "{warnings}");
