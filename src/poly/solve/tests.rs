@@ -936,24 +936,17 @@ proptest! {
 }
 
 /// Q(t) of the ray o + t d against the torus about z with radii (major,
-/// minor), as `benches/poly.rs` forms it (|d| = 1).
+/// minor), substituted as the renderer does for an algebraic surface.
 fn torus_ray(major: f64, minor: f64, o: [f64; 3], d: [f64; 3]) -> Poly {
+    let torus = crate::poly::expr::parse(
+        "(x^2 + y^2 + z^2 + R^2 - r^2)^2 - 4*R^2*(x^2 + y^2)",
+        &[("R", major), ("r", minor)],
+    )
+    .expect("a torus");
     let len = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
-    let d = d.map(|x| x / len);
-    let dot = |u: [f64; 3], v: [f64; 3]| u[0] * v[0] + u[1] * v[1] + u[2] * v[2];
-    let (b, c) = (dot(o, d), dot(o, o));
-    let k = c + major * major - minor * minor;
-    let r4 = 4.0 * major * major;
-    let e2 = d[0] * d[0] + d[1] * d[1];
-    let e1 = o[0] * d[0] + o[1] * d[1];
-    let e0 = o[0] * o[0] + o[1] * o[1];
-    Poly::new(&[
-        k * k - r4 * e0,
-        4.0 * b * k - 2.0 * r4 * e1,
-        4.0 * b * b + 2.0 * k - r4 * e2,
-        4.0 * b,
-        1.0,
-    ])
+    let mut q = [0.0; 5];
+    let n = torus.substitute_ray(o, d.map(|x| x / len), &mut q);
+    Poly::new(&q[..n])
 }
 
 /// The nearest root by the Sturm chain alone, without a first pass.
