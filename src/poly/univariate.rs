@@ -88,13 +88,26 @@ impl<const S: usize> PolyN<S> {
     /// moves low-degree input into its small instantiation this way.
     pub fn resized<const T: usize>(&self) -> Option<PolyN<T>> {
         (self.degree < T).then(|| {
+            // Slots above the degree hold zeros, so a copy of fixed length
+            // (no call to memcpy, as a copy of `degree + 1` makes) will do.
+            let n = S.min(T);
             let mut coeffs = [0.0; T];
-            coeffs[..=self.degree].copy_from_slice(self.coeffs());
+            coeffs[..n].copy_from_slice(&self.coeffs[..n]);
             PolyN {
                 coeffs,
                 degree: self.degree,
             }
         })
+    }
+
+    /// The polynomial without its terms above `degree` (itself if there
+    /// are none).
+    pub fn truncated(&self, degree: usize) -> Self {
+        if degree >= self.degree {
+            *self
+        } else {
+            Self::from_array(self.coeffs, degree)
+        }
     }
 
     /// The coefficients, lowest degree first; `degree() + 1` of them.

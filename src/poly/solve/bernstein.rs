@@ -31,12 +31,15 @@ pub(super) enum Screen {
     /// No root.
     Empty,
     /// The nearest root is the only one in [lo, hi], a simple root, with
-    /// p(lo) = flo and p(hi) = fhi of opposite signs, as evaluated.
+    /// p(lo) = flo and p(hi) = fhi of opposite signs, as evaluated; `start`
+    /// is where refinement should begin if the pass knows a point near the
+    /// root (else the bracket's middle).
     Nearest {
         lo: f64,
         hi: f64,
         flo: f64,
         fhi: f64,
+        start: Option<f64>,
     },
     /// Some root (for `any`: an odd number of sign changes proves one).
     Some,
@@ -96,7 +99,13 @@ pub(super) fn screen<const S: usize>(p: &PolyN<S>, a: f64, b: f64, question: Que
                 let (lo, hi) = (piece.t0, piece.t1);
                 let (flo, fhi) = (p.eval(lo), p.eval(hi));
                 return if opposite(flo, fhi) {
-                    Screen::Nearest { lo, hi, flo, fhi }
+                    Screen::Nearest {
+                        lo,
+                        hi,
+                        flo,
+                        fhi,
+                        start: None,
+                    }
                 } else {
                     Screen::Unsure
                 };
@@ -443,7 +452,9 @@ pub(super) mod tests {
         let p = PolyN::<S>::new(c);
         match screen(&p, a, b, Question::Nearest) {
             Screen::Empty => prop_assert_eq!(open_count(c, a, b), 0, "empty, but roots"),
-            Screen::Nearest { lo, hi, flo, fhi } => {
+            Screen::Nearest {
+                lo, hi, flo, fhi, ..
+            } => {
                 prop_assert!(a <= lo && lo < hi && hi <= b, "[{lo}, {hi}] outside");
                 prop_assert_eq!(exact_count(c, a, lo).unwrap(), 0, "a nearer root");
                 prop_assert_eq!(open_count(c, lo, hi), 1, "not one root in [{}, {}]", lo, hi);
@@ -521,7 +532,10 @@ pub(super) mod tests {
     #[test]
     fn the_nearest_root_is_isolated_first() {
         let p = quartic([-1.0, 2.0, 2.5, 7.0]);
-        let Screen::Nearest { lo, hi, flo, fhi } = screen(&p, 0.0, 10.0, Question::Nearest) else {
+        let Screen::Nearest {
+            lo, hi, flo, fhi, ..
+        } = screen(&p, 0.0, 10.0, Question::Nearest)
+        else {
             panic!("not isolated");
         };
         assert!(lo < 2.0 && 2.0 < hi && hi <= 2.5, "[{lo}, {hi}]");

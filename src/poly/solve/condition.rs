@@ -61,7 +61,7 @@ impl<const S: usize> Search<S> {
         self.trimmed = false;
         if self.seq.is_degenerate() {
             let trimmed = without_negligible_terms(p, t_max, DEGENERATE_TRIM);
-            if trimmed != PolyN::<S>::new(&p.coeffs()[..=degree]) {
+            if trimmed != p.truncated(degree) {
                 self.input = *self.seq.squarefree();
                 self.seq.rebuild(&trimmed, trimmed.degree());
                 self.trimmed = true;

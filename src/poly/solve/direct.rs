@@ -41,7 +41,7 @@ impl Solver {
             return Some(found);
         };
         let degree = negligible_above(p, lo.abs().max(hi.abs()), f64::EPSILON);
-        let p = PolyN::<S>::new(&p.coeffs()[..=degree]);
+        let p = p.truncated(degree);
         if self.method == Method::Yuksel {
             self.derivative_intervals(&p, lo, hi, after, &mut found);
             return Some(found);
@@ -115,7 +115,7 @@ impl Solver {
             if f0 == 0.0 {
                 out.push(x0);
             } else if opposite(f0, f1) {
-                out.push(self.newton(f, x0, x1, f0, f1));
+                out.push(self.newton(f, x0, x1, f0, f1, self.halve(x0, x1)));
             }
             if out.last().is_some_and(|t| t > after) {
                 return;

@@ -149,7 +149,7 @@ impl Solver {
             if let Some(input) = search.untrimmed() {
                 let (ilo, ihi) = (input.eval(br.lo), input.eval(br.hi));
                 if opposite(ilo, ihi) {
-                    return self.refine_bracket(input, br.lo, br.hi, ilo, ihi);
+                    return self.refine_bracket(input, br.lo, br.hi, ilo, ihi, None);
                 }
             }
             let (flo, fhi) = (f.eval(br.lo), f.eval(br.hi));
@@ -157,7 +157,7 @@ impl Solver {
                 return br.hi;
             }
             if opposite(flo, fhi) {
-                return self.refine_bracket(f, br.lo, br.hi, flo, fhi);
+                return self.refine_bracket(f, br.lo, br.hi, flo, fhi, None);
             }
             let (left, right) = split(seq, br, self.halve(br.lo, br.hi));
             br = if left.count() > 0 { left } else { right };
@@ -166,7 +166,8 @@ impl Solver {
     }
 
     /// Refines a simple root of `f` in [lo, hi], where f(lo) and f(hi) have
-    /// opposite signs.
+    /// opposite signs; Newton begins at `start` when it lies in the bracket
+    /// (a point a first pass found near the root), else in the middle.
     pub(super) fn refine_bracket<const S: usize>(
         &self,
         f: &PolyN<S>,
@@ -174,12 +175,16 @@ impl Solver {
         hi: f64,
         flo: f64,
         fhi: f64,
+        start: Option<f64>,
     ) -> f64 {
         match self.method {
             Method::SturmBisect => self.bisect(f, lo, hi, flo),
             // Yuksel never reaches the Sturm path; its pieces refine by Newton too.
             Method::SturmNewton | Method::Closed | Method::Yuksel => {
-                self.newton(f, lo, hi, flo, fhi)
+                let x = start
+                    .filter(|&x| x > lo && x < hi)
+                    .unwrap_or_else(|| self.halve(lo, hi));
+                self.newton(f, lo, hi, flo, fhi, x)
             }
             Method::SturmIllinois => self.illinois(f, lo, hi, flo, fhi),
         }
@@ -205,7 +210,7 @@ impl Solver {
         midpoint(lo, hi)
     }
 
-    /// Newton inside the bracket (Numerical Recipes' rtsafe, with the
+    /// Newton from x inside the bracket (Numerical Recipes' rtsafe, with the
     /// bracket test from the tolerance): a step that leaves the bracket or
     /// is not at most half the previous one becomes a halving. Once a step
     /// is below half the tolerance the iterate is pushed half a tolerance
@@ -218,9 +223,9 @@ impl Solver {
         mut hi: f64,
         mut flo: f64,
         mut fhi: f64,
+        mut x: f64,
     ) -> f64 {
         let lo_negative = flo < 0.0;
-        let mut x = self.halve(lo, hi);
         let mut last_step = hi - lo;
         for _ in 0..self.max_iterations {
             let (fx, dfx) = f.eval_with_derivative(x);
@@ -371,7 +376,7 @@ impl Solver {
     /// of (0, inf) clipped to a root bound of 1e100, say). Then the
     /// midpoint of the ends' bit patterns, which halves the number of f64
     /// values between them, so that some 64 halvings reach any root.
-    fn halve(&self, lo: f64, hi: f64) -> f64 {
+    pub(super) fn halve(&self, lo: f64, hi: f64) -> f64 {
         if hi - lo <= WIDE_BRACKET * self.width_tol(lo, hi) {
             midpoint(lo, hi)
         } else {

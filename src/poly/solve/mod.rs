@@ -229,8 +229,17 @@ impl Solver {
         }
         match self.screen(p, a, b, Question::Nearest) {
             (Screen::Empty, _) => return None,
-            (Screen::Nearest { lo, hi, flo, fhi }, counted) => {
-                let t = self.refine_bracket(&counted, lo, hi, flo, fhi);
+            (
+                Screen::Nearest {
+                    lo,
+                    hi,
+                    flo,
+                    fhi,
+                    start,
+                },
+                counted,
+            ) => {
+                let t = self.refine_bracket(&counted, lo, hi, flo, fhi, start);
                 return Some(strictly_inside(t, a, b));
             }
             _ => {}
@@ -261,12 +270,20 @@ impl Solver {
             return (Screen::Unsure, *p);
         };
         let degree = negligible_above(p, lo.abs().max(hi.abs()), f64::EPSILON);
-        let counted = PolyN::new(&p.coeffs()[..=degree]);
+        let counted = p.truncated(degree);
         // Quartics (tori) first by their curvature pieces, which prove
         // queries in fewer instructions than the Bernstein pass (issue 17
         // in docs/accuracy.md); the Bernstein pass takes what they leave.
         if degree == 4 {
-            match monotone::screen(counted.coeffs(), lo, hi) {
+            // sturm-newton's nearest walks to the root (Quartic::march);
+            // the other methods refine the bracket by their own steps.
+            let c = counted.coeffs();
+            let proven = if question == Question::Nearest && self.method == Method::SturmNewton {
+                monotone::screen::<true>(c, lo, hi, self.tolerance)
+            } else {
+                monotone::screen::<false>(c, lo, hi, self.tolerance)
+            };
+            match proven {
                 Screen::Unsure => {}
                 Screen::Nearest { .. } if question == Question::Any => {
                     return (Screen::Some, counted);
