@@ -220,7 +220,10 @@ impl SceneBuilder {
         }
         let count = u32::try_from(prims.len())
             .map_err(|_| Error::Input(format!("geometry {geom_id}: too many primitives")))?;
-        let pad = padding(prims.iter().map(T::bounds).filter(|b| !b.is_empty()));
+        // A panicking `bounds` is reported as the bounds callback's would be.
+        let pad = self.panics.guard(0.0, || {
+            padding(prims.iter().map(T::bounds).filter(|b| !b.is_empty()))
+        });
         let data: UserPtr<dyn Any + Send + Sync> = UserPtr::new(Box::new(UserData {
             pad: if pad.is_finite() { pad } else { 0.0 },
             prims: prims.into_boxed_slice(),
