@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::{scratch, write};
+use common::{refused_scene, scratch, write};
 use sturmray::accel::{Accel, Backend};
 use sturmray::render::{RenderOptions, render};
 use sturmray::scene::Scene;
@@ -159,13 +159,7 @@ fn refused(albedo: &str, expected: &[&str]) {
          [materials.floor]\ntype = \"classic\"\nalbedo = {albedo}\n\
          [[objects]]\ntype = \"mesh\"\nfile = \"floor.obj\"\nmaterial = \"floor\"\n"
     );
-    let err = Scene::load(&write(&dir, "s.toml", &text))
-        .unwrap_err()
-        .to_string();
-    assert!(err.contains("s.toml"), "{err}");
-    for part in expected {
-        assert!(err.contains(part), "{part:?} not in {err}");
-    }
+    refused_scene(&dir, &text, expected);
 }
 
 #[test]
@@ -191,12 +185,30 @@ fn bad_checkers_are_refused_with_line_and_key() {
         "{ checker = [[0, 0, -1], [1, 1, 1]] }",
         &["line 10", &format!("{key}.checker")],
     );
-    // Serde's own errors: a misspelt key, one colour, a colour of two values.
-    for albedo in [
+    // Serde's own errors, each precise: a misspelt key (with the key
+    // meant), one colour, a colour of two values.
+    refused(
         "{ checker = [[0, 0, 0], [1, 1, 1]], scael = 2 }",
+        &["line 10", "unknown field `scael`", "did you mean `scale`?"],
+    );
+    refused(
         "{ checker = [[0, 0, 0]] }",
+        &["line 10", "expected an array of length 2"],
+    );
+    refused(
         "{ checker = [[0, 0], [1, 1, 1]] }",
+        &["line 10", "expected an array of length 3"],
+    );
+    // A table that is neither a checker nor an image, or both.
+    for albedo in [
+        "{}",
+        "{ scale = 2 }",
+        "{ checker = [[0, 0, 0], [1, 1, 1]], texture = \"a.png\" }",
+        "{ texture = \"a.png\", scale = 2 }",
     ] {
-        refused(albedo, &["line 10", "checker = [[r, g, b], [r, g, b]]"]);
+        refused(
+            albedo,
+            &["line 10", key, "checker = [[r, g, b], [r, g, b]]"],
+        );
     }
 }

@@ -154,3 +154,32 @@ fn fov_axis_and_orthographic_cameras_see_the_widths_given() {
             .all(|&d| (d - 4.0).abs() < 1e-5)
     );
 }
+
+/// Optics so large that rays would leave Embree's range (which aborts the
+/// process on such a ray) are refused when the scene loads: exit 2, naming
+/// the key, never a crash.
+#[test]
+fn optics_beyond_embrees_range_are_refused_not_a_crash() {
+    let dir = scratch("huge-optics");
+    write(&dir, "square.obj", SQUARE);
+    for (camera, key) in [
+        (
+            "fov = 40\naperture = 1e30\nfocus_distance = 2",
+            "camera.aperture",
+        ),
+        (
+            "fov = 40\naperture = 0.1\nfocus_distance = 1e30",
+            "camera.focus_distance",
+        ),
+        (
+            "type = \"orthographic\"\nview_width = 1e30",
+            "camera.view_width",
+        ),
+    ] {
+        write(&dir, "s.toml", &plane_scene("").replace("fov = 40", camera));
+        let out = common::sturmray(&dir, &["render", "s.toml", "-o", "s.exr"]);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{camera}: {stderr}");
+        assert!(stderr.contains(key), "{key} not in {stderr}");
+    }
+}

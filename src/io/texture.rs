@@ -44,6 +44,13 @@ pub fn read(path: &Path) -> Result<Decoded> {
         let mut reader = image::ImageReader::new(std::io::Cursor::new(&bytes))
             .with_guessed_format()
             .map_err(|e| bad(e.to_string()))?;
+        // TGA has no signature to guess from: its extension names it, as
+        // `image::open` reads it.
+        if reader.format().is_none()
+            && let Ok(format) = image::ImageFormat::from_path(path)
+        {
+            reader.set_format(format);
+        }
         let mut limits = image::Limits::default();
         limits.max_image_width = Some(MAX_SIDE);
         limits.max_image_height = Some(MAX_SIDE);
@@ -104,4 +111,44 @@ fn exr_rgba(bytes: &[u8]) -> std::result::Result<Rgba, String> {
     }
     let alpha = image.layer_data.channel_data.channels.3.is_some();
     Ok((w, h, image.layer_data.channel_data.pixels.1, true, alpha))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// An uncompressed 24-bit TGA, bottom row first, BGR: `pixels` rows
+    /// from the bottom.
+    fn tga(width: u16, height: u16, pixels: &[[u8; 3]]) -> Vec<u8> {
+        let mut bytes = vec![0, 0, 2, 0, 0, 0, 0, 0, 0, 0, 0, 0];
+        bytes.extend_from_slice(&width.to_le_bytes());
+        bytes.extend_from_slice(&height.to_le_bytes());
+        bytes.extend_from_slice(&[24, 0]);
+        for [b, g, r] in pixels {
+            bytes.extend_from_slice(&[*b, *g, *r]);
+        }
+        bytes
+    }
+
+    #[test]
+    fn a_tga_is_read_by_its_extension_and_a_bad_one_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("t.tga");
+        // Bottom row blue then red; top row white then black (BGR order).
+        let pixels = [[255, 0, 0], [0, 0, 255], [255, 255, 255], [0, 0, 0]];
+        std::fs::write(&path, tga(2, 2, &pixels)).unwrap();
+        let image = read(&path).unwrap();
+        assert_eq!((image.width, image.height, image.linear), (2, 2, false));
+        // Rows from the top: white, black; then blue, red.
+        assert_eq!(image.texels[0], [1.0; 4]);
+        assert_eq!(image.texels[2], [0.0, 0.0, 1.0, 1.0]);
+        assert_eq!(image.texels[3], [1.0, 0.0, 0.0, 1.0]);
+        // A header of no texels, and one of 65,535 a side: refused, named.
+        for (name, side) in [("empty.tga", 0), ("huge.tga", u16::MAX)] {
+            let path = dir.path().join(name);
+            std::fs::write(&path, tga(side, side, &[])).unwrap();
+            let message = read(&path).err().unwrap().to_string();
+            assert!(message.contains(name), "{message}");
+        }
+    }
 }

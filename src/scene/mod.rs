@@ -343,6 +343,7 @@ impl Scene {
         named: impl Fn(&str) -> Option<u32>,
         textures: &mut Textures,
     ) {
+        self.warnings.extend(obj.unread);
         if obj.degenerate > 0 {
             self.warnings.push(format!(
                 "{}: {} degenerate triangle{} (zero area) skipped: never hit, but kept so \
@@ -388,7 +389,7 @@ impl Scene {
                                 "{asked_by}: material `{}` is {}, which has no parameter \
                                  this map scales: the map is left out",
                                 m.name,
-                                format!("{:?}", defined.kind).to_lowercase()
+                                defined.kind.name()
                             ));
                             continue;
                         }
@@ -399,7 +400,13 @@ impl Scene {
                             &asked_by,
                             &mut self.warnings,
                         );
-                        obj::set_map(&mut defined, map, texture);
+                        obj::set_map(
+                            &mut defined,
+                            map.slot,
+                            texture,
+                            map.placement.bump,
+                            map.factor,
+                        );
                     }
                     self.materials.push(defined);
                     self.materials.len() as u32 - 1

@@ -265,6 +265,7 @@ pub fn load_ply(path: &Path) -> Result<ObjFile> {
     };
     let mut line = String::new();
     let mut has_faces = false;
+    let mut unread = Vec::new();
     let (vertices, faces, others) = (Parser::new(), Parser::new(), Parser::<Ignored>::new());
     let reader = reader.get_mut();
     for element in header.elements.values() {
@@ -313,6 +314,18 @@ pub fn load_ply(path: &Path) -> Result<ObjFile> {
             }
             "face" => {
                 has_faces = true;
+                // meshlab writes uv per face corner (wedge texture coordinates),
+                // which would need a vertex per corner: said, not read.
+                if let Some(name) = (element.properties.keys())
+                    .find(|name| matches!(name.as_str(), "texcoord" | "texcoords"))
+                {
+                    unread.push(format!(
+                        "{}: the faces' per-corner texture coordinates (`{name}`, as meshlab \
+                         writes them) are not read: the mesh has no uv, and textures on it \
+                         show their plain colour",
+                        path.display()
+                    ));
+                }
                 mesh.triangles.reserve(reserve);
                 for number in 0..element.count {
                     let face: Face = read_element(
@@ -350,12 +363,12 @@ pub fn load_ply(path: &Path) -> Result<ObjFile> {
             message: "expected a `face` element with `vertex_indices` lists".into(),
         });
     }
-    finish(path, mesh)
+    finish(path, mesh, unread)
 }
 
 /// Checks every index against the vertices (faces may come before them in
 /// the file) and counts degenerate triangles, as the OBJ reader does.
-fn finish(path: &Path, mut mesh: Mesh) -> Result<ObjFile> {
+fn finish(path: &Path, mut mesh: Mesh, unread: Vec<String>) -> Result<ObjFile> {
     let count = mesh.positions.len();
     let mut degenerate = 0;
     for (number, triangle) in mesh.triangles.iter().enumerate() {
@@ -386,6 +399,7 @@ fn finish(path: &Path, mut mesh: Mesh) -> Result<ObjFile> {
         unread_maps: Vec::new(),
         degenerate,
         sources: vec![path.to_owned()],
+        unread,
     })
 }
 

@@ -51,6 +51,11 @@ impl Textures {
         asked_by: &str,
         warnings: &mut Vec<String>,
     ) -> Option<Texture> {
+        // A file that failed in the other colour space fails here too:
+        // warned about once.
+        if let Some(None) = self.images.get(&(path.to_owned(), !srgb)) {
+            return None;
+        }
         let key = (path.to_owned(), srgb);
         let image = self
             .images

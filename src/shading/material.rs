@@ -25,6 +25,24 @@ pub enum MaterialKind {
     Classic,
 }
 
+impl MaterialKind {
+    /// Every kind, for messages that list those a key suits.
+    pub const ALL: [MaterialKind; 7] = [
+        MaterialKind::Diffuse,
+        MaterialKind::Plastic,
+        MaterialKind::Mirror,
+        MaterialKind::Metal,
+        MaterialKind::Dielectric,
+        MaterialKind::Emissive,
+        MaterialKind::Classic,
+    ];
+
+    /// The kind as a scene file spells it.
+    pub fn name(self) -> String {
+        format!("{self:?}").to_lowercase()
+    }
+}
+
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct Material {
     pub name: String,
@@ -194,7 +212,10 @@ impl Material {
 
     /// Maps an MTL material: Ke > 0 → emissive; the PBR extension's metallic
     /// Pm ≥ 0.5 → metal (F0 = Kd, roughness Pr, else from Ns); illum 3 → mirror
-    /// (Ks its reflectance); illum 4, 6, 7, 9 or d < 1 → dielectric with Ni; a
+    /// (Ks its reflectance); illum 4, 6, 7, 9 with Ni > 1, or d < 1 → dielectric
+    /// with Ni (Maya writes `illum 4` with `Ni 1.00` and `d` 1 for every
+    /// opaque lambert: glass that bends nothing and lets all through is no
+    /// glass, and Blender's importer keeps such a material opaque); a
     /// nonzero Ks → plastic with Ns; otherwise diffuse. Kd defaults to 0.7 grey.
     /// A map given without its constant (`map_Ks` without Ks, `map_Ke`
     /// without Ke, `map_Pr` without Pr, `map_Pm` without Pm) takes the
@@ -211,13 +232,14 @@ impl Material {
             .illumination_model
             .unwrap_or(if specular == Vec3::ZERO { 1 } else { 2 });
         let transparent = m.dissolve.is_some_and(|d| d < 1.0);
+        let refracts = m.optical_density.is_some_and(|n| n > 1.0);
         let kind = if emission.max_element() > 0.0 {
             MaterialKind::Emissive
         } else if metalness(m) >= 0.5 {
             MaterialKind::Metal
         } else if illum == 3 {
             MaterialKind::Mirror
-        } else if matches!(illum, 4 | 6 | 7 | 9) || transparent {
+        } else if (matches!(illum, 4 | 6 | 7 | 9) && refracts) || transparent {
             MaterialKind::Dielectric
         } else if specular.max_element() > 0.0 && illum >= 2 {
             MaterialKind::Plastic
@@ -363,6 +385,21 @@ mod tests {
             mtl(|m| m.dissolve = Some(0.5)).kind,
             MaterialKind::Dielectric
         );
+        // Maya's lambert: illum 4, Ni 1, opaque. Not glass; nor without Ni.
+        for ni in [Some(1.0), None] {
+            let lambert = mtl(|m| {
+                m.illumination_model = Some(4);
+                m.optical_density = ni;
+                m.diffuse = Some([0.5; 3]);
+            });
+            assert_eq!(lambert.kind, MaterialKind::Diffuse, "Ni {ni:?}");
+        }
+        let see_through = mtl(|m| {
+            m.illumination_model = Some(4);
+            m.optical_density = Some(1.0);
+            m.dissolve = Some(0.2);
+        });
+        assert_eq!(see_through.kind, MaterialKind::Dielectric);
         let metal = mtl(|m| {
             m.unknown_param.insert("Pm".into(), "1".into());
             m.unknown_param.insert("Pr".into(), " 0.25".into());

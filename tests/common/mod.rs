@@ -45,6 +45,18 @@ pub fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
     path
 }
 
+/// Loads `text` as the scene file `s.toml` in `dir`, expecting an error
+/// that names the file and contains every part of `expected`.
+pub fn refused_scene(dir: &Path, text: &str, expected: &[&str]) {
+    let err = sturmray::scene::Scene::load(&write(dir, "s.toml", text))
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("s.toml"), "{err}");
+    for part in expected {
+        assert!(err.contains(part), "{part:?} not in {err}");
+    }
+}
+
 /// Runs the sturmray binary in `dir`.
 pub fn sturmray(dir: &Path, args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_sturmray"))

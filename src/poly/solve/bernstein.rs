@@ -398,7 +398,7 @@ fn kth_root(x: f64, k: usize) -> f64 {
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
     use crate::poly::exact::{ExactPoly, exact_count};
     use num_rational::BigRational;
@@ -406,7 +406,11 @@ mod tests {
 
     /// The product of (t − r) over `real` and (t − re)² + im² over `pairs`,
     /// times `lead`, lowest degree first.
-    fn product(lead: f64, real: &[f64], pairs: &[(f64, f64)]) -> Vec<f64> {
+    pub(in crate::poly::solve) fn product(
+        lead: f64,
+        real: &[f64],
+        pairs: &[(f64, f64)],
+    ) -> Vec<f64> {
         let mut c = vec![lead];
         let mut times = |factor: &[f64]| {
             let mut next = vec![0.0; c.len() + factor.len() - 1];
@@ -427,7 +431,7 @@ mod tests {
     }
 
     /// Distinct real roots of the exact polynomial in the open (a, b).
-    fn open_count(c: &[f64], a: f64, b: f64) -> usize {
+    pub(in crate::poly::solve) fn open_count(c: &[f64], a: f64, b: f64) -> usize {
         let at_b = ExactPoly::from_f64(c)
             .unwrap()
             .sign_at(&BigRational::from_float(b).unwrap())
@@ -458,7 +462,7 @@ mod tests {
     }
 
     /// Roots in clusters and tangent pairs, as rays near silhouettes give.
-    fn root_near() -> impl Strategy<Value = f64> {
+    pub(in crate::poly::solve) fn root_near() -> impl Strategy<Value = f64> {
         (
             -2.0..40.0f64,
             prop_oneof![Just(0.0), -1e-3..1e-3f64, -1e-7..1e-7f64],

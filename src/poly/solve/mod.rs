@@ -24,13 +24,14 @@
 //! This file holds the queries; `method` the settings ([`Method`],
 //! [`Solver`]), `condition` the search interval and trimming, `isolate` the
 //! Sturm isolation and refinement, `direct` the closed forms and Yuksel's
-//! method.
+//! method, `bernstein` and `monotone` the first passes.
 
 mod bernstein;
 mod condition;
 mod direct;
 mod isolate;
 mod method;
+mod monotone;
 
 pub use method::{Method, Solver};
 
@@ -241,7 +242,8 @@ impl Solver {
         self.nearest_in(&search, a, b)
     }
 
-    /// The Bernstein first pass ([`bernstein`]) at degree 16 or less, on p
+    /// The first pass (at degree 4 [`monotone`], then [`bernstein`]) at
+    /// degree 16 or less, on p
     /// as the Sturm chain counts it: within the root bound, without the
     /// leading terms below one rounding on the interval. Returns that
     /// polynomial too, which refines the root.
@@ -260,6 +262,18 @@ impl Solver {
         };
         let degree = negligible_above(p, lo.abs().max(hi.abs()), f64::EPSILON);
         let counted = PolyN::new(&p.coeffs()[..=degree]);
+        // Quartics (tori) first by their curvature pieces, which prove
+        // queries in fewer instructions than the Bernstein pass (issue 17
+        // in docs/accuracy.md); the Bernstein pass takes what they leave.
+        if degree == 4 {
+            match monotone::screen(counted.coeffs(), lo, hi) {
+                Screen::Unsure => {}
+                Screen::Nearest { .. } if question == Question::Any => {
+                    return (Screen::Some, counted);
+                }
+                proven => return (proven, counted),
+            }
+        }
         (bernstein::screen(&counted, lo, hi, question), counted)
     }
 

@@ -143,6 +143,22 @@ impl Optics {
     pub fn is_pinhole(&self) -> bool {
         *self == Optics::default()
     }
+
+    /// How far from the eye a ray may start: the lens's radius plus, for an
+    /// orthographic view, the distance from its centre to a corner.
+    fn reach(&self, aspect: f32) -> f32 {
+        let lens = self.lens.map_or(0.0, |l| l.aperture);
+        let view = match self.projection {
+            Projection::Orthographic { view_width } => view_width * Self::view_scale(aspect),
+            _ => 0.0,
+        };
+        lens + view
+    }
+
+    /// An orthographic view's half-diagonal per unit of its width.
+    fn view_scale(aspect: f32) -> f32 {
+        0.5 * (1.0 + 1.0 / (aspect * aspect)).sqrt()
+    }
 }
 
 /// A camera's image plane, as POV-Ray gives it: none of the three vectors
@@ -285,18 +301,30 @@ impl Camera {
     /// makes one), and its plane must make rays: see [`ImagePlane::problem`].
     pub fn check(&self) -> Result<(), CameraProblem> {
         let problem = |key: String, message: String| Err(CameraProblem { key, message });
-        let eye_problem = |name: &str, eye: Vec3| {
-            (!eye.abs().cmple(Vec3::splat(RAY_LIMIT)).all()).then(|| CameraProblem {
-                key: format!("{name}.eye"),
-                message: format!(
-                    "{} lies beyond {RAY_LIMIT:e}, the largest ray origin Embree takes",
-                    sci(eye)
-                ),
-            })
-        };
-        if let Some(problem) = self.optics.problem() {
+        let aspect = self.width as f32 / self.height as f32;
+        if let Some(problem) = self.optics.problem(aspect) {
             return Err(problem);
         }
+        // Rays leave from up to `reach` away from the eye (the lens's disc, an
+        // orthographic view), so the eye must stay that far inside the limit.
+        let reach = self.optics.reach(aspect);
+        let eye_problem =
+            |name: &str, eye: Vec3| {
+                (!(eye.abs() + Vec3::splat(reach)).cmple(Vec3::splat(RAY_LIMIT)).all()).then(|| {
+                let beside = if reach > 0.0 {
+                    format!(" once the lens or view adds {reach:e}")
+                } else {
+                    String::new()
+                };
+                CameraProblem {
+                    key: format!("{name}.eye"),
+                    message: format!(
+                        "{} lies beyond {RAY_LIMIT:e}, the largest ray origin Embree takes{beside}",
+                        sci(eye)
+                    ),
+                }
+            })
+            };
         if let Some(plane) = &self.plane {
             if !self.optics.is_pinhole() {
                 return problem(
@@ -394,26 +422,39 @@ impl Camera {
 impl Optics {
     /// What keeps these optics from making rays, if anything: a view width,
     /// aperture or focus distance that is not a finite positive number (an
-    /// aperture may be 0: a pinhole).
-    fn problem(&self) -> Option<CameraProblem> {
-        let bad = |key: &str, value: f32, zero: bool| {
+    /// aperture may be 0: a pinhole), or one so large that rays would start
+    /// or aim beyond Embree's limit (`RAY_LIMIT`; a ray Embree rejects aborts
+    /// the process). An orthographic view's height is its width over the
+    /// image's `aspect`, so a tall image bounds the width more.
+    fn problem(&self, aspect: f32) -> Option<CameraProblem> {
+        let bad = |key: &str, value: f32, zero: bool, scale: f32| {
             let ok = value.is_finite() && (value > 0.0 || zero && value == 0.0);
-            (!ok).then(|| CameraProblem {
-                key: format!("camera.{key}"),
-                message: format!(
+            let limit = RAY_LIMIT / scale;
+            if !ok {
+                Some(format!(
                     "expected a finite number {} 0, found {value}",
                     if zero { "of at least" } else { "above" }
-                ),
+                ))
+            } else {
+                (value > limit).then(|| {
+                    format!("expected at most {limit:e} (rays must stay within {RAY_LIMIT:e}), found {value:e}")
+                })
+            }
+            .map(|message| CameraProblem {
+                key: format!("camera.{key}"),
+                message,
             })
         };
         let width = match self.projection {
-            Projection::Orthographic { view_width } => bad("view_width", view_width, false),
+            Projection::Orthographic { view_width } => {
+                bad("view_width", view_width, false, Self::view_scale(aspect))
+            }
             _ => None,
         };
         width.or_else(|| {
             self.lens.and_then(|l| {
-                bad("aperture", l.aperture, true)
-                    .or_else(|| bad("focus_distance", l.focus_distance, false))
+                bad("aperture", l.aperture, true, 1.0)
+                    .or_else(|| bad("focus_distance", l.focus_distance, false, 1.0))
             })
         })
     }

@@ -398,10 +398,45 @@ fn optics_are_checked() {
             },
             "camera.view_width",
         ),
+        // Finite but beyond Embree's limit: the rays would abort the process.
+        (thin(1e30, 2.0), "camera.aperture"),
+        (thin(0.1, 1e30), "camera.focus_distance"),
+        (
+            Optics {
+                projection: Projection::Orthographic { view_width: 1e30 },
+                lens: None,
+            },
+            "camera.view_width",
+        ),
     ] {
         assert_eq!(with(optics).check().unwrap_err().key, key);
     }
     assert!(with(thin(0.0, 1.0)).check().is_ok());
+    // Each within the limit, but the lens's disc around an eye near it reaches past.
+    let edge = Camera {
+        eye: Vec3::new(RAY_LIMIT * 0.75, 0.0, 0.0),
+        look_at: Vec3::new(RAY_LIMIT * 0.75, 0.0, -RAY_LIMIT * 0.5),
+        ..with(thin(RAY_LIMIT * 0.5, 1.0))
+    };
+    let problem = edge.check().unwrap_err();
+    assert_eq!(problem.key, "camera.eye", "{}", problem.message);
+    let edge = Camera {
+        optics: thin(RAY_LIMIT * 0.1, 1.0),
+        ..edge
+    };
+    assert!(edge.check().is_ok());
+    // A tall image makes an orthographic view taller than it is wide.
+    let tall = Camera {
+        width: 1,
+        height: 1000,
+        ..with(Optics {
+            projection: Projection::Orthographic {
+                view_width: RAY_LIMIT * 0.01,
+            },
+            lens: None,
+        })
+    };
+    assert_eq!(tall.check().unwrap_err().key, "camera.view_width");
     // An image plane is a pinhole.
     let mut plane = Camera::with_plane(Vec3::ZERO, sample_plane(), 4, 3);
     plane.optics = thin(0.1, 1.0);

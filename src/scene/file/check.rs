@@ -29,11 +29,16 @@ pub(super) struct Check<'a> {
 
 impl Check<'_> {
     pub fn error(&self, key: &str, message: impl std::fmt::Display) -> Error {
-        let line = locate::line_of(self.text, key).map_or(String::new(), |l| format!("line {l}, "));
         Error::Scene {
             path: self.path.to_owned(),
-            message: format!("{line}{key}: {message}"),
+            message: format!("{}: {message}", self.place(key)),
         }
+    }
+
+    /// The key with its line, where it has one: `line 12, materials.m.albedo`.
+    pub fn place(&self, key: &str) -> String {
+        let line = locate::line_of(self.text, key).map_or(String::new(), |l| format!("line {l}, "));
+        format!("{line}{key}")
     }
 
     /// A position or vector within [`MAX_COORDINATE`].

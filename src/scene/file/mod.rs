@@ -19,14 +19,14 @@ use super::solids::{linear, rotation};
 use check::Check;
 pub(super) use check::physical_memory;
 use schema::{
-    AlbedoFile, CameraFile, CheckerFile, FovAxisFile, InstanceFile, IntegratorFile, LightFile,
-    MaterialFile, MeshFile, MetallicFile, Object, ProjectionFile, PrototypeFile, RenderFile,
-    SamplerFile, ScaleFile, SceneFile, ShapeFile, ShapeKind, SpecularFile, TransformFile,
+    CameraFile, FovAxisFile, InstanceFile, IntegratorFile, LightFile, MaterialFile, MeshFile,
+    MetallicFile, Object, Param, ProjectionFile, PrototypeFile, RenderFile, SamplerFile, ScaleFile,
+    SceneFile, ShapeFile, ShapeKind, SpecularFile, TransformFile,
 };
 use shapes::{Body, Built};
 use tree::Parent;
 
-use super::obj::MAX_COORDINATE;
+use super::obj::{MAX_COORDINATE, MapSlot, set_map};
 use super::textures::{Placement, Textures};
 use super::{
     Adaptive, Camera, CameraKey, Instance, Integrator, Optics, PhotonSettings, Projection,
@@ -76,16 +76,19 @@ pub(super) fn from_text(
     let mut textures = Textures::default();
     for (name, m) in &file.materials {
         let mut material = material(&check, name, m)?;
-        if let Some(AlbedoFile::Texture(t)) = &m.albedo {
-            let key = format!("materials.{name}.albedo.texture");
-            let asked_by = format!("{}: {key}", path.display());
-            material.albedo_map = textures.texture(
-                &dir.join(&t.texture),
-                true,
-                &Placement::default(),
+        // Read as an MTL map is: its colour space by the slot, once per scene.
+        for (field, slot, file) in textured(m) {
+            let key = format!("materials.{name}.{field}");
+            let asked_by = format!("{}: {}.texture", path.display(), check.place(&key));
+            let placement = Placement::default();
+            let texture = textures.texture(
+                &dir.join(file),
+                slot.srgb(),
+                &placement,
                 &asked_by,
                 &mut scene.warnings,
             );
+            set_map(&mut material, slot, texture, placement.bump, 1.0);
         }
         scene.materials.push(material);
     }
@@ -343,6 +346,23 @@ fn material(check: &Check, name: &str, m: &MaterialFile) -> Result<Material> {
         None => Ok(Vec3::splat(default)),
     };
     let kind = m.kind;
+    // A texture where the type has no parameter it drives: MTL's rule
+    // (which warns, as exported files carry such maps); here the file was
+    // written by hand, so it is a mistake.
+    if let Some((field, slot, _)) = textured(m).find(|(_, slot, _)| !slot.matters_for(kind)) {
+        let kinds = MaterialKind::ALL
+            .into_iter()
+            .filter(|&k| slot.matters_for(k));
+        let names: Vec<String> = kinds.map(|k| format!("\"{}\"", k.name())).collect();
+        return Err(check.error(
+            &key(field),
+            format!(
+                "a texture drives the {field} of a material of type {} only, not \"{}\"",
+                names.join(" or "),
+                kind.name()
+            ),
+        ));
+    }
     let classic = kind == MaterialKind::Classic;
     // A classic material's interior is POV-Ray's: ior 1 (no bending) unless given.
     let ior = m.ior.unwrap_or(if classic { 1.0 } else { 1.5 });
@@ -354,7 +374,14 @@ fn material(check: &Check, name: &str, m: &MaterialFile) -> Result<Material> {
             format!("expected a number >= 0, found {shininess}"),
         ));
     }
-    let roughness = m.roughness.unwrap_or(if classic { 0.05 } else { 0.3 });
+    // A parameter given as a texture takes the constant 1 (the map alone
+    // sets it), as an MTL map without its constant does.
+    let roughness = match m.roughness {
+        Some(Param::Value(r)) => r,
+        Some(Param::Table(_)) => 1.0,
+        None if classic => 0.05,
+        None => 0.3,
+    };
     // A classic highlight's exponent is 1/roughness: 0 has none.
     let low = if classic { "above 0" } else { "from 0" };
     if !(0.0..=1.0).contains(&roughness) || (classic && roughness == 0.0) {
@@ -372,8 +399,9 @@ fn material(check: &Check, name: &str, m: &MaterialFile) -> Result<Material> {
         (Vec3::ZERO, finish(check, name, m, roughness)?)
     } else {
         let specular = match m.specular {
-            Some(SpecularFile::Colour(v)) => Some(v),
-            Some(SpecularFile::Amount(_)) => {
+            Some(Param::Value(SpecularFile::Colour(v))) => Some(v),
+            Some(Param::Table(_)) => Some([1.0; 3]),
+            Some(Param::Value(SpecularFile::Amount(_))) => {
                 return Err(check.error(
                     &key("specular"),
                     "expected a colour [r, g, b] (a single amount is the classic type's)",
@@ -381,6 +409,13 @@ fn material(check: &Check, name: &str, m: &MaterialFile) -> Result<Material> {
             }
             None => None,
         };
+        if kind == MaterialKind::Metal && matches!(m.metallic, Some(Param::Value(_))) {
+            return Err(check.error(
+                &key("metallic"),
+                "a metal is metal throughout: its metalness takes only a map, \
+                 { texture = \"file.png\" } (a number is the classic type's)",
+            ));
+        }
         classic_keys_refused(check, name, m)?;
         (
             colour("specular", specular, specular_default)?,
@@ -388,9 +423,29 @@ fn material(check: &Check, name: &str, m: &MaterialFile) -> Result<Material> {
         )
     };
     let (albedo, checker) = match &m.albedo {
-        Some(AlbedoFile::Checker(c)) => (Vec3::splat(0.7), Some(checker(check, name, c)?)),
-        Some(AlbedoFile::Colour(v)) => (colour("albedo", Some(*v), 0.7)?, None),
-        Some(AlbedoFile::Texture(_)) | None => (Vec3::splat(0.7), None),
+        Some(Param::Value(v)) => (colour("albedo", Some(*v), 0.7)?, None),
+        Some(Param::Table(t)) => match (&t.checker, &t.texture, t.scale) {
+            (Some(colours), None, scale) => (
+                Vec3::splat(0.7),
+                Some(checker(check, name, colours, scale)?),
+            ),
+            (None, Some(_), None) => (Vec3::splat(0.7), None),
+            _ => {
+                return Err(check.error(
+                    &key("albedo"),
+                    format!(
+                        "expected {}",
+                        <schema::AlbedoTable as schema::Described>::WHAT
+                    ),
+                ));
+            }
+        },
+        None => (Vec3::splat(0.7), None),
+    };
+    let emission = match &m.radiance {
+        Some(Param::Value(v)) => colour("radiance", Some(*v), 0.0)?,
+        Some(Param::Table(_)) => Vec3::ONE,
+        None => Vec3::ZERO,
     };
     Ok(Material {
         name: name.to_owned(),
@@ -401,7 +456,7 @@ fn material(check: &Check, name: &str, m: &MaterialFile) -> Result<Material> {
         shininess,
         roughness,
         ior,
-        emission: colour("radiance", m.radiance, 0.0)?,
+        emission,
         finish,
         // Read by `load`, which keeps the scene's textures.
         albedo_map: None,
@@ -436,15 +491,44 @@ fn placed(scene: &mut Scene, index: u32, to_world: DAffine3) -> u32 {
     }
 }
 
+/// The parameters of a material given as images: each one's key, the MTL
+/// map it stands for, and the file (relative to the scene file).
+fn textured(m: &MaterialFile) -> impl Iterator<Item = (&'static str, MapSlot, &str)> {
+    fn file<T>(p: &Option<Param<T>>) -> Option<&str> {
+        match p {
+            Some(Param::Table(t)) => Some(&t.texture),
+            _ => None,
+        }
+    }
+    let albedo = match &m.albedo {
+        Some(Param::Table(t)) => t.texture.as_deref(),
+        _ => None,
+    };
+    [
+        ("albedo", MapSlot::Albedo, albedo),
+        ("specular", MapSlot::Specular, file(&m.specular)),
+        ("roughness", MapSlot::Roughness, file(&m.roughness)),
+        ("metallic", MapSlot::Metallic, file(&m.metallic)),
+        ("radiance", MapSlot::Emission, file(&m.radiance)),
+    ]
+    .into_iter()
+    .filter_map(|(field, slot, file)| Some((field, slot, file?)))
+}
+
 /// `albedo = { checker = [A, B], scale = s }`: both colours checked, the
 /// scale > 0 and finite.
-fn checker(check: &Check, name: &str, c: &CheckerFile) -> Result<Checker> {
+fn checker(
+    check: &Check,
+    name: &str,
+    colours: &[[f32; 3]; 2],
+    scale: Option<f64>,
+) -> Result<Checker> {
     let key = |field: &str| format!("materials.{name}.albedo.{field}");
     let colours = [
-        check.colour(&key("checker"), c.checker[0])?,
-        check.colour(&key("checker"), c.checker[1])?,
+        check.colour(&key("checker"), colours[0])?,
+        check.colour(&key("checker"), colours[1])?,
     ];
-    let scale = c.scale.unwrap_or(1.0);
+    let scale = scale.unwrap_or(1.0);
     check.positive(&key("scale"), scale)?;
     // A subnormal scale is > 0 but its inverse, the pattern's transform, is not finite.
     if !scale.recip().is_finite() {
@@ -479,24 +563,25 @@ fn finish(check: &Check, name: &str, m: &MaterialFile, roughness: f32) -> Result
             ));
         }
     }
+    // A texture is refused before: a classic material has none.
     let specular = match m.specular {
-        Some(SpecularFile::Amount(v)) => check.fraction(&key("specular"), v)?,
-        Some(SpecularFile::Colour(_)) => {
+        Some(Param::Value(SpecularFile::Amount(v))) => check.fraction(&key("specular"), v)?,
+        Some(Param::Value(SpecularFile::Colour(_))) => {
             return Err(check.error(
                 &key("specular"),
                 "expected the Blinn highlight's amount, a number from 0 to 1, not a colour",
             ));
         }
-        None => defaults.specular,
+        Some(Param::Table(_)) | None => defaults.specular,
     };
     let phong_size = m.phong_size.unwrap_or(defaults.phong_size);
     check.positive(&key("phong_size"), phong_size)?;
     let reflection = fraction("reflection", m.reflection, defaults.reflection)?;
     let fresnel = m.fresnel.unwrap_or(defaults.fresnel);
     let metallic = match m.metallic {
-        Some(MetallicFile::On(on)) => f32::from(u8::from(on)),
-        Some(MetallicFile::Amount(v)) => check.fraction(&key("metallic"), v)?,
-        None => defaults.metallic,
+        Some(Param::Value(MetallicFile::On(on))) => f32::from(u8::from(on)),
+        Some(Param::Value(MetallicFile::Amount(v))) => check.fraction(&key("metallic"), v)?,
+        Some(Param::Table(_)) | None => defaults.metallic,
     };
     Ok(Finish {
         diffuse: fraction("diffuse", m.diffuse, defaults.diffuse)?,
@@ -529,7 +614,8 @@ fn classic_keys_refused(check: &Check, name: &str, m: &MaterialFile) -> Result<(
         ("reflection", m.reflection.is_some()),
         ("reflection_max", m.reflection_max.is_some()),
         ("fresnel", m.fresnel.is_some()),
-        ("metallic", m.metallic.is_some()),
+        // A metal's metalness map is its own (checked with the textures).
+        ("metallic", matches!(m.metallic, Some(Param::Value(_)))),
         ("transmit", m.transmit.is_some()),
     ];
     match given.iter().find(|(_, g)| *g) {

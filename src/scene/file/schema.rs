@@ -168,13 +168,13 @@ pub(super) enum IntegratorFile {
 pub(super) struct MaterialFile {
     #[serde(rename = "type")]
     pub kind: MaterialKind,
-    pub albedo: Option<AlbedoFile>,
+    pub albedo: Option<Param<[f32; 3], AlbedoTable>>,
     /// A colour (plastic's Ks), or a classic material's highlight strength.
-    pub specular: Option<SpecularFile>,
+    pub specular: Option<Param<SpecularFile>>,
     pub shininess: Option<f32>,
-    pub roughness: Option<f32>,
+    pub roughness: Option<Param<f32>>,
     pub ior: Option<f32>,
-    pub radiance: Option<[f32; 3]>,
+    pub radiance: Option<Param<[f32; 3]>>,
     /// The classic material's finish (POV-Ray's names); other types refuse them.
     pub diffuse: Option<f32>,
     pub ambient: Option<f32>,
@@ -183,8 +183,89 @@ pub(super) struct MaterialFile {
     pub reflection: Option<f32>,
     pub reflection_max: Option<f32>,
     pub fresnel: Option<bool>,
-    pub metallic: Option<MetallicFile>,
+    /// A classic material's amount, or a metal's metalness map.
+    pub metallic: Option<Param<MetallicFile>>,
     pub transmit: Option<f32>,
+}
+
+/// A material parameter: its plain value (a number, a colour), or a table
+/// (`{ texture = "wood.png" }`, and for the albedo a checker too). Read by
+/// hand rather than as an untagged enum, whose one message for every
+/// mistake would hide serde's own (a misspelt key with its suggestion, a
+/// colour of two values), each at its line.
+pub(super) enum Param<T, M = TextureFile> {
+    Value(T),
+    Table(M),
+}
+
+/// What a parameter's form is called in messages.
+pub(super) trait Described {
+    const WHAT: &'static str;
+}
+
+impl Described for f32 {
+    const WHAT: &'static str = "a number";
+}
+
+impl Described for [f32; 3] {
+    const WHAT: &'static str = "a colour [r, g, b]";
+}
+
+impl Described for TextureFile {
+    const WHAT: &'static str = "{ texture = \"file.png\" }";
+}
+
+impl Described for AlbedoTable {
+    const WHAT: &'static str =
+        "{ checker = [[r, g, b], [r, g, b]], scale = s } or { texture = \"file.png\" }";
+}
+
+impl Described for SpecularFile {
+    const WHAT: &'static str = "a colour [r, g, b] or a number";
+}
+
+impl Described for MetallicFile {
+    const WHAT: &'static str = "true, false or a number from 0 to 1";
+}
+
+impl<'de, T, M> Deserialize<'de> for Param<T, M>
+where
+    T: Deserialize<'de> + Described,
+    M: Deserialize<'de> + Described,
+{
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        use serde::de::{self, IntoDeserializer, value};
+        struct Visit<T, M>(std::marker::PhantomData<(T, M)>);
+        impl<'de, T, M> de::Visitor<'de> for Visit<T, M>
+        where
+            T: Deserialize<'de> + Described,
+            M: Deserialize<'de> + Described,
+        {
+            type Value = Param<T, M>;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                write!(f, "{} or {}", T::WHAT, M::WHAT)
+            }
+            fn visit_bool<E: de::Error>(self, v: bool) -> Result<Self::Value, E> {
+                T::deserialize(v.into_deserializer()).map(Param::Value)
+            }
+            fn visit_i64<E: de::Error>(self, v: i64) -> Result<Self::Value, E> {
+                T::deserialize(v.into_deserializer()).map(Param::Value)
+            }
+            fn visit_u64<E: de::Error>(self, v: u64) -> Result<Self::Value, E> {
+                T::deserialize(v.into_deserializer()).map(Param::Value)
+            }
+            fn visit_f64<E: de::Error>(self, v: f64) -> Result<Self::Value, E> {
+                T::deserialize(v.into_deserializer()).map(Param::Value)
+            }
+            fn visit_seq<A: de::SeqAccess<'de>>(self, seq: A) -> Result<Self::Value, A::Error> {
+                T::deserialize(value::SeqAccessDeserializer::new(seq)).map(Param::Value)
+            }
+            fn visit_map<A: de::MapAccess<'de>>(self, map: A) -> Result<Self::Value, A::Error> {
+                M::deserialize(value::MapAccessDeserializer::new(map)).map(Param::Table)
+            }
+        }
+        d.deserialize_any(Visit(std::marker::PhantomData))
+    }
 }
 
 /// `specular`: a colour for plastic, a number for a classic material's
@@ -196,34 +277,23 @@ pub(super) enum SpecularFile {
     Amount(f32),
 }
 
-/// `albedo`: a colour, POV-Ray's checker of two colours, or an image.
-#[derive(Deserialize)]
-#[serde(
-    untagged,
-    expecting = "a colour [r, g, b], { checker = [[r, g, b], [r, g, b]], scale = s } or \
-                 { texture = \"file.png\" }"
-)]
-pub(super) enum AlbedoFile {
-    Colour([f32; 3]),
-    Checker(CheckerFile),
-    Texture(TextureFile),
-}
-
-/// `albedo = { texture = "wood.png" }`: an image (relative to the scene
-/// file) the albedo follows in a mesh's texture coordinates.
+/// `{ texture = "wood.png" }`: an image (relative to the scene file) a
+/// parameter follows in a mesh's texture coordinates, as an MTL map does.
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct TextureFile {
     pub texture: String,
 }
 
-/// `albedo = { checker = [A, B], scale = s }`: cubes of side s (default 1)
-/// in world space, A at the origin's cube.
+/// The albedo's table: POV-Ray's checker (`{ checker = [A, B], scale = s }`,
+/// cubes of side s, default 1, in world space, A at the origin's cube) or
+/// an image (`{ texture = "wood.png" }`); the loader takes one or the other.
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
-pub(super) struct CheckerFile {
-    pub checker: [[f32; 3]; 2],
+pub(super) struct AlbedoTable {
+    pub checker: Option<[[f32; 3]; 2]>,
     pub scale: Option<f64>,
+    pub texture: Option<String>,
 }
 
 /// `metallic = true` (all of it, as POV-Ray's bare `metallic`) or an amount.

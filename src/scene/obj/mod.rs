@@ -7,7 +7,7 @@
 
 mod mtl;
 
-pub(crate) use mtl::{TextureMap, set_map};
+pub(crate) use mtl::{MapSlot, TextureMap, set_map};
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -35,6 +35,9 @@ pub struct ObjFile {
     pub degenerate: usize,
     /// The files read: the OBJ and its material libraries.
     pub sources: Vec<PathBuf>,
+    /// What the file holds that is not read, each a warning (a PLY's
+    /// per-corner texture coordinates).
+    pub unread: Vec<String>,
 }
 
 /// Coordinates (OBJ vertices, TOML positions, translations, clip boxes, and
@@ -373,5 +376,6 @@ pub fn load_obj(path: &Path) -> Result<ObjFile> {
         unread_maps: r.unread_maps,
         degenerate: r.degenerate,
         sources,
+        unread: Vec::new(),
     })
 }

@@ -88,15 +88,22 @@ impl MapSlot {
 
 /// Puts a map's texture into the material's slot for it; `None` (a file
 /// that could not be read, already warned about) leaves the slot's neutral
-/// value: the plain colour, no cut-out.
-pub(crate) fn set_map(material: &mut Material, map: &TextureMap, texture: Option<Texture>) {
-    match map.slot {
+/// value: the plain colour, no cut-out. `bump` is a bump map's multiplier
+/// (`-bm`), `factor` the constant a metalness map scales.
+pub(crate) fn set_map(
+    material: &mut Material,
+    slot: MapSlot,
+    texture: Option<Texture>,
+    bump: f32,
+    factor: f32,
+) {
+    match slot {
         MapSlot::Albedo => material.albedo_map = texture,
         MapSlot::Alpha => material.maps.alpha = texture,
         MapSlot::Bump => {
             material.maps.bump = texture.map(|heights| Bump {
                 heights,
-                scale: map.placement.bump,
+                scale: bump,
             });
         }
         MapSlot::Normal => material.maps.normal = texture,
@@ -105,7 +112,7 @@ pub(crate) fn set_map(material: &mut Material, map: &TextureMap, texture: Option
         MapSlot::Metallic => {
             material.maps.metallic = texture.map(|texture| Metallic {
                 map: texture,
-                scale: map.factor,
+                scale: factor,
             });
         }
         MapSlot::Emission => material.maps.emission = texture,

@@ -39,6 +39,28 @@ fn an_ascii_quad_is_two_fan_triangles_with_uv_and_linear_colours() {
 }
 
 #[test]
+fn meshlabs_per_corner_uv_is_a_warning_and_no_uv() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = "ply\nformat ascii 1.0\ncomment TextureFile tex.png\n\
+        element vertex 3\nproperty float x\nproperty float y\nproperty float z\n\
+        element face 1\nproperty list uchar int vertex_indices\n\
+        property list uchar float texcoord\nend_header\n\
+        0 0 0\n1 0 0\n0 1 0\n3 0 1 2 6 0 0 1 0 0 1\n";
+    let file = load_ply(&write(dir.path(), "wedge.ply", text.as_bytes())).unwrap();
+    assert_eq!(file.meshes[0].triangles, vec![[0, 1, 2]]);
+    assert!(file.meshes[0].uvs.is_empty());
+    assert_eq!(file.unread.len(), 1, "{:?}", file.unread);
+    assert!(
+        file.unread[0].contains("wedge.ply") && file.unread[0].contains("`texcoord`"),
+        "{:?}",
+        file.unread
+    );
+    // A file without them has nothing to say.
+    let quad = load_ply(&write(dir.path(), "quad.ply", ASCII_QUAD.as_bytes())).unwrap();
+    assert!(quad.unread.is_empty());
+}
+
+#[test]
 fn malformed_files_are_errors_naming_the_file_and_the_element() {
     let dir = tempfile::tempdir().unwrap();
     // Each case: ASCII_QUAD with one text replaced, and what the error says.

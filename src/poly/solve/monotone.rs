@@ -1,0 +1,321 @@
+//! The first pass for quartics (issue 17's degree-4 ray path), before the
+//! Bernstein pass: no transcendental call but one square root, and every
+//! decision a proven sign. The roots of q'' (a quadratic, in closed form)
+//! cut (lo, hi) into at most three pieces on each of which q is convex or
+//! concave. On such a piece, ends of opposite signs hold exactly one root
+//! (the set where q has the sign of its convex side is an interval), and
+//! ends of the same sign hold none when the curvature turns q away from
+//! zero (a concave q above zero stays above the smaller end). Otherwise
+//! (a convex q above zero, say) the extremum decides: Newton on q' steps
+//! towards it until a point where q has the other sign proves a root
+//! (exactly one between the piece's start and that point), or the tangent
+//! there, which a convex q never goes below, proves q away from zero on
+//! the whole piece.
+//!
+//! A sign counts only where the value exceeds a running bound on its
+//! rounding error (Horner's, on the absolute values). What this cannot
+//! prove is left to the Bernstein pass and the Sturm chain: a value within
+//! its rounding of zero (a ray starting on the surface, a root at the
+//! interval's end, a double root at a tangent, a graze that the tangent
+//! bound cannot separate from one), or q'' with nearly a double root.
+
+use std::cmp::Ordering;
+
+use super::bernstein::Screen;
+use super::condition::{midpoint, opposite};
+
+/// Newton steps towards one extremum before the pass gives up on it: a
+/// graze whose extremum is not proven by then goes to the Sturm chain.
+const MAX_STEPS: u32 = 16;
+
+/// q'' with a discriminant this small against its terms has nearly a
+/// double root, and its computed roots (the pieces' ends) are not trusted.
+const FLAT: f64 = 64.0 * f64::EPSILON;
+
+/// A polynomial with its coefficients' absolute values, evaluated with a
+/// bound on the rounding.
+struct Bounded<const N: usize> {
+    c: [f64; N],
+    abs: [f64; N],
+}
+
+impl<const N: usize> Bounded<N> {
+    fn new(c: [f64; N]) -> Self {
+        Bounded {
+            c,
+            abs: c.map(f64::abs),
+        }
+    }
+
+    /// The value at x by Horner's rule and a bound on its error. Horner at
+    /// degree n is within γ_2n Σ |c_i| |x|^i, γ_2n < 1.01 n ε here; the
+    /// bound takes 2 (n + 1) ε, which also covers one rounding in each
+    /// coefficient (q' has 3 c_3) and the pieces' inexact ends (module
+    /// comment of [`screen`]).
+    fn eval(&self, x: f64) -> (f64, f64) {
+        let ax = x.abs();
+        let (mut v, mut m) = (self.c[N - 1], self.abs[N - 1]);
+        for i in (0..N - 1).rev() {
+            v = v * x + self.c[i];
+            m = m * ax + self.abs[i];
+        }
+        (v, 2.0 * N as f64 * f64::EPSILON * m)
+    }
+}
+
+/// Whether a value's sign is proven: it exceeds its rounding bound (false
+/// for NaN).
+fn proven(value: f64, bound: f64) -> bool {
+    value.abs().partial_cmp(&bound) == Some(Ordering::Greater)
+}
+
+/// What Newton towards a piece's extremum proved.
+enum Extremum {
+    /// q keeps its sign on the whole piece.
+    Clear,
+    /// q has the other sign at this point, with this value.
+    Crosses(f64, f64),
+    Unsure,
+}
+
+/// The first pass over (lo, hi) (finite, clipped to the root bound) for
+/// the quartic with coefficients `p` (lowest first, p[4] != 0): `Nearest`
+/// with a bracket of the nearest root and of no other, `Empty`, or
+/// `Unsure`.
+///
+/// The pieces' ends are the computed roots of q'', off the true ones by a
+/// few roundings (their discriminant is kept away from zero by [`FLAT`]).
+/// Between a computed end and the true root, |q''| is at most that offset
+/// times |q'''|, so q departs from the curvature assumed there by less than
+/// the square of that offset times q''''s size: far below the rounding
+/// bound that every proven value of q must clear.
+pub(super) fn screen(p: &[f64], lo: f64, hi: f64) -> Screen {
+    let [c0, c1, c2, c3, c4] = [p[0], p[1], p[2], p[3], p[4]];
+    let q = Bounded::new([c0, c1, c2, c3, c4]);
+    let g = Bounded::new([c1, 2.0 * c2, 3.0 * c3, 4.0 * c4]);
+    let h = [2.0 * c2, 6.0 * c3, 12.0 * c4];
+    let disc = h[1] * h[1] - 4.0 * h[2] * h[0];
+    if disc
+        .abs()
+        .partial_cmp(&(FLAT * (h[1] * h[1] + (4.0 * h[2] * h[0]).abs())))
+        != Some(Ordering::Greater)
+    {
+        return Screen::Unsure;
+    }
+    // The pieces' ends after lo, increasing: the roots of q'' inside, then hi.
+    let mut ends = [hi; 3];
+    let mut n = 0;
+    if disc > 0.0 {
+        // The stable quadratic formula; s != 0 since disc > 0.
+        let s = -0.5 * (h[1] + disc.sqrt().copysign(h[1]));
+        let (r1, r2) = (s / h[2], h[0] / s);
+        for r in [r1.min(r2), r1.max(r2)] {
+            if r > lo && r < hi {
+                ends[n] = r;
+                n += 1;
+            }
+        }
+    }
+    let (mut x0, (mut q0, mut e0)) = (lo, q.eval(lo));
+    if !proven(q0, e0) {
+        return Screen::Unsure;
+    }
+    for &x1 in &ends[..=n] {
+        let (q1, e1) = q.eval(x1);
+        if !proven(q1, e1) {
+            return Screen::Unsure;
+        }
+        if opposite(q0, q1) {
+            return Screen::Nearest {
+                lo: x0,
+                hi: x1,
+                flo: q0,
+                fhi: q1,
+            };
+        }
+        let mid = midpoint(x0, x1);
+        let curvature = (h[2] * mid + h[1]) * mid + h[0];
+        if opposite(curvature, -q0) {
+            match extremum(&q, &g, &h, (x0, x1), (q0, e0), (q1, e1)) {
+                Extremum::Clear => {}
+                Extremum::Crosses(x, qx) => {
+                    return Screen::Nearest {
+                        lo: x0,
+                        hi: x,
+                        flo: q0,
+                        fhi: qx,
+                    };
+                }
+                Extremum::Unsure => return Screen::Unsure,
+            }
+        }
+        (x0, q0, e0) = (x1, q1, e1);
+    }
+    Screen::Empty
+}
+
+/// On a piece [x0, x1] where q(x0) = q0 and q(x1) = q1 (with their
+/// rounding bounds) have the same sign and the curvature turns q towards
+/// zero (s q convex, s the sign of q0): the tangents at the ends, then
+/// safeguarded Newton on q' towards the extremum, until q's sign is proven
+/// there or a tangent proves the piece clear.
+fn extremum(
+    q: &Bounded<5>,
+    g: &Bounded<4>,
+    h: &[f64; 3],
+    (x0, x1): (f64, f64),
+    (q0, e0): (f64, f64),
+    (q1, e1): (f64, f64),
+) -> Extremum {
+    let s = q0.signum();
+    let curvature = |x: f64| (h[2] * x + h[1]) * x + h[0];
+    // s q lies above its tangent at x on the whole piece: the least of the
+    // tangent there, less the roundings of q(x) and of q'(x) over the reach.
+    let clear = |x: f64, qx: f64, eq: f64, gx: f64, eg: f64| {
+        let slope = s * gx;
+        let low = (slope * (x0 - x)).min(slope * (x1 - x));
+        s * qx - eq - eg * (x - x0).max(x1 - x) + low > 0.0
+    };
+    let (g0, eg0) = g.eval(x0);
+    let (g1, eg1) = g.eval(x1);
+    if clear(x0, q0, e0, g0, eg0) || clear(x1, q1, e1, g1, eg1) {
+        return Extremum::Clear;
+    }
+    // Newton from the end with the shorter step: the other may be a root
+    // of q'' (a step that goes nowhere useful) or the far end of a search
+    // clipped only by Cauchy's bound, from which Newton on the cubic q'
+    // gains a third of the distance per step.
+    let (step0, step1) = (g0 / curvature(x0), g1 / curvature(x1));
+    let next = if step0.abs() <= step1.abs() {
+        x0 - step0
+    } else {
+        x1 - step1
+    };
+    let (mut u, mut v) = (x0, x1);
+    let mut x = if next > u && next < v {
+        next
+    } else {
+        midpoint(u, v)
+    };
+    for _ in 0..MAX_STEPS {
+        let (qx, eq) = q.eval(x);
+        if -s * qx > eq {
+            return Extremum::Crosses(x, qx);
+        }
+        let (gx, eg) = g.eval(x);
+        if clear(x, qx, eq, gx, eg) {
+            return Extremum::Clear;
+        }
+        // s q' increases: the extremum is past x where s q' < 0.
+        if s * gx < 0.0 {
+            u = x;
+        } else {
+            v = x;
+        }
+        let next = x - gx / curvature(x);
+        x = if next > u && next < v {
+            next
+        } else {
+            midpoint(u, v)
+        };
+        if !(x > u && x < v) {
+            break;
+        }
+    }
+    Extremum::Unsure
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::bernstein::tests::{open_count, product, root_near};
+    use super::*;
+    use crate::poly::exact::exact_count;
+    use proptest::prelude::*;
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(2000))]
+
+        // Every Empty and Nearest answer is checked against the exact Sturm
+        // count of the quartic whose coefficients are the f64 ones: clusters,
+        // tangent pairs and complex pairs close to the axis (grazes).
+        #[test]
+        fn what_it_proves_is_true(
+            real in prop::collection::vec(root_near(), 4),
+            pairs in prop::collection::vec(
+                (-2.0..40.0f64, prop_oneof![1e-9..1e-3f64, 1e-3..5.0f64, 5.0..30.0f64]),
+                0..=2,
+            ),
+            lead in prop_oneof![Just(1.0), 1e-3..1e3f64, -1e3..-1e-3f64],
+            a in -1.0..20.0f64,
+            len in prop_oneof![0.01..1.0f64, 1.0..100.0f64],
+        ) {
+            let c = product(lead, &real[..4 - 2 * pairs.len()], &pairs);
+            let b = a + len;
+            match screen(&c, a, b) {
+                Screen::Empty => prop_assert_eq!(open_count(&c, a, b), 0, "empty, but roots"),
+                Screen::Nearest { lo, hi, flo, fhi } => {
+                    prop_assert!(a <= lo && lo < hi && hi <= b, "[{lo}, {hi}] outside");
+                    prop_assert_eq!(exact_count(&c, a, lo).unwrap(), 0, "a nearer root");
+                    prop_assert_eq!(open_count(&c, lo, hi), 1, "not one root in [{}, {}]", lo, hi);
+                    prop_assert!(opposite(flo, fhi));
+                }
+                Screen::Some => prop_assert!(false, "`Some` is the Bernstein pass's"),
+                Screen::Unsure => {}
+            }
+        }
+    }
+
+    #[test]
+    fn what_it_cannot_prove_is_left_to_the_chain() {
+        // A double root at 1 (a tangent ray).
+        let c = product(1.0, &[1.0, 1.0, 3.0, 4.0], &[]);
+        assert_eq!(screen(&c, 0.0, 10.0), Screen::Unsure);
+        // A root at the interval's start.
+        let c = product(1.0, &[0.0, 1.5, 3.0, 4.0], &[]);
+        assert_eq!(screen(&c, 0.0, 10.0), Screen::Unsure);
+        // A complex pair 1e-13 off the axis: no real root there, but the
+        // tangent cannot tell it from a double root.
+        let c = product(1.0, &[3.0, 4.0], &[(1.0, 1e-13)]);
+        assert_eq!(screen(&c, 0.0, 10.0), Screen::Unsure);
+        // q'' with a double root: (t - 1)^4 + t has q'' = 12 (t - 1)^2.
+        assert_eq!(
+            screen(&[2.0, -3.0, 6.0, -4.0, 1.0], -5.0, 5.0),
+            Screen::Unsure
+        );
+    }
+
+    #[test]
+    fn grazes_that_it_proves() {
+        // A complex pair 1e-4 off the axis before two real roots: the
+        // extremum is proven above zero, and the root at 3 is the nearest.
+        let c = product(1.0, &[3.0, 4.0], &[(1.0, 1e-4)]);
+        let Screen::Nearest { lo, hi, .. } = screen(&c, 0.0, 10.0) else {
+            panic!("not proven");
+        };
+        assert!(lo < 3.0 && 3.0 < hi && hi < 4.0, "[{lo}, {hi}]");
+        // Two real roots 1e-4 apart: a point between them is proven below
+        // zero, and brackets the first.
+        let c = product(1.0, &[1.0, 1.0001, 3.0, 4.0], &[]);
+        let Screen::Nearest { lo, hi, .. } = screen(&c, 0.0, 10.0) else {
+            panic!("not proven");
+        };
+        assert!(lo < 1.0 && 1.0 < hi && hi < 1.0001, "[{lo}, {hi}]");
+        // No real root at all.
+        let c = product(1.0, &[], &[(1.0, 1e-3), (3.0, 0.5)]);
+        assert_eq!(screen(&c, 0.0, 10.0), Screen::Empty);
+        // A ray at a torus 30 units away, searched up to Cauchy's bound
+        // (1.8e7): Newton towards the minimum starts from the near end,
+        // not the far one, and proves the first root within its steps.
+        let c = [
+            1574.0312499999998,
+            -203.73211424953368,
+            10.157571696269468,
+            -0.22902205699660633,
+            0.001953125000000001,
+        ];
+        let Screen::Nearest { lo, hi, .. } = screen(&c, 0.0, 1.8e7) else {
+            panic!("not proven");
+        };
+        assert!(lo < 31.503 && 31.504 < hi && hi < 36.44, "[{lo}, {hi}]");
+    }
+}
