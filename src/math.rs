@@ -1,7 +1,7 @@
 //! Vectors (glam), rays and hit records shared by every backend, and the
 //! orthonormal shading frame.
 
-pub use glam::{Mat3, Mat4, Vec2, Vec3};
+pub use glam::{DVec3, Mat3, Mat4, Vec2, Vec3};
 
 /// A ray in world space with its parametric interval [tnear, tfar].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -61,9 +61,50 @@ impl Ray {
     }
 }
 
+/// A ray's origin and direction in f64: a camera ray as the camera computed
+/// it, before rounding to the f32 `Ray` the BVHs traverse. Analytic shapes
+/// are solved in f64, and a ray that grazes one by less than an f32 ulp of
+/// its direction is hit or missed by that rounding alone; POV-Ray computes
+/// its rays in double, so the comparison with it needs the f64 ray. A BVH
+/// that is handed both (`Accel::intersect_exact`) traverses the rounded ray
+/// and gives the shapes this one wherever the ray it is about to test is
+/// still that rounding (not a ray moved into an instance's space).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Ray64 {
+    pub origin: DVec3,
+    pub dir: DVec3,
+}
+
+impl Ray64 {
+    /// The f32 ray of this one, over [0, inf).
+    pub fn rounded(&self) -> Ray {
+        Ray::new(self.origin.as_vec3(), self.dir.as_vec3())
+    }
+
+    /// `ray`'s own origin and direction, widened.
+    pub fn of(ray: &Ray) -> Ray64 {
+        Ray64 {
+            origin: ray.origin.as_dvec3(),
+            dir: ray.dir.as_dvec3(),
+        }
+    }
+
+    /// What a shape is to solve for `ray`: `exact` if `ray`'s origin and
+    /// direction are its rounding, else `ray`'s own widened (a ray with no
+    /// f64 ray, or one moved into an instance's space).
+    #[inline]
+    pub fn for_ray(exact: Option<&Ray64>, ray: &Ray) -> Ray64 {
+        match exact {
+            Some(e) if e.origin.as_vec3() == ray.origin && e.dir.as_vec3() == ray.dir => *e,
+            _ => Ray64::of(ray),
+        }
+    }
+}
+
 /// A vector in scientific notation, for messages about very large or small ones.
-pub fn sci(v: Vec3) -> String {
-    format!("[{:e}, {:e}, {:e}]", v.x, v.y, v.z)
+pub fn sci<T: std::fmt::LowerExp>(v: impl Into<[T; 3]>) -> String {
+    let [x, y, z] = v.into();
+    format!("[{x:e}, {y:e}, {z:e}]")
 }
 
 /// Embree's bound on the size of every ray origin and direction component
@@ -139,6 +180,14 @@ impl Bounds {
         Bounds {
             min: self.min.min(other.min),
             max: self.max.max(other.max),
+        }
+    }
+
+    /// This box grown by `pad` on every side.
+    pub fn grown(self, pad: f32) -> Bounds {
+        Bounds {
+            min: self.min - Vec3::splat(pad),
+            max: self.max + Vec3::splat(pad),
         }
     }
 

@@ -10,7 +10,7 @@ mod common;
 use common::{SQUARE, plane_scene, scratch, write};
 use sturmray::accel::{Accel, Backend};
 use sturmray::film::Layers;
-use sturmray::math::Vec3;
+use sturmray::math::DVec3;
 use sturmray::render::{RenderOptions, render};
 use sturmray::scene::{Camera, ImagePlane, Scene};
 
@@ -43,11 +43,11 @@ fn an_image_plane_renders_as_the_camera_it_equals_and_stretches() {
     let own = depth(&scene, scene.camera.clone());
     // The same view as a plane at distance 1: up spans 2·tan 20°, right that
     // times the aspect ratio 32/24.
-    let span = 2.0 * 20f32.to_radians().tan();
+    let span = 2.0 * 20f64.to_radians().tan();
     let plane = ImagePlane {
-        direction: -Vec3::Z,
-        right: Vec3::new(span * 32.0 / 24.0, 0.0, 0.0),
-        up: Vec3::new(0.0, span, 0.0),
+        direction: -DVec3::Z,
+        right: DVec3::new(span * 32.0 / 24.0, 0.0, 0.0),
+        up: DVec3::new(0.0, span, 0.0),
     };
     let eye = scene.camera.eye;
     let same = depth(&scene, Camera::with_plane(eye, plane, 32, 24));

@@ -1,23 +1,18 @@
-//! Analytic shapes as Embree user primitives: f32 world rays in, f64 object
+//! Analytic shapes as Embree user primitives: f32 world rays in with their
+//! f64 origin and direction (a camera ray's own, see `Ray64`), f64 object
 //! space math in `geometry`, f32 hits out.
-
-use glam::DVec3;
 
 use super::primitive::{UserHit, UserPrimitive};
 use crate::geometry::Shape;
-use crate::math::{Bounds, Ray};
-
-fn f64_ray(ray: &Ray) -> (DVec3, DVec3) {
-    (ray.origin.as_dvec3(), ray.dir.as_dvec3())
-}
+use crate::math::{Bounds, Ray, Ray64};
 
 impl UserPrimitive for Shape {
     fn bounds(&self) -> Bounds {
         Shape::bounds(self)
     }
 
-    fn intersect(&self, ray: &Ray) -> Option<UserHit> {
-        let (o, d) = f64_ray(ray);
+    fn intersect(&self, ray: &Ray, exact: &Ray64) -> Option<UserHit> {
+        let (o, d) = (exact.origin, exact.dir);
         let hit = Shape::intersect(self, o, d, f64::from(ray.tnear), f64::from(ray.tfar))?;
         Some(UserHit {
             t: hit.t as f32,
@@ -32,8 +27,8 @@ impl UserPrimitive for Shape {
     }
 
     fn occluded(&self, ray: &Ray) -> bool {
-        let (o, d) = f64_ray(ray);
-        Shape::occluded(self, o, d, f64::from(ray.tnear), f64::from(ray.tfar))
+        let Ray64 { origin, dir } = Ray64::of(ray);
+        Shape::occluded(self, origin, dir, f64::from(ray.tnear), f64::from(ray.tfar))
     }
 }
 

@@ -14,7 +14,7 @@ use std::panic::{AssertUnwindSafe, catch_unwind};
 
 use crate::error::{Error, Result};
 use crate::geometry::{Mesh, Shape};
-use crate::math::{Hit, INVALID_ID, Ray};
+use crate::math::{Hit, INVALID_ID, Ray, Ray64};
 use crate::scene::{Instance, Scene};
 use crate::shading::Material;
 
@@ -151,6 +151,17 @@ impl Accel {
             Accel::Embree(s) => s.intersect(ray),
             Accel::Obvhs(s) => s.intersect(ray),
             Accel::Bvh(s) => s.intersect(ray),
+        }
+    }
+
+    /// The nearest hit of `exact`'s rounding over [0, inf), with the
+    /// analytic shapes solving for `exact` itself (see `Ray64`): for camera
+    /// rays, so a graze is decided as POV-Ray's double-precision ray decides it.
+    pub fn intersect_exact(&self, exact: &Ray64) -> Hit {
+        match self {
+            Accel::Embree(s) => s.intersect_exact(exact),
+            Accel::Obvhs(s) => s.intersect_exact(exact),
+            Accel::Bvh(s) => s.intersect_exact(exact),
         }
     }
 

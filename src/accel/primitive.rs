@@ -4,7 +4,7 @@
 //! traversals. It lives outside `embree/` because it is not Embree's: every
 //! backend relies on the same three answers.
 
-use crate::math::{Bounds, Ray, Vec3};
+use crate::math::{Bounds, Ray, Ray64, Vec3};
 
 /// What a user primitive reports for a hit.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -21,10 +21,26 @@ pub struct UserHit {
 pub trait UserPrimitive: Send + Sync + 'static {
     /// World-space bounds.
     fn bounds(&self) -> Bounds;
-    /// The nearest hit with t in [ray.tnear, ray.tfar), if any.
-    fn intersect(&self, ray: &Ray) -> Option<UserHit>;
+    /// The nearest hit with t in [ray.tnear, ray.tfar), if any. `exact` is
+    /// the ray's origin and direction in f64, which round to `ray`'s (its
+    /// own widened unless the query had an f64 ray, see `Ray64::for_ray`): a
+    /// primitive that computes in f64 solves for it, so a ray that grazes it
+    /// is hit or missed as the f64 ray is, not as its rounding is.
+    fn intersect(&self, ray: &Ray, exact: &Ray64) -> Option<UserHit>;
     /// Whether any hit lies in [ray.tnear, ray.tfar).
     fn occluded(&self, ray: &Ray) -> bool;
+}
+
+/// How far a BVH grows each of `boxes` (on every side): 32 ulps of the
+/// largest coordinate of them all. A BVH traverses the f32 ray, which may
+/// lie an ulp or so off its f64 ray (`Ray64`) or, axis-parallel, exactly in
+/// a box's face, where a slab test gives t = 0 × ∞; a shape whose surface
+/// touches its box there (a torus's top) is then grazed by the f64 ray while
+/// the f32 ray passes just outside the box. The padding puts every face
+/// clear of that, at no cost in culling.
+pub fn padding(boxes: impl Iterator<Item = Bounds>) -> f32 {
+    let all = boxes.fold(Bounds::EMPTY, |a, b| a.union(b));
+    32.0 * f32::EPSILON * all.min.abs().max(all.max.abs()).max_element()
 }
 
 /// The most crossings of one primitive `crossings` visits along one ray: far
@@ -40,12 +56,13 @@ const MAX_CROSSINGS: usize = 4096;
 pub fn crossings<T: UserPrimitive>(
     prim: &T,
     ray: &Ray,
+    exact: &Ray64,
     mut visit: impl FnMut(&UserHit) -> bool,
 ) -> Option<UserHit> {
     let mut rest = *ray;
     for _ in 0..MAX_CROSSINGS {
         let hit = prim
-            .intersect(&rest)
+            .intersect(&rest, exact)
             .filter(|h| h.t >= rest.tnear && h.t < rest.tfar && h.t.is_finite())?;
         if visit(&hit) {
             return Some(hit);

@@ -26,7 +26,7 @@ use crate::accel::Accel;
 use crate::accel::ftz::enable_flush_to_zero;
 use crate::error::{Error, Result};
 use crate::film::{Film, Pixel, Region, Sample};
-use crate::math::{Hit, Ray};
+use crate::math::{Hit, Ray, Ray64};
 use crate::sampling::{FilterSampler, Sampler};
 use crate::scene::{CameraFrame, Integrator, PhotonSettings, Scene};
 
@@ -308,10 +308,10 @@ impl<'a> Tracer<'a> {
         }
     }
 
-    fn sample(&self, ray: &Ray, sampler: &mut Sampler, tally: &mut Tally) -> Sample {
+    fn sample(&self, camera: &Ray64, sampler: &mut Sampler, tally: &mut Tally) -> Sample {
         match self {
-            Tracer::Whitted(w) => w.sample(ray, sampler, tally),
-            Tracer::Path(p) => p.sample(ray, sampler, tally),
+            Tracer::Whitted(w) => w.sample(camera, sampler, tally),
+            Tracer::Path(p) => p.sample(camera, sampler, tally),
         }
     }
 }
@@ -330,7 +330,8 @@ fn plan(scene: &Scene, all_effects: bool) -> Plan {
 /// sampler's pixel position (stratified over each round of `spp` samples),
 /// warped by the reconstruction filter (filter importance sampling); from
 /// the sampler's lens point when the camera has a lens. Keyed
-/// by (seed, pixel, k), so it is the same whoever renders it.
+/// by (seed, pixel, k), so it is the same whoever renders it. In f64: the
+/// integrators trace it with `Accel::intersect_exact`.
 fn camera_ray(
     scene: &Scene,
     frame: &CameraFrame,
@@ -338,7 +339,7 @@ fn camera_ray(
     (x, y): (usize, usize),
     k: u32,
     spp: u32,
-) -> (Ray, f32, Sampler) {
+) -> (Ray64, f32, Sampler) {
     let centre = (x as f32 + 0.5, y as f32 + 0.5);
     let index = (y * scene.camera.width as usize + x) as u64;
     let mut sampler = Sampler::new(scene.render.sampler, scene.render.seed, index, k);
@@ -352,9 +353,9 @@ fn camera_ray(
     // a pinhole's dimensions are what they were): stratified with the
     // Sobol sampler as the pixel position is.
     let ray = if frame.has_lens() {
-        frame.lens_ray(x, y, sampler.get_2d())
+        frame.lens_ray64(x, y, sampler.get_2d())
     } else {
-        frame.ray(x, y)
+        frame.ray64(x, y)
     };
     (ray, weight, sampler)
 }
@@ -400,7 +401,7 @@ pub fn explain(
     let mut result = integrator.sample(&ray, &mut sampler, &mut tally);
     result.weight = weight;
     accel.check()?;
-    Ok((result, ray, tally.tree.unwrap_or_default()))
+    Ok((result, ray.rounded(), tally.tree.unwrap_or_default()))
 }
 
 /// A progress bar on stderr when it is a terminal; none otherwise.

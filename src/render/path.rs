@@ -18,7 +18,7 @@ use super::tally::{Node, RayKind, Tally};
 use crate::accel::Accel;
 use crate::film::Sample;
 use crate::lights::LightRef;
-use crate::math::{Frame, Ray, Vec3, offset};
+use crate::math::{Frame, Ray, Ray64, Vec3, offset};
 use crate::sampling::Sampler;
 use crate::sampling::mis::power_heuristic;
 use crate::scene::{Interaction, Scene};
@@ -75,10 +75,12 @@ struct Vertex<'v> {
 }
 
 impl PathTracer<'_> {
-    pub fn sample(&self, camera: &Ray, sampler: &mut Sampler, tally: &mut Tally) -> Sample {
+    /// The radiance along a camera ray, found in f64 (`Accel::intersect_exact`),
+    /// followed as its f32 rounding.
+    pub fn sample(&self, camera: &Ray64, sampler: &mut Sampler, tally: &mut Tally) -> Sample {
         let mut radiance = Vec3::ZERO;
         let mut beta = Vec3::ONE;
-        let mut ray = *camera;
+        let mut ray = camera.rounded();
         let mut kind = RayKind::Camera;
         let mut first = None;
         // Where the last bounce left from and the BSDF density of its direction,
@@ -91,7 +93,11 @@ impl PathTracer<'_> {
         let path = tally.mark();
         for depth in 0..=self.plan.max_depth {
             tally.count(kind, depth);
-            let hit = self.accel.intersect(&ray);
+            let hit = if depth == 0 {
+                self.accel.intersect_exact(camera)
+            } else {
+                self.accel.intersect(&ray)
+            };
             // Built only when explain records the tree: nothing is allocated per ray.
             let node = tally.open(|| Node::of_hit(self.scene, &hit, kind, depth, beta));
             if !hit.is_hit() {

@@ -12,7 +12,7 @@ use super::{PhotonMap, Plan};
 use crate::accel::Accel;
 use crate::film::Sample;
 use crate::lights::LightRef;
-use crate::math::{Hit, Ray, Vec3, offset};
+use crate::math::{Hit, Ray, Ray64, Vec3, offset};
 use crate::sampling::Sampler;
 use crate::scene::{Interaction, Scene};
 use crate::shading::fresnel;
@@ -34,10 +34,12 @@ pub struct Whitted<'a> {
 }
 
 impl Whitted<'_> {
-    /// The radiance along a camera ray, with the first hit's AOVs.
-    pub fn sample(&self, ray: &Ray, sampler: &mut Sampler, tally: &mut Tally) -> Sample {
+    /// The radiance along a camera ray, with the first hit's AOVs. The ray
+    /// is found in f64, then followed as its f32 rounding.
+    pub fn sample(&self, camera: &Ray64, sampler: &mut Sampler, tally: &mut Tally) -> Sample {
         let walk = &mut Walk { tally, sampler };
-        let hit = self.accel.intersect(ray);
+        let hit = self.accel.intersect_exact(camera);
+        let ray = &camera.rounded();
         // Once for the ray tree and the AOVs: an analytic hit's error bound
         // costs a substitution of the ray into its polynomial.
         let it = hit.is_hit().then(|| self.scene.interaction(ray, &hit));

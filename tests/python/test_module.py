@@ -219,7 +219,19 @@ def test_render_matches_the_scene_size_and_gives_aovs():
         scene.render(integrator="nope")
 
 
-def test_ctrl_c_interrupts_a_render():
+@pytest.fixture
+def python_sigint():
+    """Python's own SIGINT handler, as an interactive session has it. A
+    process started in the background by a non-interactive shell (a CI job
+    under `nohup ... &`) inherits SIGINT ignored, and Python then installs
+    no handler: the signal would never reach the render, and the test
+    would wait out all 4096 samples."""
+    kept = signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, kept)
+
+
+def test_ctrl_c_interrupts_a_render(python_sigint):
     """A SIGINT during a long render raises KeyboardInterrupt promptly."""
     scene = sturmray.Scene.load(SCENES / "knot.toml", width=320, height=240)
     timer = threading.Timer(0.5, signal.raise_signal, (signal.SIGINT,))

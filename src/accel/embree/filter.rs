@@ -12,7 +12,9 @@
 use std::mem::MaybeUninit;
 use std::sync::Arc;
 
-use super::query::{self, Coherence};
+#[cfg(embree4)]
+use super::query::Context;
+use super::query::{self, Coherence, Query};
 use super::scene::CommittedScene;
 use super::sys;
 use super::user::{
@@ -31,11 +33,6 @@ pub(super) const SCENE_FLAG: sys::RTCSceneFlags =
 #[cfg(embree4)]
 pub(super) const SCENE_FLAG: sys::RTCSceneFlags =
     sys::RTCSceneFlags_RTC_SCENE_FLAG_FILTER_FUNCTION_IN_ARGUMENTS;
-
-#[cfg(embree3)]
-type Context = sys::RTCIntersectContext;
-#[cfg(embree4)]
-type Context = sys::RTCRayQueryContext;
 
 #[cfg(embree4)]
 thread_local! {
@@ -67,11 +64,12 @@ impl Drop for Collecting {
     }
 }
 
-/// An all-hits query's context: Embree's context first, so the filter finds
-/// the rest from the context pointer it is given.
+/// An all-hits query's context: the intersect queries' own first (Embree's
+/// context, then no f64 ray), so the filter finds the rest from the context
+/// pointer it is given.
 #[repr(C)]
 struct Collector<'a> {
-    context: Context,
+    query: Query<'a>,
     hits: *mut Vec<Hit>,
     panics: &'a PanicSlot,
 }
@@ -245,24 +243,31 @@ impl CommittedScene {
             let mut context = query::context(Coherence::Incoherent);
             context.filter = Some(collect);
             let mut collector = Collector {
-                context,
+                query: Query {
+                    context,
+                    exact: None,
+                },
                 hits,
                 panics: self.panics(),
             };
             let whole: *mut Collector = &mut collector;
-            // SAFETY: scene committed; the context is the first field of `collector`, whose
-            // pointer (made from the whole struct) outlives the call, as does `record`.
+            // SAFETY: scene committed; the context starts `collector` (in its `Query`, as the
+            // intersect callback reads it), whose pointer (made from the whole struct)
+            // outlives the call, as does `record`.
             unsafe { sys::rtcIntersect1(self.raw(), whole.cast(), &mut record) };
         }
         #[cfg(embree4)]
         {
             let mut collector = Collector {
-                context: query::context(),
+                query: Query {
+                    context: query::context(),
+                    exact: None,
+                },
                 hits,
                 panics: self.panics(),
             };
             let mut args =
-                query::intersect_arguments(Coherence::Incoherent, &mut collector.context);
+                query::intersect_arguments(Coherence::Incoherent, &mut collector.query.context);
             let whole: *mut Collector = &mut collector;
             args.context = whole.cast();
             args.filter = Some(collect);

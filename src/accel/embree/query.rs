@@ -6,10 +6,27 @@
 //! library, so they are written here from the bound constants.
 
 use super::sys;
-use crate::math::{Hit, Ray, Vec3};
+use crate::math::{Hit, Ray, Ray64, Vec3};
 
 const INVALID: u32 = sys::RTC_INVALID_GEOMETRY_ID;
 const LEVELS: usize = sys::RTC_MAX_INSTANCE_LEVEL_COUNT as usize;
+
+#[cfg(embree3)]
+pub(super) type Context = sys::RTCIntersectContext;
+#[cfg(embree4)]
+pub(super) type Context = sys::RTCRayQueryContext;
+
+/// The context of every intersect query: Embree's first, then the query's
+/// f64 ray, if it has one (a camera ray, `CommittedScene::intersect_exact`).
+/// Embree hands the intersect callback the context pointer it was given, so
+/// the callback reads the f64 ray from there (`user::intersect_callback`).
+/// Every `rtcIntersect*` call must pass a pointer made from a whole `Query`
+/// (or a struct that starts with one): the callback reads it as one.
+#[repr(C)]
+pub(super) struct Query<'a> {
+    pub(super) context: Context,
+    pub(super) exact: Option<&'a Ray64>,
+}
 
 /// A ray record ready for Embree: the whole ray mask set, ids invalid.
 pub(super) fn ray_record(ray: &Ray) -> sys::RTCRay {

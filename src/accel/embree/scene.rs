@@ -10,14 +10,14 @@ use super::device::Device;
 use super::filter::{self, CutoutData};
 use super::instance::Instances;
 use super::owned::UserPtr;
-use super::query::{self, Coherence};
+use super::query::{self, Coherence, Query};
 use super::sys;
 use super::user::{self, UserData};
 use crate::accel::cutout::Cutout;
 use crate::accel::panics::PanicSlot;
-use crate::accel::primitive::UserPrimitive;
+use crate::accel::primitive::{UserPrimitive, padding};
 use crate::error::{Error, Result};
-use crate::math::{Bounds, Hit, Ray, Vec3};
+use crate::math::{Bounds, Hit, Ray, Ray64, Vec3};
 
 /// Embree's BVH build quality.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -220,7 +220,12 @@ impl SceneBuilder {
         }
         let count = u32::try_from(prims.len())
             .map_err(|_| Error::Input(format!("geometry {geom_id}: too many primitives")))?;
+        // A panicking `bounds` is reported as the bounds callback's would be.
+        let pad = self.panics.guard(0.0, || {
+            padding(prims.iter().map(T::bounds).filter(|b| !b.is_empty()))
+        });
         let data: UserPtr<dyn Any + Send + Sync> = UserPtr::new(Box::new(UserData {
+            pad: if pad.is_finite() { pad } else { 0.0 },
             prims: prims.into_boxed_slice(),
             panics: Arc::clone(&self.panics),
         }));
@@ -322,7 +327,15 @@ impl CommittedScene {
     /// The nearest hit in (tnear, tfar), or `Hit::MISS`.
     pub fn intersect(&self, ray: &Ray) -> Hit {
         let mut record = query::rayhit_record(ray);
-        self.intersect_record(&mut record, Coherence::Incoherent);
+        self.intersect_record(&mut record, Coherence::Incoherent, None);
+        self.instances.to_world(query::hit_from_record(&record))
+    }
+
+    /// The nearest hit of `exact`'s rounding (over [0, inf)), with the user
+    /// primitives solving for `exact` itself (see `Ray64`).
+    pub fn intersect_exact(&self, exact: &Ray64) -> Hit {
+        let mut record = query::rayhit_record(&exact.rounded());
+        self.intersect_record(&mut record, Coherence::Incoherent, Some(exact));
         self.instances.to_world(query::hit_from_record(&record))
     }
 
@@ -373,13 +386,18 @@ impl CommittedScene {
 
     #[cfg(embree3)]
     fn intersect_records(&self, records: &mut [sys::RTCRayHit], coherence: Coherence) {
-        let mut context = query::context(coherence);
+        let mut query = Query {
+            context: query::context(coherence),
+            exact: None,
+        };
+        let whole: *mut Query = &mut query;
         // SAFETY: scene committed; `records` is a live slice of initialised RTCRayHit with
-        // the stride given, `context` is initialised; both are exclusively borrowed.
+        // the stride given; the context, initialised, is the first field of `query`, whose
+        // pointer (made from the whole struct) outlives the call; all exclusively borrowed.
         unsafe {
             sys::rtcIntersect1M(
                 self.scene.0.as_ptr(),
-                &mut context,
+                whole.cast(),
                 records.as_mut_ptr(),
                 records.len() as u32,
                 std::mem::size_of::<sys::RTCRayHit>(),
@@ -390,23 +408,39 @@ impl CommittedScene {
     #[cfg(embree4)]
     fn intersect_records(&self, records: &mut [sys::RTCRayHit], coherence: Coherence) {
         for record in records {
-            self.intersect_record(record, coherence);
+            self.intersect_record(record, coherence, None);
         }
     }
 
-    fn intersect_record(&self, record: &mut sys::RTCRayHit, coherence: Coherence) {
+    fn intersect_record(
+        &self,
+        record: &mut sys::RTCRayHit,
+        coherence: Coherence,
+        exact: Option<&Ray64>,
+    ) {
         #[cfg(embree3)]
         {
-            let mut context = query::context(coherence);
-            // SAFETY: scene committed; `context` and `record` are live, initialised and
-            // exclusively borrowed for the call.
-            unsafe { sys::rtcIntersect1(self.scene.0.as_ptr(), &mut context, record) };
+            let mut query = Query {
+                context: query::context(coherence),
+                exact,
+            };
+            let whole: *mut Query = &mut query;
+            // SAFETY: scene committed; the context, initialised, is the first field of
+            // `query`, whose pointer (made from the whole struct) outlives the call, as does
+            // `record`; both are exclusively borrowed for the call.
+            unsafe { sys::rtcIntersect1(self.scene.0.as_ptr(), whole.cast(), record) };
         }
         #[cfg(embree4)]
         {
-            let mut context = query::context();
-            let mut args = query::intersect_arguments(coherence, &mut context);
-            // SAFETY: as above; `args` points at `context`, which outlives the call.
+            let mut query = Query {
+                context: query::context(),
+                exact,
+            };
+            let mut args = query::intersect_arguments(coherence, &mut query.context);
+            let whole: *mut Query = &mut query;
+            args.context = whole.cast();
+            // SAFETY: as above; `args` points at the context, the first field of `query`,
+            // made from the whole struct; both outlive the call.
             unsafe { sys::rtcIntersect1(self.scene.0.as_ptr(), record, &mut args) };
         }
     }
@@ -441,6 +475,6 @@ impl CommittedScene {
     /// A raw query on a caller-owned record, for the layout guard tests.
     #[cfg(test)]
     pub(super) fn intersect_raw(&self, record: &mut sys::RTCRayHit) {
-        self.intersect_record(record, Coherence::Incoherent);
+        self.intersect_record(record, Coherence::Incoherent, None);
     }
 }

@@ -5,7 +5,7 @@ use super::*;
 use crate::accel::ftz::enable_flush_to_zero;
 use crate::accel::primitive::{UserHit, UserPrimitive};
 use crate::error::Error;
-use crate::math::{Hit, Ray, Vec3};
+use crate::math::{Hit, Ray, Ray64, Vec3};
 
 const LEVELS: usize = sys::RTC_MAX_INSTANCE_LEVEL_COUNT as usize;
 
@@ -190,7 +190,7 @@ impl UserPrimitive for TestSphere {
         }
     }
 
-    fn intersect(&self, ray: &Ray) -> Option<UserHit> {
+    fn intersect(&self, ray: &Ray, _: &Ray64) -> Option<UserHit> {
         let (t0, t1) = self.roots(ray)?;
         let t = if t0 >= ray.tnear { t0 } else { t1 };
         (t >= ray.tnear && t < ray.tfar).then(|| UserHit {
@@ -202,7 +202,7 @@ impl UserPrimitive for TestSphere {
     }
 
     fn occluded(&self, ray: &Ray) -> bool {
-        self.intersect(ray).is_some()
+        self.intersect(ray, &Ray64::of(ray)).is_some()
     }
 }
 

@@ -15,15 +15,18 @@ use std::ffi::c_void;
 use std::mem::MaybeUninit;
 
 use super::filter;
+use super::query::Query;
 use super::sys;
 use crate::accel::panics::PanicSlot;
 use crate::accel::primitive::{UserHit, UserPrimitive, crossings};
-use crate::math::{Bounds, Ray, Vec3};
+use crate::math::{Bounds, Ray, Ray64, Vec3};
 
 /// What Embree's geometry user pointer points at: the primitives (primID
-/// indexes them) and the scene's panic slot.
+/// indexes them), how far their boxes are grown (`primitive::padding`) and
+/// the scene's panic slot.
 pub(super) struct UserData<T> {
     pub(super) prims: Box<[T]>,
+    pub(super) pad: f32,
     pub(super) panics: std::sync::Arc<PanicSlot>,
 }
 
@@ -131,8 +134,10 @@ pub(super) extern "C" fn bounds_callback<T: UserPrimitive>(
     let args = unsafe { &*args };
     // SAFETY: the user pointer is our UserData<T> (set in `add_user`).
     let (data, prim) = unsafe { primitive::<T>(args.geometryUserPtr, args.primID) };
+    let finite = |b: &Bounds| !b.is_empty() && b.min.is_finite() && b.max.is_finite();
     let bounds = match data.panics.guard(None, || prim.map(T::bounds)) {
-        Some(b) if !b.is_empty() && b.min.is_finite() && b.max.is_finite() => b,
+        // Near f32's limit the padding may overflow: the box as it is, then.
+        Some(b) if finite(&b) => Some(b.grown(data.pad)).filter(finite).unwrap_or(b),
         _ => Bounds {
             min: Vec3::ZERO,
             max: Vec3::ZERO,
@@ -155,6 +160,11 @@ pub(super) extern "C" fn intersect_callback<T: UserPrimitive>(
     if n > MAX_LANES {
         return;
     }
+    // SAFETY: every intersect query passes a pointer made from a whole `Query` (Embree's
+    // context first), live for the query; Embree hands it on unchanged. Only the f64
+    // ray is read (Embree writes the instance stack before it), and no reference to
+    // the context is kept.
+    let f64_ray = unsafe { (*args.context.cast::<Query>()).exact };
     let base = args.rayhit.cast::<u32>();
     for i in 0..n {
         // SAFETY: `valid` has N initialised entries, lent to this call; no reference to
@@ -166,10 +176,13 @@ pub(super) extern "C" fn intersect_callback<T: UserPrimitive>(
         // SAFETY: `rayhit` is a live RTCRayHitN of N lanes that Embree filled with the
         // rays and lends to this call; the packet lives only for this read.
         let ray = unsafe { Packet::<u32>::new(base, RAY_FIELDS, n) }.ray(i);
+        // The query's f64 ray, where this lane's ray is its rounding: not in an
+        // instance's space, where the lane holds the ray moved there.
+        let exact = Ray64::for_ray(f64_ray, &ray);
         // Each crossing is offered to the filter functions (a query's all-hits
         // collector, a geometry's own), nearest first, until one is accepted.
         let found = data.panics.guard(None, || {
-            prim.and_then(|p| crossings(p, &ray, |hit| filter::offer(args, i, hit)))
+            prim.and_then(|p| crossings(p, &ray, &exact, |hit| filter::offer(args, i, hit)))
         });
         if let Some(hit) = found {
             // SAFETY: as above; the packets live only for these writes, after the filters ran.

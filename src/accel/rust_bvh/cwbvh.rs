@@ -27,7 +27,7 @@ use obvhs::ray::{RayHit, safe_inverse};
 use super::primitives::{Closest, Primitives};
 use crate::accel::panics::PanicSlot;
 use crate::error::{Error, Result};
-use crate::math::{Bounds, Hit, Ray};
+use crate::math::{Bounds, Hit, Ray, Ray64};
 use crate::scene::Scene;
 
 /// 2^40: large enough to push obvhs's cut-off below any t a float scene
@@ -71,11 +71,20 @@ impl CwbvhScene {
     /// The nearest hit; a panic in the traversal or a primitive is a miss
     /// and an error at the next `check`.
     pub fn intersect(&self, ray: &Ray) -> Hit {
+        self.nearest(ray, None)
+    }
+
+    /// The nearest hit of `exact`'s rounding, the shapes solving for `exact`.
+    pub fn intersect_exact(&self, exact: &Ray64) -> Hit {
+        self.nearest(&exact.rounded(), Some(exact))
+    }
+
+    fn nearest(&self, ray: &Ray, exact: Option<&Ray64>) -> Hit {
         if self.primitives.is_empty() {
             return Hit::MISS;
         }
         self.panics.guard(Hit::MISS, || {
-            let mut closest = Closest::new(ray);
+            let mut closest = Closest::new(ray, exact);
             let (traversal, k) = traversal_ray(ray);
             self.bvh
                 .ray_traverse(traversal, &mut RayHit::none(), |_, slot| {

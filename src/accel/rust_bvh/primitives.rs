@@ -4,11 +4,11 @@
 
 use super::triangle;
 use crate::accel::cutout::Cutout;
-use crate::accel::primitive::{UserHit, UserPrimitive, crossings};
+use crate::accel::primitive::{UserHit, UserPrimitive, crossings, padding};
 use crate::error::{Error, Result};
 use crate::geometry::Mesh;
 use crate::geometry::Shape;
-use crate::math::{Bounds, Hit, INVALID_ID, Ray, Vec3};
+use crate::math::{Bounds, Hit, INVALID_ID, Ray, Ray64, Vec3};
 use crate::scene::{Instance, Scene};
 
 #[derive(Clone, Copy, Debug)]
@@ -134,24 +134,15 @@ impl Primitives {
     }
 
     /// Each primitive's box, grown by 32 ulps of the scene's largest
-    /// coordinate. A ray lying exactly in a box's face (an axis-parallel ray
-    /// through a vertex on the boundary) has a slab that ends at t = 0 give or
-    /// take rounding, so the box may be missed though the vertex is hit: obvhs's
-    /// quantised test cancels two terms to a few ulps of noise of the scene's
-    /// size there, and a zero direction component puts the face at t = 0 ×
-    /// ∞. The padding puts every face clear of that, at no cost in culling.
+    /// coordinate (`primitive::padding`). A ray lying exactly in a box's face
+    /// (an axis-parallel ray through a vertex on the boundary) has a slab that
+    /// ends at t = 0 give or take rounding, so the box may be missed though the
+    /// vertex is hit: obvhs's quantised test cancels two terms to a few ulps of
+    /// noise of the scene's size there.
     pub(super) fn padded_bounds(&self) -> Vec<Bounds> {
         let boxes: Vec<Bounds> = self.list.iter().map(|p| self.bounds(p)).collect();
-        let scene = boxes.iter().fold(Bounds::EMPTY, |a, &b| a.union(b));
-        let largest = scene.min.abs().max(scene.max.abs()).max_element();
-        let pad = Vec3::splat(32.0 * f32::EPSILON * largest);
-        boxes
-            .into_iter()
-            .map(|b| Bounds {
-                min: b.min - pad,
-                max: b.max + pad,
-            })
-            .collect()
+        let pad = padding(boxes.iter().copied());
+        boxes.into_iter().map(|b| b.grown(pad)).collect()
     }
 
     fn bounds(&self, primitive: &Primitive) -> Bounds {
@@ -177,9 +168,10 @@ impl Primitives {
         self.list = order.iter().map(|&i| self.list[i as usize]).collect();
     }
 
-    /// The hit of primitive `index` within [ray.tnear, ray.tfar], if any.
+    /// The hit of primitive `index` within [ray.tnear, ray.tfar], if any;
+    /// a shape solves for `exact` where `ray` is its rounding (see `Ray64`).
     #[inline]
-    pub(super) fn intersect(&self, index: usize, ray: &Ray) -> Option<Hit> {
+    pub(super) fn intersect(&self, index: usize, ray: &Ray, exact: Option<&Ray64>) -> Option<Hit> {
         match self.list[index] {
             Primitive::Triangle {
                 corners,
@@ -204,12 +196,12 @@ impl Primitives {
                 geom_id,
                 prim_id,
                 inst_id,
-            } => crossings(
-                &self.shapes[index as usize],
-                &self.local(inst_id, ray),
-                |_| true,
-            )
-            .map(|h| self.shape_hit([geom_id, prim_id, inst_id], &h)),
+            } => {
+                let local = self.local(inst_id, ray);
+                let exact = Ray64::for_ray(exact, &local);
+                crossings(&self.shapes[index as usize], &local, &exact, |_| true)
+                    .map(|h| self.shape_hit([geom_id, prim_id, inst_id], &h))
+            }
         }
     }
 
@@ -238,16 +230,18 @@ impl Primitives {
     /// Every hit of primitive `index` within [ray.tnear, ray.tfar), appended to `hits`.
     pub(super) fn intersect_every(&self, index: usize, ray: &Ray, hits: &mut Vec<Hit>) {
         match self.list[index] {
-            Primitive::Triangle { .. } => hits.extend(self.intersect(index, ray)),
+            Primitive::Triangle { .. } => hits.extend(self.intersect(index, ray, None)),
             Primitive::Shape {
                 index,
                 geom_id,
                 prim_id,
                 inst_id,
             } => {
+                let local = self.local(inst_id, ray);
                 crossings(
                     &self.shapes[index as usize],
-                    &self.local(inst_id, ray),
+                    &local,
+                    &Ray64::of(&local),
                     |hit| {
                         hits.push(self.shape_hit([geom_id, prim_id, inst_id], hit));
                         false
@@ -261,7 +255,7 @@ impl Primitives {
     #[inline]
     pub(super) fn occludes(&self, index: usize, ray: &Ray) -> bool {
         match self.list[index] {
-            Primitive::Triangle { .. } => self.intersect(index, ray).is_some(),
+            Primitive::Triangle { .. } => self.intersect(index, ray, None).is_some(),
             Primitive::Shape { index, inst_id, .. } => {
                 UserPrimitive::occluded(&self.shapes[index as usize], &self.local(inst_id, ray))
             }
@@ -312,15 +306,19 @@ fn triangles(
 }
 
 /// The nearest hit found so far by a traversal, and the ray shortened to it.
-pub(super) struct Closest {
+pub(super) struct Closest<'a> {
     ray: Ray,
+    exact: Option<&'a Ray64>,
     hit: Hit,
 }
 
-impl Closest {
-    pub(super) fn new(ray: &Ray) -> Closest {
+impl<'a> Closest<'a> {
+    /// The search along `ray`; the shapes solve for `exact`, when given,
+    /// which `ray` must be the rounding of.
+    pub(super) fn new(ray: &Ray, exact: Option<&'a Ray64>) -> Closest<'a> {
         Closest {
             ray: *ray,
+            exact,
             hit: Hit::MISS,
         }
     }
@@ -328,7 +326,7 @@ impl Closest {
     /// Tests primitive `index`; true if it is the nearest hit so far.
     #[inline]
     pub(super) fn test(&mut self, primitives: &Primitives, index: usize) -> bool {
-        match primitives.intersect(index, &self.ray) {
+        match primitives.intersect(index, &self.ray, self.exact) {
             Some(hit) => {
                 self.ray.tfar = hit.t;
                 self.hit = hit;

@@ -14,7 +14,7 @@ use bvh::bvh::{Bvh, BvhNode};
 use super::primitives::{Closest, Primitives};
 use crate::accel::panics::PanicSlot;
 use crate::error::Result;
-use crate::math::{Hit, Ray, Vec3, gamma};
+use crate::math::{Hit, Ray, Ray64, Vec3, gamma};
 
 /// A leaf of the crate's BVH: the primitive's box and where the builder put it.
 struct Leaf {
@@ -79,9 +79,18 @@ impl SahScene {
     /// The nearest hit; a panic in the traversal or a primitive is a miss
     /// and an error at the next `check`.
     pub fn intersect(&self, ray: &Ray) -> Hit {
+        self.nearest(ray, None)
+    }
+
+    /// The nearest hit of `exact`'s rounding, the shapes solving for `exact`.
+    pub fn intersect_exact(&self, exact: &Ray64) -> Hit {
+        self.nearest(&exact.rounded(), Some(exact))
+    }
+
+    fn nearest(&self, ray: &Ray, exact: Option<&Ray64>) -> Hit {
         self.panics.guard(Hit::MISS, || {
             let segment = Segment::new(ray);
-            let mut closest = Closest::new(ray);
+            let mut closest = Closest::new(ray, exact);
             for leaf in self.bvh.traverse_iterator(&segment, &self.leaves) {
                 if closest.test(&self.primitives, leaf.primitive as usize) {
                     segment.tfar.set(closest.tfar());

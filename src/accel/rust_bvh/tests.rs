@@ -2,7 +2,7 @@
 
 use crate::accel::{Accel, Backend};
 use crate::geometry::Mesh;
-use crate::math::{Hit, Ray, Vec3};
+use crate::math::{Hit, Ray, Ray64, Vec3};
 use crate::scene::{Camera, RenderSettings, Scene};
 use crate::shading::Material;
 
@@ -143,5 +143,68 @@ fn an_empty_scene_is_all_misses_and_a_bad_index_an_error() {
     for backend in Backend::ALL {
         let error = Accel::build(&bad, backend, None).err().unwrap();
         assert!(error.to_string().contains("out of range"), "{error}");
+    }
+}
+
+/// A torus whose top is grazed by an f64 ray whose f32 rounding passes just
+/// above it: centre (0, 0, 3), axis z, R = 1, and r just below 1/4, so the
+/// top z = 3 + r lies 1e-9 below the f32 value 3.25. The ray runs along x at
+/// y = R and z₀ = 3.25 − 1.1e-7, δ = 1.09e-7 below the top (9e-8 of the
+/// torus's size). There the tube's top is r − x⁴/8r + …, so the ray crosses
+/// it at x = ±(8rδ)^¼ = ±0.0216, t = 5 ∓ 0.0216. Its f32 rounding has
+/// z₀ = 3.25, 1e-9 above the top, and misses; it also lies in the top face
+/// of the torus's f32 box, which the BVHs must not cull (`padding`).
+fn grazed_torus() -> (Scene, Ray64) {
+    use glam::{DAffine3, DVec3};
+
+    use crate::geometry::{Shape, Surface};
+    use crate::poly::solve::Solver;
+
+    let top = 3.25 - 1e-9;
+    let torus = Shape::new(
+        Surface::Torus {
+            major: 1.0,
+            minor: top - 3.0,
+        },
+        DAffine3::from_translation(DVec3::new(0.0, 0.0, 3.0)),
+        None,
+        0,
+        Solver::default(),
+    )
+    .unwrap();
+    let mut scene = mesh_scene(Vec::new(), Vec::new());
+    scene.meshes.clear();
+    scene.shapes.push(torus);
+    let ray = Ray64 {
+        origin: DVec3::new(-5.0, 1.0, 3.25 - 1.1e-7),
+        dir: DVec3::X,
+    };
+    (scene, ray)
+}
+
+#[test]
+fn a_camera_ray_is_traced_in_f64_where_its_f32_rounding_misses() {
+    let (scene, exact) = grazed_torus();
+    let rounded = exact.rounded();
+    assert_eq!(rounded.origin.z, 3.25, "the f32 ray passes above the top");
+    for accel in every_backend(&scene) {
+        let name = accel.describe();
+        assert!(
+            !accel.intersect(&rounded).is_hit(),
+            "{name}: the f32 ray misses"
+        );
+        let hit = accel.intersect_exact(&exact);
+        assert!(hit.is_hit(), "{name}: the f64 ray grazes the torus");
+        let depth = (3.25 - 1e-9) - exact.origin.z;
+        let nearer = 5.0 - (8.0 * 0.25 * depth).powf(0.25);
+        assert!(
+            (f64::from(hit.t) - nearer).abs() < 1e-4,
+            "{name}: t = {}",
+            hit.t
+        );
+        // The same ray as f32 values in a ray of its own is only its rounding.
+        let widened = Ray64::of(&rounded);
+        assert!(!accel.intersect_exact(&widened).is_hit(), "{name}");
+        accel.check().unwrap();
     }
 }

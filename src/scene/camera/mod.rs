@@ -8,7 +8,7 @@ use glam::DVec3;
 
 use super::GIB;
 use super::file::physical_memory;
-use crate::math::{Bounds, RAY_LIMIT, Ray, Vec3, sci, unit};
+use crate::math::{Bounds, RAY_LIMIT, Ray, Ray64, Vec3, sci};
 use crate::sampling::warp::concentric_disk;
 
 /// The view direction must make at least this sine with `up`, and eye and
@@ -164,29 +164,34 @@ impl Optics {
 /// A camera's image plane, as POV-Ray gives it: none of the three vectors
 /// need be perpendicular to another, and right and up need not have the
 /// image's aspect ratio (the image is then stretched, as POV-Ray's is).
+/// In f64, as POV-Ray resolves it: a ray that grazes a surface by less than
+/// an f32 ulp of its direction is hit or missed as POV-Ray's is only if the
+/// plane is not rounded to f32 first.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct ImagePlane {
     /// From the eye to the image's centre.
-    pub direction: Vec3,
+    pub direction: DVec3,
     /// Across the whole image, from its left edge to its right.
-    pub right: Vec3,
+    pub right: DVec3,
     /// Across the whole image, from its bottom edge to its top.
-    pub up: Vec3,
+    pub up: DVec3,
 }
 
-/// The camera's frame, precomputed once per render.
+/// The camera's frame, precomputed once per render, in f64: the rays are
+/// made in f64 ([`CameraFrame::ray64`]) and traced as such by the analytic
+/// shapes, their f32 rounding by the BVH (see `Ray64`).
 #[derive(Clone, Copy, Debug)]
 pub struct CameraFrame {
-    eye: Vec3,
+    eye: DVec3,
     /// Image-plane axes, scaled so pixel (0,0)..(w,h) spans the view (at
     /// distance 1 for a look_at camera; any distance does, as rays are
     /// normalised). For an orthographic camera they span the view's own
     /// size, as offsets of the ray's origin from the eye.
-    right: Vec3,
-    down: Vec3,
-    top_left: Vec3,
+    right: DVec3,
+    down: DVec3,
+    top_left: DVec3,
     /// Parallel rays along this direction (orthographic), or none.
-    parallel: Option<Vec3>,
+    parallel: Option<DVec3>,
     lens: Option<LensFrame>,
 }
 
@@ -194,10 +199,10 @@ pub struct CameraFrame {
 #[derive(Clone, Copy, Debug)]
 struct LensFrame {
     /// The lens disc's axes, each as long as its radius.
-    right: Vec3,
-    up: Vec3,
-    forward: Vec3,
-    focus_distance: f32,
+    right: DVec3,
+    up: DVec3,
+    forward: DVec3,
+    focus_distance: f64,
 }
 
 impl Default for Camera {
@@ -272,13 +277,13 @@ impl Camera {
     /// and `fov` filled in for display: the plane's centre, its up, and the
     /// angle between the rays through the middle of its top and bottom edges.
     pub fn with_plane(eye: Vec3, plane: ImagePlane, width: u32, height: u32) -> Camera {
-        let (direction, up) = (plane.direction.as_dvec3(), plane.up.as_dvec3());
+        let (direction, up) = (plane.direction, plane.up);
         let fov = (direction + 0.5 * up).angle_between(direction - 0.5 * up);
         Camera {
             keys: Vec::new(),
             eye,
-            look_at: eye + plane.direction,
-            up: plane.up,
+            look_at: (eye.as_dvec3() + direction).as_vec3(),
+            up: up.as_vec3(),
             fov: fov.to_degrees() as f32,
             width,
             height,
@@ -381,29 +386,30 @@ impl Camera {
         if let Some(plane) = &self.plane {
             return plane.frame(self.eye, self.width, self.height);
         }
-        // `unit`: a view a billionth long, or ten billion, still has a direction.
-        let forward = unit(self.look_at - self.eye);
-        let right = unit(forward.cross(self.up));
+        // In f64: a view a billionth long, or ten billion, still has a direction.
+        let eye = self.eye.as_dvec3();
+        let forward = (self.look_at.as_dvec3() - eye).normalize_or_zero();
+        let right = forward.cross(self.up.as_dvec3()).normalize_or_zero();
         let true_up = right.cross(forward);
-        let aspect = self.width as f32 / self.height as f32;
-        let half_fov = (0.5 * self.fov).to_radians().tan();
+        let aspect = f64::from(self.width) / f64::from(self.height);
+        let half_fov = (0.5 * f64::from(self.fov)).to_radians().tan();
         let (half_w, half_h, centre, parallel) = match self.optics.projection {
             Projection::Perspective => (half_fov * aspect, half_fov, forward, None),
             Projection::PerspectiveX => (half_fov, half_fov / aspect, forward, None),
             Projection::Orthographic { view_width } => {
-                let half = 0.5 * view_width;
-                (half, half / aspect, Vec3::ZERO, Some(forward))
+                let half = 0.5 * f64::from(view_width);
+                (half, half / aspect, DVec3::ZERO, Some(forward))
             }
         };
-        let pixel = 2.0 * half_h / self.height as f32;
+        let pixel = 2.0 * half_h / f64::from(self.height);
         let lens = self.optics.lens.map(|l| LensFrame {
-            right: right * l.aperture,
-            up: true_up * l.aperture,
+            right: right * f64::from(l.aperture),
+            up: true_up * f64::from(l.aperture),
             forward,
-            focus_distance: l.focus_distance,
+            focus_distance: f64::from(l.focus_distance),
         });
         CameraFrame {
-            eye: self.eye,
+            eye,
             right: right * pixel,
             down: -true_up * pixel,
             top_left: centre - right * half_w + true_up * half_h,
@@ -470,7 +476,7 @@ impl ImagePlane {
         if let Some((key, v)) = named.iter().find(|(_, v)| !v.is_finite()) {
             return Some((key, format!("expected finite numbers, found {}", sci(*v))));
         }
-        let [d, r, u] = [self.direction, self.right, self.up].map(Vec3::as_dvec3);
+        let [d, r, u] = [self.direction, self.right, self.up];
         let normal = r.cross(u);
         // NaN when right or up is zero.
         let sine = normal.length() / (r.length() * u.length());
@@ -504,16 +510,16 @@ impl ImagePlane {
     /// The frame of an image of `width` × `height` pixels seen through this
     /// plane from `eye`.
     fn frame(&self, eye: Vec3, width: u32, height: u32) -> CameraFrame {
-        let [d, r, u] = [self.direction, self.right, self.up].map(Vec3::as_dvec3);
+        let [d, r, u] = [self.direction, self.right, self.up];
         // Rays are normalised, so the plane may be scaled at will: at unit size
-        // the f32 sums of the ray directions can neither overflow nor underflow.
+        // the sums of the ray directions can neither overflow nor underflow.
         let scale = 1.0 / d.abs().max(r.abs()).max(u.abs()).max_element();
         let (d, r, u) = (scale * d, scale * r, scale * u);
         CameraFrame {
-            eye,
-            right: (r / f64::from(width)).as_vec3(),
-            down: (-u / f64::from(height)).as_vec3(),
-            top_left: (d - 0.5 * r + 0.5 * u).as_vec3(),
+            eye: eye.as_dvec3(),
+            right: r / f64::from(width),
+            down: -u / f64::from(height),
+            top_left: d - 0.5 * r + 0.5 * u,
             parallel: None,
             lens: None,
         }
@@ -604,30 +610,49 @@ impl CameraFrame {
     /// top-left corner: pixel (i, j)'s centre is (i + 0.5, j + 0.5); from
     /// the lens's centre when there is a lens.
     pub fn ray(&self, x: f32, y: f32) -> Ray {
-        let at = self.top_left + x * self.right + y * self.down;
+        self.ray64(x, y).rounded()
+    }
+
+    /// [`CameraFrame::ray`] in f64, before its rounding to f32.
+    pub fn ray64(&self, x: f32, y: f32) -> Ray64 {
+        let at = self.top_left + f64::from(x) * self.right + f64::from(y) * self.down;
         match self.parallel {
-            Some(forward) => Ray::new(self.eye + at, forward),
-            None => Ray::new(self.eye, at.normalize()),
+            Some(forward) => Ray64 {
+                origin: self.eye + at,
+                dir: forward,
+            },
+            None => Ray64 {
+                origin: self.eye,
+                dir: at.normalize(),
+            },
         }
     }
 
     /// Whether rays need a lens sample ([`CameraFrame::lens_ray`]).
     pub fn has_lens(&self) -> bool {
-        self.lens.is_some_and(|l| l.right != Vec3::ZERO)
+        self.lens.is_some_and(|l| l.right != DVec3::ZERO)
     }
 
     /// The ray through (x, y) from the lens point `lens` ∈ [0, 1)² (warped
     /// to the disc concentrically, so stratified samples stay stratified):
     /// aimed at where the pinhole ray meets the plane in focus.
     pub fn lens_ray(&self, x: f32, y: f32, lens: [f32; 2]) -> Ray {
-        let pinhole = self.ray(x, y);
+        self.lens_ray64(x, y, lens).rounded()
+    }
+
+    /// [`CameraFrame::lens_ray`] in f64, before its rounding to f32.
+    pub fn lens_ray64(&self, x: f32, y: f32, lens: [f32; 2]) -> Ray64 {
+        let pinhole = self.ray64(x, y);
         let Some(l) = self.lens else {
             return pinhole;
         };
-        let [u, v] = concentric_disk(lens);
-        let focus = pinhole.at(l.focus_distance / pinhole.dir.dot(l.forward));
+        let [u, v] = concentric_disk(lens).map(f64::from);
+        let focus = pinhole.origin + (l.focus_distance / pinhole.dir.dot(l.forward)) * pinhole.dir;
         let origin = pinhole.origin + u * l.right + v * l.up;
-        Ray::new(origin, (focus - origin).normalize())
+        Ray64 {
+            origin,
+            dir: (focus - origin).normalize(),
+        }
     }
 }
 

@@ -135,9 +135,9 @@ fn a_path_is_checked_between_its_keys_not_only_at_them() {
 /// 4×3 image with `right` of the image's aspect ratio.
 fn sample_plane() -> ImagePlane {
     ImagePlane {
-        direction: Vec3::new(0.0, 0.1, 1.5),
-        right: Vec3::new(4.0 / 3.0, 0.0, 0.0),
-        up: Vec3::Y,
+        direction: DVec3::new(0.0, 0.1, 1.5),
+        right: DVec3::new(4.0 / 3.0, 0.0, 0.0),
+        up: DVec3::Y,
     }
 }
 
@@ -174,13 +174,13 @@ fn an_image_plane_is_stretched_and_skewed_as_given() {
     // `right` twice as long as the image is wide for its height: the image
     // is stretched, not fitted to the aspect ratio.
     let mut plane = sample_plane();
-    plane.right = Vec3::new(2.0, 0.0, 0.0);
+    plane.right = DVec3::new(2.0, 0.0, 0.0);
     let stretched = Camera::with_plane(Vec3::ZERO, plane, 4, 3);
     assert_ray(&stretched, (4.0, 1.5), [1.0, 0.1, 1.5]);
     assert_ray(&stretched, (0.0, 0.0), [-1.0, 0.6, 1.5]);
     // `up` leaning to the right: the top edge's middle moves by half of it.
     let mut plane = sample_plane();
-    plane.up = Vec3::new(0.5, 1.0, 0.0);
+    plane.up = DVec3::new(0.5, 1.0, 0.0);
     let skewed = Camera::with_plane(Vec3::ZERO, plane, 4, 3);
     assert_ray(&skewed, (2.0, 0.0), [0.25, 0.6, 1.5]);
     assert_ray(&skewed, (0.0, 3.0), [-2.0 / 3.0 - 0.25, -0.4, 1.5]);
@@ -210,9 +210,9 @@ fn an_image_plane_at_any_scale_makes_the_same_rays() {
 #[test]
 fn an_image_plane_shows_its_centre_and_vertical_angle() {
     let plane = ImagePlane {
-        direction: Vec3::Z,
-        right: Vec3::X,
-        up: 2.0 * Vec3::Y,
+        direction: DVec3::Z,
+        right: DVec3::X,
+        up: 2.0 * DVec3::Y,
     };
     let c = Camera::with_plane(Vec3::new(0.0, 0.0, -5.0), plane, 10, 10);
     assert_eq!(c.look_at, Vec3::new(0.0, 0.0, -4.0));
@@ -235,32 +235,32 @@ fn an_image_plane_that_makes_no_rays_is_refused() {
     assert!(with(|_| ()).is_ok());
     type Edit = fn(&mut ImagePlane);
     let cases: [(Edit, &str, &str); 9] = [
-        (|p| p.up.y = f32::NAN, "camera.up", "finite"),
+        (|p| p.up.y = f64::NAN, "camera.up", "finite"),
         (
-            |p| p.direction.z = f32::INFINITY,
+            |p| p.direction.z = f64::INFINITY,
             "camera.direction",
             "finite",
         ),
-        (|p| p.right = Vec3::ZERO, "camera.right", "parallel"),
+        (|p| p.right = DVec3::ZERO, "camera.right", "parallel"),
         (
-            |p| p.right = Vec3::new(0.0, -3.0, 0.0),
+            |p| p.right = DVec3::new(0.0, -3.0, 0.0),
             "camera.right",
             "parallel",
         ),
         // A sine of 1e-5 between right and up is too little, 1e-3 enough
         // (below: the accepted case).
         (
-            |p| p.up = Vec3::new(1.0, 1e-5, 0.0),
+            |p| p.up = DVec3::new(1.0, 1e-5, 0.0),
             "camera.right",
             "parallel",
         ),
         (
-            |p| p.direction = Vec3::ZERO,
+            |p| p.direction = DVec3::ZERO,
             "camera.direction",
             "plane of right and up",
         ),
         (
-            |p| p.direction = Vec3::new(5.0, -2.0, 0.0),
+            |p| p.direction = DVec3::new(5.0, -2.0, 0.0),
             "camera.direction",
             "plane",
         ),
@@ -273,7 +273,7 @@ fn an_image_plane_that_makes_no_rays_is_refused() {
         assert_eq!(p.key, key, "case {i}: {}", p.message);
         assert!(p.message.contains(words), "case {i}: {}", p.message);
     }
-    assert!(with(|p| p.up = Vec3::new(1.0, 1e-3, 0.0)).is_ok());
+    assert!(with(|p| p.up = DVec3::new(1.0, 1e-3, 0.0)).is_ok());
     // Looking backwards (the plane behind the eye's z) is a view like any other.
     assert!(with(|p| p.direction.z = -1.5).is_ok());
     // The eye is checked as for any camera.

@@ -80,9 +80,9 @@ pub(super) fn scene(
         .resolve()
         .map_err(|m| parser.error_at(camera.loc, m))?;
     let plane = ImagePlane {
-        direction: resolved.direction.as_vec3(),
-        right: resolved.right.as_vec3(),
-        up: resolved.up.as_vec3(),
+        direction: resolved.direction,
+        right: resolved.right,
+        up: resolved.up,
     };
     scene.camera = Camera::with_plane(resolved.location.as_vec3(), plane, size.0, size.1);
     scene
