@@ -396,25 +396,36 @@ mod tests {
     use crate::poly::exact::exact_count;
     use proptest::prelude::*;
 
+    /// A quartic's coefficients (lowest first) from real roots, clusters,
+    /// tangent pairs and complex pairs close to the axis (grazes), with an
+    /// interval (a, b).
+    fn quartic_and_interval() -> impl Strategy<Value = (Vec<f64>, f64, f64)> {
+        (
+            prop::collection::vec(root_near(), 4),
+            prop::collection::vec(
+                (
+                    -2.0..40.0f64,
+                    prop_oneof![1e-9..1e-3f64, 1e-3..5.0f64, 5.0..30.0f64],
+                ),
+                0..=2,
+            ),
+            prop_oneof![Just(1.0), 1e-3..1e3f64, -1e3..-1e-3f64],
+            -1.0..20.0f64,
+            prop_oneof![0.01..1.0f64, 1.0..100.0f64],
+        )
+            .prop_map(|(real, pairs, lead, a, len)| {
+                let c = product(lead, &real[..4 - 2 * pairs.len()], &pairs);
+                (c, a, a + len)
+            })
+    }
+
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(2000))]
 
         // Every Empty and Nearest answer is checked against the exact Sturm
-        // count of the quartic whose coefficients are the f64 ones: clusters,
-        // tangent pairs and complex pairs close to the axis (grazes).
+        // count of the quartic whose coefficients are the f64 ones.
         #[test]
-        fn what_it_proves_is_true(
-            real in prop::collection::vec(root_near(), 4),
-            pairs in prop::collection::vec(
-                (-2.0..40.0f64, prop_oneof![1e-9..1e-3f64, 1e-3..5.0f64, 5.0..30.0f64]),
-                0..=2,
-            ),
-            lead in prop_oneof![Just(1.0), 1e-3..1e3f64, -1e3..-1e-3f64],
-            a in -1.0..20.0f64,
-            len in prop_oneof![0.01..1.0f64, 1.0..100.0f64],
-        ) {
-            let c = product(lead, &real[..4 - 2 * pairs.len()], &pairs);
-            let b = a + len;
+        fn what_it_proves_is_true((c, a, b) in quartic_and_interval()) {
             match screen::<false>(&c, a, b, 0.0) {
                 Screen::Empty => prop_assert_eq!(open_count(&c, a, b), 0, "empty, but roots"),
                 Screen::Nearest { lo, hi, flo, fhi, .. } => {
@@ -435,18 +446,7 @@ mod tests {
         // tests): no exact root before the bracket by more than that, and
         // one within it, widened by as much.
         #[test]
-        fn what_the_walk_proves_is_true(
-            real in prop::collection::vec(root_near(), 4),
-            pairs in prop::collection::vec(
-                (-2.0..40.0f64, prop_oneof![1e-9..1e-3f64, 1e-3..5.0f64, 5.0..30.0f64]),
-                0..=2,
-            ),
-            lead in prop_oneof![Just(1.0), 1e-3..1e3f64, -1e3..-1e-3f64],
-            a in -1.0..20.0f64,
-            len in prop_oneof![0.01..1.0f64, 1.0..100.0f64],
-        ) {
-            let c = product(lead, &real[..4 - 2 * pairs.len()], &pairs);
-            let b = a + len;
+        fn what_the_walk_proves_is_true((c, a, b) in quartic_and_interval()) {
             let tolerance = 1e-12;
             match screen::<true>(&c, a, b, tolerance) {
                 Screen::Empty => prop_assert_eq!(open_count(&c, a, b), 0, "empty, but roots"),
@@ -465,6 +465,29 @@ mod tests {
                 Screen::Unsure => {}
             }
         }
+    }
+
+    #[test]
+    fn a_walk_onto_an_exact_zero_brackets_the_root() {
+        // The walk met q = 0 exactly at a Laguerre point (found by the
+        // property test): a bracket must still have ends of opposite signs.
+        let c = product(
+            -0.001,
+            &[24.43418712374569, 27.32048149913449, 0.0, 0.0],
+            &[],
+        );
+        let a = 4.884799338579024;
+        let Screen::Nearest {
+            lo, hi, flo, fhi, ..
+        } = screen::<true>(&c, a, a + 55.6, 1e-12)
+        else {
+            panic!("not bracketed");
+        };
+        assert!(opposite(flo, fhi), "[{lo}, {hi}]: {flo}, {fhi}");
+        assert!(
+            lo <= 24.43418712374569 && 24.43418712374569 <= hi,
+            "[{lo}, {hi}]"
+        );
     }
 
     #[test]
