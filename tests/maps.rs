@@ -67,6 +67,15 @@ fn down_rays() -> Vec<Ray> {
     rays
 }
 
+/// Whether `t` is the exact `expected` (4 or 5 for these rays) to within an
+/// ulp. Embree picks its kernels by the CPU at run time and its t is not
+/// always the correctly rounded one: Embree 3.13.5 on an AMD EPYC with AVX2
+/// and no AVX-512 gives 3.9999998 here, one ulp below 4, where other
+/// machines give 4 (as src/accel/rust_bvh/tests.rs's `at_one`).
+fn at(t: f32, expected: f32) -> bool {
+    (t - expected).abs() <= expected * f32::EPSILON
+}
+
 /// What each ray must find: over the opaque half the leaf (geometry 0, t =
 /// 4), over the clear half the wall behind it (geometry 1, t = 5).
 fn check_hits(accel: &Accel, rays: &[Ray], what: &str) {
@@ -76,7 +85,8 @@ fn check_hits(accel: &Accel, rays: &[Ray], what: &str) {
         let hit = accel.intersect(ray);
         let opaque = ray.origin.x < 0.0;
         let (geom_id, t) = if opaque { (0, 4.0) } else { (1, 5.0) };
-        assert_eq!((hit.geom_id, hit.t), (geom_id, t), "{what}: {ray:?}");
+        assert_eq!(hit.geom_id, geom_id, "{what}: {ray:?}");
+        assert!(at(hit.t, t), "{what}: t = {}, {ray:?}", hit.t);
         assert_eq!(*batched, hit, "{what}: batch, {ray:?}");
         // A shadow ray that ends between the squares is blocked only by the leaf.
         let mut shadow = *ray;
@@ -127,7 +137,8 @@ fn instances_keep_their_prototypes_cut_outs() {
             } else {
                 (1, 5.0)
             };
-            assert_eq!((hit.geom_id, hit.t), expected, "{backend:?}: {ray:?}");
+            assert_eq!(hit.geom_id, expected.0, "{backend:?}: {ray:?}");
+            assert!(at(hit.t, expected.1), "{backend:?}: t = {}, {ray:?}", hit.t);
             assert_eq!(hit.inst_id, 0, "{backend:?}");
         }
     }
@@ -183,10 +194,13 @@ fn an_instances_own_material_decides_its_cut_outs_on_every_backend() {
                     (false, 2) => None,
                     (false, _) => Some((1, 5.0)),
                 };
-                let found = hit.is_hit().then_some((hit.geom_id, hit.t));
-                assert_eq!(found, expected, "{what}");
+                let found = hit.is_hit().then_some(hit.geom_id);
+                assert_eq!(found, expected.map(|(id, _)| id), "{what}");
+                if let Some((_, t)) = expected {
+                    assert!(at(hit.t, t), "{what}: t = {}", hit.t);
+                }
                 assert_eq!(
-                    all.iter().filter(|h| h.t == 4.0).count(),
+                    all.iter().filter(|h| at(h.t, 4.0)).count(),
                     usize::from(there),
                     "{what}"
                 );
