@@ -34,7 +34,8 @@ impl Sample {
     }
 }
 
-#[derive(Clone, Copy, Debug, PartialEq)]
+// Zeroable: a render's pass buffer starts as zero bytes (see render::render).
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Zeroable)]
 pub struct Pixel {
     /// Σ weight · radiance.
     pub radiance: [f64; 3],

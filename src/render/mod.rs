@@ -72,6 +72,42 @@ const FIRST_PASS_GRACE: std::time::Duration = std::time::Duration::from_secs(1);
 /// to many threads, large enough that scheduling costs nothing.
 const TILE: usize = 16;
 
+/// The region's tiles, row by row of tiles.
+fn tiles_of(region: Region) -> Vec<Region> {
+    (region.y0..region.y1)
+        .step_by(TILE)
+        .flat_map(|y0| {
+            (region.x0..region.x1).step_by(TILE).map(move |x0| Region {
+                x0,
+                y0,
+                x1: (x0 + TILE).min(region.x1),
+                y1: (y0 + TILE).min(region.y1),
+            })
+        })
+        .collect()
+}
+
+/// Each tile (of `tiles_of(region)`) as its rows of `pixels` (the region's,
+/// row by row): disjoint slices a worker can write while the others write
+/// theirs.
+fn tile_rows<'a>(
+    pixels: &'a mut [Pixel],
+    region: Region,
+    tiles: &[Region],
+) -> Vec<Vec<&'a mut [Pixel]>> {
+    let mut rows: Vec<Vec<&mut [Pixel]>> = tiles
+        .iter()
+        .map(|t| Vec::with_capacity(t.height()))
+        .collect();
+    let across = region.width().div_ceil(TILE);
+    for (y, row) in pixels.chunks_mut(region.width()).enumerate() {
+        for (i, piece) in row.chunks_mut(TILE).enumerate() {
+            rows[y / TILE * across + i].push(piece);
+        }
+    }
+    rows
+}
+
 /// A rayon pool whose threads all run with FTZ/DAZ, as Embree asks.
 pub fn thread_pool(threads: Option<usize>) -> Result<rayon::ThreadPool> {
     rayon::ThreadPoolBuilder::new()
@@ -104,11 +140,15 @@ pub fn render(scene: &Scene, accel: &Accel, options: &RenderOptions) -> Result<R
              and no more than the scene's max_spp"
         )));
     }
+    // A fresh render has no film until its first pass ends: that pass
+    // starts every pixel from `Pixel::default()` and writes the film whole.
     let (mut film, from) = match &options.resume {
-        Some((film, done)) => (film.clone(), *done),
-        None => (Film::of_region(width, height, region), 0),
+        Some((film, done)) => (Some(film.clone()), *done),
+        None => (None, 0),
     };
-    if (film.width, film.height, film.region) != (width, height, region) {
+    if let Some(film) = &film
+        && (film.width, film.height, film.region) != (width, height, region)
+    {
         return Err(Error::Input(
             "the film state to resume holds another image size or region".into(),
         ));
@@ -140,17 +180,7 @@ pub fn render(scene: &Scene, accel: &Accel, options: &RenderOptions) -> Result<R
     // An interrupted photon pass leaves no map: no pass can run without it.
     let photons_cut = plan.photon && caustics.is_none();
     let integrator = Tracer::new(scene, accel, plan, caustics.as_ref());
-    let tiles: Vec<Region> = (region.y0..region.y1)
-        .step_by(TILE)
-        .flat_map(|y0| {
-            (region.x0..region.x1).step_by(TILE).map(move |x0| Region {
-                x0,
-                y0,
-                x1: (x0 + TILE).min(region.x1),
-                y1: (y0 + TILE).min(region.y1),
-            })
-        })
-        .collect();
+    let tiles = tiles_of(region);
 
     let passes = passes::passes(spp, adaptive, from);
     let total = passes
@@ -161,24 +191,37 @@ pub fn render(scene: &Scene, accel: &Accel, options: &RenderOptions) -> Result<R
     let rays_done = AtomicU64::new(photon_rays.total());
     let mut stats = photon_rays;
     let (mut samples_done, mut nonfinite) = (from, 0);
+    // Each pass writes its pixels in place into a second buffer, read from
+    // the film, and the two swap when the pass ends: a pass an interrupt
+    // cuts short is then dropped whole without a copy, and no pass gathers
+    // tiles to copy them over one by one. Copying 50 MB of 800x600 pixels
+    // on one thread, and filling a fresh film with defaults before, were
+    // 15% of the render time of POV-Ray's torus.pov at 1 spp on 2 threads.
+    let mut spare: Option<Vec<Pixel>> = None;
     for range in passes {
         // A pass an interrupt cuts short is dropped whole: the film keeps
         // only complete passes, which is what its state can describe.
         if stop() && (!passes::is_first(&range) || photons_cut) {
             break;
         }
-        let film_ref = &film;
         let first = passes::is_first(&range);
-        let results: Option<Vec<(Vec<Pixel>, RayStats, u64)>> = pool.install(|| {
+        // Zero bytes the kernel maps on first write, from every thread at
+        // once; each pixel is overwritten before anything reads it.
+        let mut next = spare
+            .take()
+            .unwrap_or_else(|| bytemuck::zeroed_vec(region.area()));
+        let rows = tile_rows(&mut next, region, &tiles);
+        let prev = film.as_ref();
+        let results: Option<Vec<(RayStats, u64)>> = pool.install(|| {
             tiles
                 .par_iter()
-                .map(|tile| {
+                .zip(rows)
+                .map(|(tile, mut rows)| {
                     let mut tally = Tally::default();
                     let mut bad = 0;
-                    let mut pixels = Vec::with_capacity(tile.area());
-                    for y in tile.y0..tile.y1 {
-                        for x in tile.x0..tile.x1 {
-                            let mut pixel = *film_ref.pixel(x, y);
+                    for (y, row) in (tile.y0..tile.y1).zip(rows.iter_mut()) {
+                        for (x, out) in (tile.x0..tile.x1).zip(row.iter_mut()) {
+                            let mut pixel = prev.map_or_else(Pixel::default, |f| *f.pixel(x, y));
                             bad += passes::sample_pass(
                                 &mut pixel,
                                 range.clone(),
@@ -196,18 +239,18 @@ pub fn render(scene: &Scene, accel: &Accel, options: &RenderOptions) -> Result<R
                                     Some(sample)
                                 },
                             )?;
-                            pixels.push(pixel);
+                            *out = pixel;
                         }
                     }
                     let stats = tally.totals();
                     let done =
                         rays_done.fetch_add(stats.total(), Ordering::Relaxed) + stats.total();
                     if let Some(bar) = &progress {
-                        bar.inc(pixels.len() as u64 * u64::from(range.end - range.start));
+                        bar.inc(tile.area() as u64 * u64::from(range.end - range.start));
                         let mrays = done as f64 / start.elapsed().as_secs_f64() / 1e6;
                         bar.set_message(format!("{mrays:.2} Mrays/s"));
                     }
-                    Some((pixels, stats, bad))
+                    Some((stats, bad))
                 })
                 .collect()
         });
@@ -215,15 +258,20 @@ pub fn render(scene: &Scene, accel: &Accel, options: &RenderOptions) -> Result<R
         let Some(results) = results else {
             break;
         };
-        for (tile, (pixels, tile_stats, bad)) in tiles.iter().zip(results) {
-            for (i, pixel) in pixels.into_iter().enumerate() {
-                *film.pixel_mut(tile.x0 + i % tile.width(), tile.y0 + i / tile.width()) = pixel;
-            }
+        for (tile_stats, bad) in results {
             stats += tile_stats;
             nonfinite += bad;
         }
+        let done = Film {
+            width,
+            height,
+            region,
+            pixels: next,
+        };
+        spare = film.replace(done).map(|f| f.pixels);
         samples_done = range.end;
     }
+    let film = film.unwrap_or_else(|| Film::of_region(width, height, region));
     if let Some(bar) = progress {
         bar.finish_and_clear();
     }
@@ -522,4 +570,44 @@ pub fn all_hits_batch(
         all.hits.extend(hits);
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tile_rows_hand_out_every_pixel_once_to_its_tile() {
+        // Neither side a multiple of the tile, and not at the image's corner.
+        let region = Region {
+            x0: 3,
+            y0: 5,
+            x1: 3 + 2 * TILE + 7,
+            y1: 5 + TILE + 1,
+        };
+        let tiles = tiles_of(region);
+        let mut pixels = vec![Pixel::default(); region.area()];
+        for (tile, rows) in tiles.iter().zip(tile_rows(&mut pixels, region, &tiles)) {
+            assert_eq!(rows.len(), tile.height());
+            for (y, row) in (tile.y0..tile.y1).zip(rows) {
+                assert_eq!(row.len(), tile.width());
+                for (x, p) in (tile.x0..tile.x1).zip(row) {
+                    p.samples += 1;
+                    p.depth = (y * 1000 + x) as f32;
+                }
+            }
+        }
+        let film = Film {
+            width: 100,
+            height: 100,
+            region,
+            pixels,
+        };
+        for y in region.y0..region.y1 {
+            for x in region.x0..region.x1 {
+                let p = film.pixel(x, y);
+                assert_eq!((p.samples, p.depth), (1, (y * 1000 + x) as f32));
+            }
+        }
+    }
 }
