@@ -610,45 +610,17 @@ impl Shape {
         } else {
             root_uncertainty(local.coeffs(), local_noise)
         };
-        let lo = (-window).max(from - s);
-        match newton_settled(&local, local_noise, floor, lo, window)
-            .or_else(|| scanned(&local, local_noise, floor, lo, window))
-        {
+        let span = Span {
+            lo: (-window).max(from - s),
+            hi: window,
+            noise: local_noise,
+            floor,
+        };
+        match span.newton_settled(&local).or_else(|| span.scanned(&local)) {
             Some((h, entering)) => Ok((s + h, entering, uncertainty)),
             None => Err(s + window),
         }
     }
-}
-
-/// The first crossing of q (formed at a coarse root) in [lo, window], found
-/// by sampling and refined by bisection to `floor`, with whether q falls
-/// there (the ray enters); None if it has none.
-fn scanned<const S: usize>(
-    q: &PolyN<S>,
-    noise: f64,
-    floor: f64,
-    lo: f64,
-    window: f64,
-) -> Option<(f64, bool)> {
-    const SAMPLES: u32 = 32;
-    let step = (window - lo) / f64::from(SAMPLES);
-    let mut last: Option<(f64, f64)> = None;
-    for i in 0..=SAMPLES {
-        let b = lo + step * f64::from(i);
-        let fb = q.eval(b);
-        // Values within the local rounding noise have no sign to trust: a
-        // change counts only between samples that both rise above it.
-        if fb.abs() <= noise {
-            continue;
-        }
-        if let Some((a, fa)) = last
-            && (fa < 0.0) != (fb < 0.0)
-        {
-            return Some((bisect(q, a, fa, b, floor), fa > 0.0));
-        }
-        last = Some((b, fb));
-    }
-    None
 }
 
 /// A hit's error bound in the ray's t from its root's uncertainty and its
@@ -669,34 +641,66 @@ fn monotone_over(c: &[f64], window: f64) -> bool {
     c.len() >= 2 && c[1].abs() > drift
 }
 
-/// `polish_in`'s root without its scan and bisection, where one Newton step
-/// from 0 settles it: q (formed at the coarse root) is monotone over
-/// [−window, window], so it crosses zero there at most once, and its values
-/// half a refinement width either side of the step stand above the noise
-/// with opposite signs, so it crosses between them, after `lo`. The scan
-/// and bisection would find that crossing too, to the same width. Returns
-/// the step and whether q falls there (the ray enters). Most hits of camera
-/// rays far from a quartic end here: the scan and bisection were a third of
-/// their polish (`valgrind --tool=callgrind` on POV-Ray's torus.pov).
-fn newton_settled<const S: usize>(
-    q: &PolyN<S>,
+/// Where `polish_in` looks for the crossing of q, the ray's Q formed at a
+/// coarse root: [lo, hi] around it, values within `noise` of zero having no
+/// sign to trust, the crossing wanted to within `floor`.
+#[derive(Clone, Copy)]
+struct Span {
+    lo: f64,
+    hi: f64,
     noise: f64,
     floor: f64,
-    lo: f64,
-    window: f64,
-) -> Option<(f64, bool)> {
-    let c = q.coeffs();
-    if !monotone_over(c, window) {
-        return None;
+}
+
+impl Span {
+    /// The crossing without the scan and bisection, where one Newton step
+    /// from 0 settles it: q is monotone over [−hi, hi] (the window around
+    /// the coarse root), so it crosses zero there at most once, and its
+    /// values half a refinement width either side of the step stand above
+    /// the noise with opposite signs, so it crosses between them, within
+    /// [lo, hi]. The scan and bisection would find that crossing too, to
+    /// the same width. Returns the step and whether q falls there (the ray
+    /// enters). Most hits of camera rays far from a quartic end here: the
+    /// scan and bisection were a third of their polish (`valgrind
+    /// --tool=callgrind` on POV-Ray's torus.pov).
+    fn newton_settled<const S: usize>(&self, q: &PolyN<S>) -> Option<(f64, bool)> {
+        let c = q.coeffs();
+        if !monotone_over(c, self.hi) {
+            return None;
+        }
+        let h = -c[0] / c[1];
+        let (a, b) = (h - 0.5 * self.floor, h + 0.5 * self.floor);
+        if !(a >= self.lo && b <= self.hi) {
+            return None;
+        }
+        let (fa, fb) = (q.eval(a), q.eval(b));
+        let crossed = fa.abs() > self.noise && fb.abs() > self.noise && (fa < 0.0) != (fb < 0.0);
+        crossed.then_some((h, fa > 0.0))
     }
-    let h = -c[0] / c[1];
-    let (a, b) = (h - 0.5 * floor, h + 0.5 * floor);
-    if !(a >= lo && b <= window) {
-        return None;
+
+    /// The first crossing of q in [lo, hi], found by sampling and refined by
+    /// bisection to `floor`, with whether q falls there; None if it has none.
+    fn scanned<const S: usize>(&self, q: &PolyN<S>) -> Option<(f64, bool)> {
+        const SAMPLES: u32 = 32;
+        let step = (self.hi - self.lo) / f64::from(SAMPLES);
+        let mut last: Option<(f64, f64)> = None;
+        for i in 0..=SAMPLES {
+            let b = self.lo + step * f64::from(i);
+            let fb = q.eval(b);
+            // A change counts only between samples that both rise above
+            // the noise.
+            if fb.abs() <= self.noise {
+                continue;
+            }
+            if let Some((a, fa)) = last
+                && (fa < 0.0) != (fb < 0.0)
+            {
+                return Some((bisect(q, a, fa, b, self.floor), fa > 0.0));
+            }
+            last = Some((b, fb));
+        }
+        None
     }
-    let (fa, fb) = (q.eval(a), q.eval(b));
-    let crossed = fa.abs() > noise && fb.abs() > noise && (fa < 0.0) != (fb < 0.0);
-    crossed.then_some((h, fa > 0.0))
 }
 
 /// Halves [a, b], across which q changes sign, down to `width`.
@@ -762,7 +766,7 @@ fn world_box(b: &Box3, to_world: &DAffine3) -> Box3 {
 
 #[cfg(test)]
 mod tests {
-    use super::{Box3, Shape, Surface, newton_settled, scanned};
+    use super::{Box3, Shape, Span, Surface};
     use crate::poly::solve::Solver;
     use crate::poly::trivariate::Trivariate;
     use crate::poly::univariate::{PolyN, QUARTIC_SLOTS};
@@ -883,8 +887,13 @@ mod tests {
             } else {
                 -window
             };
-            let fast = newton_settled(&q, noise, floor, lo, window);
-            let slow = scanned(&q, noise, floor, lo, window);
+            let span = Span {
+                lo,
+                hi: window,
+                noise,
+                floor,
+            };
+            let (fast, slow) = (span.newton_settled(&q), span.scanned(&q));
             if i % 4 >= 2 && lo < near {
                 simple += 1;
             }
