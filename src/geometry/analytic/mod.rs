@@ -434,6 +434,14 @@ impl Shape {
     }
 
     fn search(&self, o: DVec3, d: DVec3, tmin: f64, tmax: f64, shadow: bool) -> Option<Found> {
+        if let Surface::Quadric(q) = &self.surface
+            && q.misses_line(
+                self.to_object.transform_point3(o),
+                self.to_object.transform_vector3(d),
+            )
+        {
+            return None;
+        }
         let ray = self.ray_polynomial(o, d, tmin, tmax)?;
         // Shadow rays: a Sturm count of zero settles most of them without refining.
         if shadow && !self.quadratic() && !self.solver.any(&ray.q, 0.0, ray.hi) {
@@ -914,5 +922,84 @@ mod tests {
             );
         }
         assert!(settled * 10 > simple * 9, "{settled} of {simple}");
+    }
+
+    /// A quadric's quick miss (`Quadric::misses_line`) is never wrong: no
+    /// ray it rejects has a root of the searched Q, on any of a cylinder,
+    /// a cone, both hyperboloids and an ellipsoid, placed by a rotation, a
+    /// non-uniform scale and a translation, with rays from near and far,
+    /// grazing ones among them. And it rejects most misses, or it saves
+    /// nothing.
+    #[test]
+    fn a_quadric_s_quick_miss_has_no_root() {
+        use super::surface::Quadric;
+        use crate::poly::closed::quadratic;
+        use glam::{DMat3, DQuat};
+        let quadrics = [
+            (DVec3::new(1.0, 1.0, 0.0), -0.01),  // a thin cylinder along z
+            (DVec3::new(1.0, 1.0, -1.0), 0.0),   // a cone
+            (DVec3::new(1.0, 1.0, -1.0), -1.0),  // a hyperboloid of one sheet
+            (DVec3::new(-1.0, -1.0, 1.0), -1.0), // of two sheets
+            (DVec3::new(1.0, 4.0, 9.0), -1.0),   // an ellipsoid
+        ];
+        let place = DAffine3::from_scale_rotation_translation(
+            DVec3::new(2.0, 0.5, 1.5),
+            DQuat::from_euler(glam::EulerRot::XYZ, 0.3, -0.7, 1.1),
+            DVec3::new(0.5, -2.0, 3.0),
+        );
+        let (mut rejected, mut misses) = (0, 0);
+        for (diagonal, c) in quadrics {
+            let q = Quadric {
+                a: DMat3::from_diagonal(diagonal),
+                b: DVec3::ZERO,
+                c,
+            };
+            let shape = Shape::new(
+                Surface::Quadric(q.clone()),
+                place,
+                Some(Box3::cube(1e7)),
+                0,
+                Solver::default(),
+            )
+            .unwrap();
+            for i in 0..4000 {
+                let k = f64::from(i);
+                let far = if i % 2 == 0 { 8.0 } else { 1e4 };
+                let o = far * DVec3::new((k * 0.7).sin(), (k * 0.3).cos(), (k * 0.11).sin());
+                // Aimed near the surface's centre, some within 1e-9 of
+                // grazing the thin cylinder's wall.
+                let aim = place.transform_point3(DVec3::new(
+                    0.1 * (k * 0.37).cos() + if i % 7 == 0 { 0.1 } else { 0.0 },
+                    0.2 * (k * 0.53).sin(),
+                    (k * 0.19).cos(),
+                ));
+                let d = (aim - o).normalize() * (1.0 + 1e-9 * (k * 0.9).sin());
+                let (oo, od) = (
+                    shape.to_object.transform_point3(o),
+                    shape.to_object.transform_vector3(d),
+                );
+                let quick = q.misses_line(oo, od);
+                let Some(ray) = shape.ray_polynomial(o, d, 0.0, f64::INFINITY) else {
+                    continue;
+                };
+                let c = ray.q.coeffs();
+                let coeff = |j: usize| c.get(j).copied().unwrap_or(0.0);
+                let mut roots = [0.0; 4];
+                let n = quadratic(coeff(0), coeff(1), coeff(2), &mut roots);
+                if n == 0 {
+                    misses += 1;
+                    rejected += usize::from(quick);
+                }
+                assert!(
+                    !(quick && n > 0),
+                    "quadric {diagonal}, ray {i}: rejected, yet Q has roots {:?}",
+                    &roots[..n]
+                );
+            }
+        }
+        assert!(
+            rejected * 10 > misses * 9,
+            "{rejected} of {misses} misses rejected"
+        );
     }
 }

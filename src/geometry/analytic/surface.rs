@@ -27,6 +27,39 @@ impl Quadric {
     pub(super) fn gradient(&self, p: DVec3) -> DVec3 {
         2.0 * (self.a * p) + self.b
     }
+
+    /// Whether the whole line o + t·d (object space) certainly misses the
+    /// surface: Q(t) = c2 t² + c1 t + c0 has a discriminant below zero by
+    /// more than the rounding of its terms could make up (64ε of their
+    /// scale, far beyond the few roundings in each), so it keeps one sign
+    /// for every t. Lines near a tangent, along an asymptote (c2 ≈ 0), and
+    /// every line that hits, answer false and are searched as before. No
+    /// unit direction, box clip or trimmed Q: an unbounded quadric is tried
+    /// by every ray, and POV-Ray's `Axes` (three thin cylinders) were half
+    /// the render time of its steiner.pov sample, nearly all of it misses.
+    pub(super) fn misses_line(&self, o: DVec3, d: DVec3) -> bool {
+        let (ao, ad) = (self.a * o, self.a * d);
+        let (c2, c1, c0) = (
+            d.dot(ad),
+            2.0 * o.dot(ad) + self.b.dot(d),
+            o.dot(ao) + self.b.dot(o) + self.c,
+        );
+        let abs_a = DMat3::from_cols(
+            self.a.x_axis.abs(),
+            self.a.y_axis.abs(),
+            self.a.z_axis.abs(),
+        );
+        let (po, pd) = (o.abs(), d.abs());
+        let (apo, apd) = (abs_a * po, abs_a * pd);
+        let (m2, m1, m0) = (
+            pd.dot(apd),
+            2.0 * po.dot(apd) + self.b.abs().dot(pd),
+            po.dot(apo) + self.b.abs().dot(po) + self.c.abs(),
+        );
+        let noise = 64.0 * f64::EPSILON * (m1 * m1 + 4.0 * m2 * m0);
+        // A NaN (a line at infinity) is no proof: the search decides.
+        c1 * c1 - 4.0 * c2 * c0 < -noise
+    }
 }
 
 /// The surface in its own object space.
