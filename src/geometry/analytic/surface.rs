@@ -28,6 +28,22 @@ impl Quadric {
         2.0 * (self.a * p) + self.b
     }
 
+    /// A with every entry made positive.
+    fn abs_a(&self) -> DMat3 {
+        DMat3::from_cols(
+            self.a.x_axis.abs(),
+            self.a.y_axis.abs(),
+            self.a.z_axis.abs(),
+        )
+    }
+
+    /// F at p with every term made positive: the scale of the rounding
+    /// error in F's value there.
+    fn magnitude(&self, p: DVec3) -> f64 {
+        let a = p.abs();
+        a.dot(self.abs_a() * a) + self.b.abs().dot(a) + self.c.abs()
+    }
+
     /// Whether the whole line o + t·d (object space) certainly misses the
     /// surface: Q(t) = c2 t² + c1 t + c0 has a discriminant below zero by
     /// more than the rounding of its terms could make up (64ε of their
@@ -38,23 +54,15 @@ impl Quadric {
     /// by every ray, and POV-Ray's `Axes` (three thin cylinders) were half
     /// the render time of its steiner.pov sample, nearly all of it misses.
     pub(super) fn misses_line(&self, o: DVec3, d: DVec3) -> bool {
-        let (ao, ad) = (self.a * o, self.a * d);
-        let (c2, c1, c0) = (
-            d.dot(ad),
-            2.0 * o.dot(ad) + self.b.dot(d),
-            o.dot(ao) + self.b.dot(o) + self.c,
-        );
-        let abs_a = DMat3::from_cols(
-            self.a.x_axis.abs(),
-            self.a.y_axis.abs(),
-            self.a.z_axis.abs(),
-        );
-        let (po, pd) = (o.abs(), d.abs());
-        let (apo, apd) = (abs_a * po, abs_a * pd);
+        let ad = self.a * d;
+        let (c2, c1, c0) = (d.dot(ad), 2.0 * o.dot(ad) + self.b.dot(d), self.eval(o));
+        let abs_a = self.abs_a();
+        let pd = d.abs();
+        let apd = abs_a * pd;
         let (m2, m1, m0) = (
             pd.dot(apd),
-            2.0 * po.dot(apd) + self.b.abs().dot(pd),
-            po.dot(apo) + self.b.abs().dot(po) + self.c.abs(),
+            2.0 * o.abs().dot(apd) + self.b.abs().dot(pd),
+            self.magnitude(o),
         );
         let noise = 64.0 * f64::EPSILON * (m1 * m1 + 4.0 * m2 * m0);
         // A NaN (a line at infinity) is no proof: the search decides.
@@ -182,11 +190,7 @@ impl Surface {
         let a = p.abs();
         match self {
             Surface::Sphere { radius } => a.length_squared() + radius * radius,
-            Surface::Quadric(q) => {
-                let abs_a =
-                    glam::DMat3::from_cols(q.a.x_axis.abs(), q.a.y_axis.abs(), q.a.z_axis.abs());
-                a.dot(abs_a * a) + q.b.abs().dot(a) + q.c.abs()
-            }
+            Surface::Quadric(q) => q.magnitude(p),
             Surface::Torus { major, minor } => {
                 let s = a.length_squared() + major * major + minor * minor;
                 s * s + 4.0 * major * major * (a.x * a.x + a.y * a.y)
