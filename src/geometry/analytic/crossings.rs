@@ -179,6 +179,30 @@ impl Shape {
         starts_inside
     }
 
+    /// Whether the world ray o + t·d certainly crosses neither the surface
+    /// nor, as a `solid`, its box's faces for t in (tmin, tmax), found
+    /// without refining a root: Q has no root there (the solver's certified
+    /// `any`), so F keeps one sign, and a face is crossed only where the box,
+    /// not the interval, ends and F < 0 there. A ray that may cross answers
+    /// false.
+    pub(super) fn crosses_nothing(
+        &self,
+        o: DVec3,
+        d: DVec3,
+        tmin: f64,
+        tmax: f64,
+        solid: bool,
+    ) -> bool {
+        let Some(ray) = self.ray_polynomial(o, d, tmin, tmax) else {
+            return true;
+        };
+        if self.solver.any(&ray.q, 0.0, ray.hi) {
+            return false;
+        }
+        let box_ends = ray.t0 > tmin * ray.length || ray.t0 + ray.hi < tmax * ray.length;
+        !solid || !box_ends || self.side_of_start(&ray) == Some(false)
+    }
+
     /// Whether the object-space point p is inside (F < 0) or outside, or
     /// None where F is within its rounding noise of 0.
     pub(super) fn side(&self, p: DVec3, d: DVec3) -> Option<bool> {
