@@ -152,7 +152,7 @@ impl Shape {
                 .side_of_start(&ray)
                 .unwrap_or_else(|| self.side(ray.start + 0.5 * first * ray.d, ray.d) == Some(true));
             // Where tmin, not the box, starts the interval, the line is already there.
-            if inside && ray.t0 > tmin * ray.length {
+            if inside && ray.enters_after(tmin) {
                 out.push(end(0.0, entry, true));
             } else {
                 starts_inside = inside;
@@ -173,7 +173,7 @@ impl Shape {
                 face: None,
             });
         }
-        if inside && ray.t0 + ray.hi < tmax * ray.length {
+        if inside && ray.leaves_before(tmax) {
             out.push(end(ray.hi, exit, false));
         }
         starts_inside
@@ -199,8 +199,8 @@ impl Shape {
         if self.solver.any(&ray.q, 0.0, ray.hi) {
             return false;
         }
-        let box_ends = ray.t0 > tmin * ray.length || ray.t0 + ray.hi < tmax * ray.length;
-        !solid || !box_ends || self.side_of_start(&ray) == Some(false)
+        let faces = ray.enters_after(tmin) || ray.leaves_before(tmax);
+        !solid || !faces || self.side_of_start(&ray) == Some(false)
     }
 
     /// Whether the object-space point p is inside (F < 0) or outside, or

@@ -134,6 +134,20 @@ pub struct RayPoly {
     formed: usize,
 }
 
+impl RayPoly {
+    /// Whether the shape's box, not tmin, starts the interval: the line
+    /// enters the box after tmin, through a face.
+    fn enters_after(&self, tmin: f64) -> bool {
+        self.t0 > tmin * self.length
+    }
+
+    /// Whether the box, not tmax, ends the interval: the line leaves it
+    /// through a face before tmax.
+    fn leaves_before(&self, tmax: f64) -> bool {
+        self.t0 + self.hi < tmax * self.length
+    }
+}
+
 /// A ray in a shape's object space (see `RayPoly`, whose fields these are).
 struct RayFrame {
     start: DVec3,
