@@ -13,7 +13,6 @@ use glam::DVec3;
 
 use super::{Box3, RayPoly, Shape};
 use crate::poly::MAX_DEGREE;
-use crate::poly::univariate::{QUARTIC_SLOTS, SLOTS};
 
 /// One crossing of a line o + t·d, in the line's own parameter t.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -121,7 +120,20 @@ impl Shape {
         out: &mut Crossings,
     ) -> bool {
         out.len = 0;
-        let Some(ray) = self.ray_polynomial(o, d, tmin, tmax) else {
+        in_storage!(self, S => self.crossings_in::<S>(o, d, tmin, tmax, solid, out))
+    }
+
+    /// `crossings` with the ray's Q in `S` slots (see `ray_polynomial_in`).
+    fn crossings_in<const S: usize>(
+        &self,
+        o: DVec3,
+        d: DVec3,
+        tmin: f64,
+        tmax: f64,
+        solid: bool,
+        out: &mut Crossings,
+    ) -> bool {
+        let Some(ray) = self.ray_polynomial_in::<S>(o, d, tmin, tmax) else {
             return false;
         };
         let to_t = |s: f64| (ray.t0 + s) / ray.length;
@@ -193,7 +205,19 @@ impl Shape {
         tmax: f64,
         solid: bool,
     ) -> bool {
-        let Some(ray) = self.ray_polynomial(o, d, tmin, tmax) else {
+        in_storage!(self, S => self.crosses_nothing_in::<S>(o, d, tmin, tmax, solid))
+    }
+
+    /// `crosses_nothing` with the ray's Q in `S` slots.
+    fn crosses_nothing_in<const S: usize>(
+        &self,
+        o: DVec3,
+        d: DVec3,
+        tmin: f64,
+        tmax: f64,
+        solid: bool,
+    ) -> bool {
+        let Some(ray) = self.ray_polynomial_in::<S>(o, d, tmin, tmax) else {
             return true;
         };
         if self.solver.any(&ray.q, 0.0, ray.hi) {
@@ -206,11 +230,7 @@ impl Shape {
     /// Whether the object-space point p is inside (F < 0) or outside, or
     /// None where F is within its rounding noise of 0.
     pub(super) fn side(&self, p: DVec3, d: DVec3) -> Option<bool> {
-        if self.surface.quartic() {
-            self.side_in::<QUARTIC_SLOTS>(p, d)
-        } else {
-            self.side_in::<SLOTS>(p, d)
-        }
+        in_storage!(self, S => self.side_in::<S>(p, d))
     }
 
     fn side_in<const S: usize>(&self, p: DVec3, d: DVec3) -> Option<bool> {
@@ -222,7 +242,7 @@ impl Shape {
     /// F(start), the same bits a second substitution gave (trimming drops
     /// leading terms only), which cost 7% of the instructions of POV-Ray's
     /// tcubic.pov (`valgrind --tool=callgrind`).
-    fn side_of_start(&self, ray: &RayPoly) -> Option<bool> {
+    fn side_of_start<const S: usize>(&self, ray: &RayPoly<S>) -> Option<bool> {
         self.side_from(ray.start, ray.formed, ray.q.eval(0.0))
     }
 

@@ -6,6 +6,7 @@
 use glam::DVec3;
 
 use super::{Shape, Surface};
+use crate::poly::univariate::QUARTIC_SLOTS;
 
 impl Shape {
     /// Gives the shape POV-Ray's `bounded_by` object: a ray is tested
@@ -61,11 +62,10 @@ impl Shape {
     /// gate's box, unit direction): the box may cut the surface.
     fn framed_comes_near(&self, o: DVec3, d: DVec3, tmin: f64) -> bool {
         // In the quartic storage: a gate needs no solver's Q.
-        let Some(ray) = self.ray_frame(o, d, tmin, f64::INFINITY) else {
+        let Some(ray) = self.ray_polynomial_in::<QUARTIC_SLOTS>(o, d, tmin, f64::INFINITY) else {
             return false;
         };
-        let c = self.small_polynomial(&ray).0;
-        let c = c.coeffs();
+        let c = ray.q.coeffs();
         let coeff = |k: usize| c.get(k).copied().unwrap_or(0.0);
         let (c0, c1, c2) = (coeff(0), coeff(1), coeff(2));
         let q = |s: f64| c0 + s * (c1 + s * c2);

@@ -12,7 +12,22 @@ use glam::{DAffine3, DMat3, DVec3};
 use crate::math::{Bounds, Vec3};
 use crate::poly::closed::quadratic;
 use crate::poly::solve::Solver;
-use crate::poly::univariate::{Poly, PolyN, QUARTIC_SLOTS, SLOTS, normalize_pow2};
+use crate::poly::univariate::{PolyN, QUARTIC_SLOTS, SLOTS, normalize_pow2};
+
+/// `$call` with the const `$slots` set to the storage the shape's Q needs:
+/// five slots for a surface of degree 4 or less (`Surface::quartic`), the
+/// solver's full storage otherwise (see `RayPoly`).
+macro_rules! in_storage {
+    ($shape:expr, $slots:ident => $call:expr) => {
+        if $shape.surface.quartic() {
+            const $slots: usize = crate::poly::univariate::QUARTIC_SLOTS;
+            $call
+        } else {
+            const $slots: usize = crate::poly::univariate::SLOTS;
+            $call
+        }
+    };
+}
 
 mod crossings;
 pub mod csg;
@@ -52,19 +67,19 @@ impl Box3 {
 
     /// The ray's parameter interval inside the box (slab test), or None.
     fn clip_ray(&self, o: DVec3, d: DVec3, tmin: f64, tmax: f64) -> Option<(f64, f64)> {
+        // As arrays: glam indexes a DVec3 by a match on the axis, a branch
+        // for each of the loop's reads that the unrolled loop kept.
+        let [o, d, min, max] = [o, d, self.min, self.max].map(|v| v.to_array());
         let (mut lo, mut hi) = (tmin, tmax);
         for axis in 0..3 {
             if d[axis] == 0.0 {
-                if o[axis] < self.min[axis] || o[axis] > self.max[axis] {
+                if o[axis] < min[axis] || o[axis] > max[axis] {
                     return None;
                 }
                 continue;
             }
             let inv = 1.0 / d[axis];
-            let (a, b) = (
-                (self.min[axis] - o[axis]) * inv,
-                (self.max[axis] - o[axis]) * inv,
-            );
+            let (a, b) = ((min[axis] - o[axis]) * inv, (max[axis] - o[axis]) * inv);
             lo = lo.max(a.min(b));
             hi = hi.min(a.max(b));
         }
@@ -120,10 +135,14 @@ pub struct Shape {
 /// from `start`): the search looks for its roots in s ∈ (0, hi), where the
 /// ray's own t is (t0 + s) / length. `start` is either the ray's own origin
 /// (tmin, excluded) or its entry into the shape's box, where no surface
-/// point lies.
+/// point lies. Q is held in `S` slots: a surface of degree 4 or less
+/// (`Surface::quartic`) is searched with Q in five, so no 36-slot copy of it
+/// is made on the way (those copies, and the conversions back to five
+/// slots in the solver, were 4% of the instructions of POV-Ray's
+/// bicube.pov, `valgrind --tool=callgrind`).
 #[derive(Clone, Copy, Debug)]
-pub struct RayPoly {
-    pub q: Poly,
+pub struct RayPoly<const S: usize = SLOTS> {
+    pub q: PolyN<S>,
     pub hi: f64,
     start: DVec3,
     d: DVec3,
@@ -134,7 +153,7 @@ pub struct RayPoly {
     formed: usize,
 }
 
-impl RayPoly {
+impl<const S: usize> RayPoly<S> {
     /// Whether the shape's box, not tmin, starts the interval: the line
     /// enters the box after tmin, through a face.
     fn enters_after(&self, tmin: f64) -> bool {
@@ -385,22 +404,24 @@ impl Shape {
     /// The polynomial the search for hits of the world ray o + t·d with t in
     /// (tmin, tmax) solves, or None if the ray misses the shape's box.
     pub fn ray_polynomial(&self, o: DVec3, d: DVec3, tmin: f64, tmax: f64) -> Option<RayPoly> {
+        self.ray_polynomial_in(o, d, tmin, tmax)
+    }
+
+    /// `ray_polynomial` with Q in `S` slots, which must hold the surface's
+    /// degree + 1 coefficients (five do for `Surface::quartic`). The
+    /// arithmetic is the same in any storage, so Q is the same bits.
+    fn ray_polynomial_in<const S: usize>(
+        &self,
+        o: DVec3,
+        d: DVec3,
+        tmin: f64,
+        tmax: f64,
+    ) -> Option<RayPoly<S>> {
         let frame = self.ray_frame(o, d, tmin, tmax)?;
-        // A quartic's Q is formed and trimmed in its five slots and widened
-        // once: forming it in the solver's full storage zeroed and copied
-        // 36 slots three times, 5% of the instructions of POV-Ray's
-        // tcubic.pov (`valgrind --tool=callgrind`). The same arithmetic, so
-        // the same bits.
-        let (q, formed) = if self.surface.quartic() {
-            let (q, formed) = self.small_polynomial(&frame);
-            (q.resized::<SLOTS>()?, formed)
-        } else {
-            let q = self.surface.along(frame.start, frame.d);
-            let formed = q.coeffs().len();
-            (q.trimmed(1e-14, frame.hi), formed)
-        };
+        let q = self.surface.along_in::<S>(frame.start, frame.d);
+        let formed = q.coeffs().len();
         Some(RayPoly {
-            q,
+            q: q.trimmed(1e-14, frame.hi),
             hi: frame.hi,
             start: frame.start,
             d: frame.d,
@@ -408,14 +429,6 @@ impl Shape {
             length: frame.length,
             formed,
         })
-    }
-
-    /// `ray_polynomial`'s Q of a surface that fits the quartic storage
-    /// (`Surface::quartic`), trimmed, and its coefficient count before.
-    fn small_polynomial(&self, frame: &RayFrame) -> (PolyN<QUARTIC_SLOTS>, usize) {
-        let q = self.surface.along_in::<QUARTIC_SLOTS>(frame.start, frame.d);
-        let formed = q.coeffs().len();
-        (q.trimmed(1e-14, frame.hi), formed)
     }
 
     /// The world ray o + t·d in object space, from where it enters the
@@ -456,7 +469,19 @@ impl Shape {
         {
             return None;
         }
-        let ray = self.ray_polynomial(o, d, tmin, tmax)?;
+        in_storage!(self, S => self.search_in::<S>(o, d, tmin, tmax, shadow))
+    }
+
+    /// `search` with the ray's Q in `S` slots (see `ray_polynomial_in`).
+    fn search_in<const S: usize>(
+        &self,
+        o: DVec3,
+        d: DVec3,
+        tmin: f64,
+        tmax: f64,
+        shadow: bool,
+    ) -> Option<Found> {
+        let ray = self.ray_polynomial_in::<S>(o, d, tmin, tmax)?;
         // Shadow rays: a Sturm count of zero settles most of them without refining.
         if shadow && !self.quadratic() && !self.solver.any(&ray.q, 0.0, ray.hi) {
             return None;
@@ -482,7 +507,11 @@ impl Shape {
     /// true; `uncertainty` is the root's (see `Surface::uncertainty`). Only roots
     /// where the ray crosses are accepted (see `polish`): touching and
     /// phantom roots are stepped past, at most `MAX_TOUCHES` of them.
-    fn each_crossing(&self, ray: &RayPoly, mut visit: impl FnMut(f64, bool, f64) -> bool) {
+    fn each_crossing<const S: usize>(
+        &self,
+        ray: &RayPoly<S>,
+        mut visit: impl FnMut(f64, bool, f64) -> bool,
+    ) {
         // By reference: a copy of the ray's Q (full-size storage) per walk
         // showed in the profile.
         let RayPoly {
@@ -533,9 +562,9 @@ impl Shape {
     /// vanishes), has none. Returns the refined root, whether the ray
     /// enters there (F goes from + to −) and the root's uncertainty (see
     /// `Surface::uncertainty`), or where to search on.
-    fn polish(
+    fn polish<const N: usize>(
         &self,
-        q: &Poly,
+        q: &PolyN<N>,
         start: DVec3,
         d: DVec3,
         s: f64,
@@ -545,9 +574,9 @@ impl Shape {
             if let Some(proven) = self.proven_on_q(q, start, d, s, from) {
                 return Ok(proven);
             }
-            self.polish_in::<QUARTIC_SLOTS>(q, start, d, s, from)
+            self.polish_in::<QUARTIC_SLOTS, N>(q, start, d, s, from)
         } else {
-            self.polish_in::<SLOTS>(q, start, d, s, from)
+            self.polish_in::<SLOTS, N>(q, start, d, s, from)
         }
     }
 
@@ -561,9 +590,9 @@ impl Shape {
     /// None, and `polish` looks closer. Most hits of a quartic are settled
     /// here: forming Q at the root and scanning it was a tenth of the
     /// instructions of POV-Ray's torus.pov (`valgrind --tool=callgrind`).
-    fn proven_on_q(
+    fn proven_on_q<const N: usize>(
         &self,
-        q: &Poly,
+        q: &PolyN<N>,
         start: DVec3,
         d: DVec3,
         s: f64,
@@ -604,9 +633,9 @@ impl Shape {
     }
 
     /// `polish` with the local Q in `S` slots (see `Surface::along_in`).
-    fn polish_in<const S: usize>(
+    fn polish_in<const S: usize, const N: usize>(
         &self,
-        q: &Poly,
+        q: &PolyN<N>,
         start: DVec3,
         d: DVec3,
         s: f64,
@@ -859,7 +888,7 @@ mod tests {
                 continue;
             };
             proven += 1;
-            let full = torus.polish_in::<QUARTIC_SLOTS>(&ray.q, ray.start, ray.d, s, 0.0);
+            let full = torus.polish_in::<QUARTIC_SLOTS, _>(&ray.q, ray.start, ray.d, s, 0.0);
             let (s_p, entering_p, u_p) = full.expect("a proven crossing is one for polish too");
             let width = torus.refine_width(s);
             assert_eq!(entering_q, entering_p, "ray {i}");

@@ -9,7 +9,7 @@ use glam::{DMat3, DVec3};
 
 use super::csg::Csg;
 use crate::poly::trivariate::Trivariate;
-use crate::poly::univariate::{Poly, PolyN, QUARTIC_SLOTS, SLOTS};
+use crate::poly::univariate::{PolyN, QUARTIC_SLOTS, SLOTS};
 
 /// A general quadric xᵀA x + b·x + c = 0 with symmetric A.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
@@ -141,11 +141,6 @@ impl Surface {
         }
     }
 
-    /// Q(s) = F(start + s·d).
-    pub(super) fn along(&self, start: DVec3, d: DVec3) -> Poly {
-        self.along_in(start, d)
-    }
-
     /// Whether Q fits the quartic storage (`QUARTIC_SLOTS`): spheres,
     /// quadrics, tori and quartics, whose local Q (`along_in`) then costs no
     /// zeroing or copying of 36 slots. (Those were 10% of the instructions
@@ -158,8 +153,8 @@ impl Surface {
         }
     }
 
-    /// `along` in `S` slots, which must hold the surface's degree + 1
-    /// coefficients. The arithmetic is the same in any storage, so the
+    /// Q(s) = F(start + s·d) in `S` slots, which must hold the surface's
+    /// degree + 1 coefficients. The arithmetic is the same in any storage, so the
     /// coefficients are the same bits.
     pub(super) fn along_in<const S: usize>(&self, start: DVec3, d: DVec3) -> PolyN<S> {
         match self {

@@ -216,7 +216,7 @@ impl Solver {
     /// leftmost root interval is isolated first, by Sturm counts on halves,
     /// so a farther root is never returned while a nearer one exists. A root
     /// exactly at b is not reported.
-    pub fn nearest(&self, p: &Poly, a: f64, b: f64) -> Option<f64> {
+    pub fn nearest<const S: usize>(&self, p: &PolyN<S>, a: f64, b: f64) -> Option<f64> {
         by_degree!(p, |q| self.nearest_of(q, a, b))
     }
 
@@ -297,7 +297,7 @@ impl Solver {
     /// Whether any root lies in (a, b): for shadow rays. Counts only, never
     /// refines; a sign change between the ends answers before the chain is
     /// even built. `Closed` answers from the closed-form roots instead.
-    pub fn any(&self, p: &Poly, a: f64, b: f64) -> bool {
+    pub fn any<const S: usize>(&self, p: &PolyN<S>, a: f64, b: f64) -> bool {
         by_degree!(p, |q| self.any_of(q, a, b))
     }
 
