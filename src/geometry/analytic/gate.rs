@@ -5,7 +5,7 @@
 
 use glam::DVec3;
 
-use super::{Shape, Surface};
+use super::{Quadric, Shape, Surface};
 use crate::poly::univariate::QUARTIC_SLOTS;
 
 impl Shape {
@@ -50,12 +50,13 @@ impl Shape {
     /// gate's cost: a fifth of the instructions of POV-Ray's torus.pov,
     /// whose quartic has a bounding sphere (`valgrind --tool=callgrind`).
     fn comes_near(&self, o: DVec3, d: DVec3, tmin: f64) -> bool {
-        if let Surface::Sphere { radius } = self.surface
-            && self.box_holds_sphere(radius)
-        {
-            return self.sphere_comes_near(radius, o, d, tmin);
+        match &self.surface {
+            Surface::Sphere { radius } if self.box_holds_sphere(*radius) => {
+                self.sphere_comes_near(*radius, o, d, tmin)
+            }
+            Surface::Quadric(quadric) => self.quadric_comes_near(quadric, o, d, tmin),
+            _ => self.framed_comes_near(o, d, tmin),
         }
-        self.framed_comes_near(o, d, tmin)
     }
 
     /// `comes_near` on the ray's Q in its frame (from the entry into the
@@ -79,6 +80,48 @@ impl Shape {
             }
         }
         // A NaN (a ray at infinity) opens the gate: the shape decides.
+        least.is_nan() || least <= noise
+    }
+
+    /// `comes_near` for a quadric, in object space and in the ray's own t
+    /// (an affine map keeps t), as `sphere_comes_near` does for a sphere but
+    /// within the gate's box: Q(t) = c0 + c1 t + c2 t² at its least over the
+    /// ray's interval in the box beyond tmin (the ends, and the vertex when
+    /// it lies between), against the rounding of its terms there. Each of
+    /// c0, c1, c2 and Q's evaluation is within a few roundings of the
+    /// quadric's terms made positive along the way, which at the farthest t
+    /// reached is `magnitude(|o| + |t| |d|)`: only rays within rounding of a
+    /// tangent can be decided otherwise than by the framed path, and the
+    /// noise opens the gate for them. The framed path's unit direction (a
+    /// square root and three divisions), entry point and trimmed Q were most
+    /// of its 640 instructions a call on POV-Ray's helix.pov, whose
+    /// `clipped_by` cylinder gates its quartic (`valgrind --tool=callgrind`).
+    fn quadric_comes_near(&self, quadric: &Quadric, o: DVec3, d: DVec3, tmin: f64) -> bool {
+        let (o, d) = (
+            self.to_object.transform_point3(o),
+            self.to_object.transform_vector3(d),
+        );
+        let Some((t0, t1)) = self.object_box.clip_ray(o, d, tmin, f64::INFINITY) else {
+            return false;
+        };
+        let ad = quadric.a * d;
+        let (c0, c1, c2) = (
+            quadric.eval(o),
+            2.0 * o.dot(ad) + quadric.b.dot(d),
+            d.dot(ad),
+        );
+        let q = |t: f64| c0 + t * (c1 + t * c2);
+        let mut least = q(t0).min(q(t1));
+        if c2 > 0.0 {
+            let vertex = -c1 / (2.0 * c2);
+            if vertex > t0 && vertex < t1 {
+                least = least.min(q(vertex));
+            }
+        }
+        let reach = t0.abs().max(t1.abs());
+        let noise = 16.0 * f64::EPSILON * quadric.magnitude(o.abs() + reach * d.abs());
+        // A NaN (a ray at infinity, an unbounded box) opens the gate: the
+        // shape decides.
         least.is_nan() || least <= noise
     }
 
@@ -127,10 +170,32 @@ impl Shape {
 
 #[cfg(test)]
 mod tests {
-    use glam::{DAffine3, DQuat, DVec3};
+    use glam::{DAffine3, DMat3, DQuat, DVec3};
 
-    use super::super::{Box3, Shape, Surface};
+    use super::super::{Box3, Quadric, Shape, Surface};
     use crate::poly::solve::Solver;
+
+    /// Ray `i` of a test's spread, in the world of `to_world`: from an
+    /// object-space point `distance` from the origin (between its two
+    /// values) towards one within `aim` of it on each axis, with a length
+    /// of direction from 0.5 to 1.5, and tmin 0.4 on every third ray.
+    fn test_ray(
+        to_world: &DAffine3,
+        i: u32,
+        aim: f64,
+        distance: (f64, f64),
+    ) -> (DVec3, DVec3, f64) {
+        let k = f64::from(i);
+        let target = DVec3::new((k * 0.37).sin(), (k * 0.61).cos(), (k * 0.83).sin()) * aim;
+        let from = DVec3::new((k * 0.11).cos(), (k * 0.29).sin(), (k * 0.47).cos()).normalize()
+            * (distance.0 + (distance.1 - distance.0) * (0.5 + 0.5 * (k * 0.93).sin()));
+        let (o, target) = (
+            to_world.transform_point3(from),
+            to_world.transform_point3(target),
+        );
+        let d = (target - o) * (0.5 + (k * 0.17).cos().abs());
+        (o, d, if i.is_multiple_of(3) { 0.4 } else { 0.0 })
+    }
 
     /// The whole-sphere gate decides as the framed one, box and all, on
     /// every ray that is not within 1e-9 of the tangent: under a rotation,
@@ -164,19 +229,8 @@ mod tests {
         let to_object = to_world.inverse();
         let (mut crossing, mut missing, mut tangent) = (0, 0, 0);
         for i in 0..20_000 {
-            let k = f64::from(i);
             // Aim within the sphere's box, from 0.3 to 6 radii out.
-            let aim =
-                DVec3::new((k * 0.37).sin(), (k * 0.61).cos(), (k * 0.83).sin()) * 1.3 * radius;
-            let from = DVec3::new((k * 0.11).cos(), (k * 0.29).sin(), (k * 0.47).cos()).normalize()
-                * radius
-                * (0.3 + 5.7 * (0.5 + 0.5 * (k * 0.93).sin()));
-            let (o, target) = (
-                to_world.transform_point3(from),
-                to_world.transform_point3(aim),
-            );
-            let d = (target - o) * (0.5 + (k * 0.17).cos().abs());
-            let tmin = if i % 3 == 0 { 0.4 } else { 0.0 };
+            let (o, d, tmin) = test_ray(&to_world, i, 1.3 * radius, (0.3 * radius, 6.0 * radius));
             // The truth in object space, where the gate is the sphere.
             let (po, pd) = (
                 to_object.transform_point3(o),
@@ -203,6 +257,88 @@ mod tests {
             crossing > 5_000 && missing > 5_000,
             "{crossing} crossing, {missing} missing, {tangent} tangent"
         );
+    }
+
+    /// The quadric gate decides as the framed one, on every ray that does
+    /// not pass within 1e-9 (of the terms' scale) of touching the surface
+    /// inside the box: for a cylinder cut by its box (helix.pov's gate) and
+    /// a one-sheeted hyperboloid, under a rotation, a non-uniform scale and
+    /// a translation, from outside and inside, with tmin past the origin on
+    /// some. Every ray counts both ways.
+    #[test]
+    fn a_quadric_gate_decides_as_the_framed_one() {
+        let to_world = DAffine3::from_scale_rotation_translation(
+            DVec3::new(1.5, 0.75, 2.0),
+            DQuat::from_euler(glam::EulerRot::XYZ, -0.4, 0.9, 0.2),
+            DVec3::new(-2.0, 4.0, 3.0),
+        );
+        let clip = Box3 {
+            min: DVec3::new(-2.0, -2.0, -1.5),
+            max: DVec3::new(2.0, 2.0, 1.0),
+        };
+        let quadrics = [
+            // x² + y² − 1: a cylinder along z, cut by the box's z faces.
+            Quadric {
+                a: DMat3::from_diagonal(DVec3::new(1.0, 1.0, 0.0)),
+                b: DVec3::ZERO,
+                c: -1.0,
+            },
+            // x² + y² − z² − 0.5, shifted: a hyperboloid of one sheet.
+            Quadric {
+                a: DMat3::from_diagonal(DVec3::new(1.0, 1.0, -1.0)),
+                b: DVec3::new(0.2, 0.0, 0.1),
+                c: -0.5,
+            },
+        ];
+        for quadric in quadrics {
+            let gate = Shape::new(
+                Surface::Quadric(quadric),
+                to_world,
+                Some(clip),
+                0,
+                Solver::default(),
+            )
+            .unwrap();
+            let Surface::Quadric(object) = &gate.surface else {
+                unreachable!()
+            };
+            let to_object = gate.to_object;
+            let (mut open, mut closed, mut tangent) = (0, 0, 0);
+            for i in 0..20_000 {
+                let (o, d, tmin) = test_ray(&to_world, i, 2.2, (0.5, 6.5));
+                // Q's least over the ray's interval in the box, in object
+                // space, against the scale of its terms there.
+                let (po, pd) = (
+                    to_object.transform_point3(o),
+                    to_object.transform_vector3(d),
+                );
+                if let Some((t0, t1)) = gate.object_box.clip_ray(po, pd, tmin, f64::INFINITY) {
+                    let q = |t: f64| object.eval(po + t * pd);
+                    let vertex = {
+                        let ad = object.a * pd;
+                        (-(2.0 * po.dot(ad) + object.b.dot(pd)) / (2.0 * pd.dot(ad))).clamp(t0, t1)
+                    };
+                    let least = q(t0).min(q(t1)).min(q(vertex));
+                    let scale = object.magnitude(po.abs() + t1.abs().max(t0.abs()) * pd.abs());
+                    if (least / scale).abs() < 1e-9 {
+                        tangent += 1;
+                        continue;
+                    }
+                }
+                let fast = gate.comes_near(o, d, tmin);
+                let framed = gate.framed_comes_near(o, d, tmin);
+                assert_eq!(fast, framed, "ray {i}");
+                if fast {
+                    open += 1;
+                } else {
+                    closed += 1;
+                }
+            }
+            assert!(
+                open > 3_000 && closed > 3_000,
+                "{open} open, {closed} closed, {tangent} near a tangent"
+            );
+        }
     }
 
     /// A sphere whose box is cut by a clip box keeps the framed path: the

@@ -39,7 +39,7 @@ impl Quadric {
 
     /// F at p with every term made positive: the scale of the rounding
     /// error in F's value there.
-    fn magnitude(&self, p: DVec3) -> f64 {
+    pub(super) fn magnitude(&self, p: DVec3) -> f64 {
         let a = p.abs();
         a.dot(self.abs_a() * a) + self.b.abs().dot(a) + self.c.abs()
     }
