@@ -19,8 +19,8 @@ use crate::accel::Accel;
 use crate::film::Sample;
 use crate::lights::LightRef;
 use crate::math::{Frame, Ray, Ray64, Vec3, offset};
-use crate::sampling::Sampler;
 use crate::sampling::mis::power_heuristic;
+use crate::sampling::{Deferred, Sampler};
 use crate::scene::{Interaction, Scene};
 use crate::shading::{Bsdf, Lobe};
 
@@ -35,17 +35,19 @@ pub struct PathTracer<'a> {
     pub caustics: Option<&'a PhotonMap>,
 }
 
-/// The numbers one bounce uses, drawn together in this order at every
+/// The numbers one bounce uses, taken together in this order at every
 /// vertex whether or not it needs them all (a specular vertex samples no
 /// light, roulette waits for a few bounces): so with the Sobol sampler each
 /// decision at each depth has its own dimensions in every sample, and its
-/// samples stratify it.
+/// samples stratify it. Roulette's is only reserved, and drawn where a path
+/// reaches roulette (`Sampler::defer_1d`): the same number, without the
+/// work on the bounces before it.
 struct Bounce {
     /// Picks the area light, then the point on it (see `LightPicker::pick`).
     light: [f32; 2],
     /// The BSDF's lobe (u[0]) and direction (u[1], u[2]).
     bsdf: [f32; 3],
-    roulette: f32,
+    roulette: Deferred,
 }
 
 impl Bounce {
@@ -56,7 +58,7 @@ impl Bounce {
         Bounce {
             light,
             bsdf: [lobe, u1, u2],
-            roulette: sampler.get_1d(),
+            roulette: sampler.defer_1d(),
         }
     }
 }
@@ -178,7 +180,7 @@ impl PathTracer<'_> {
             beta *= s.weight;
             if depth >= ROULETTE_AFTER {
                 let survive = beta.max_element().min(0.95);
-                if u.roulette >= survive {
+                if sampler.later(u.roulette) >= survive {
                     break;
                 }
                 beta /= survive;

@@ -25,7 +25,7 @@ pub use discrete::Discrete;
 pub use filter::{Filter, FilterSample, FilterSampler};
 pub use piecewise::{Piecewise2D, Sample2D};
 pub use rng::Rng;
-pub use sampler::{Sampler, SamplerKind};
+pub use sampler::{Deferred, Sampler, SamplerKind};
 pub use stratify::stratified_2d;
 
 /// The largest f32 below 1 (1 − 2⁻²⁴): results meant to lie in [0, 1) are

@@ -33,7 +33,20 @@ impl Rng {
 
     /// Uniform in [0, 1): the top 24 bits as a float, so 1.0 is never returned.
     pub fn next_f32(&mut self) -> f32 {
-        (self.next_u64() >> 40) as f32 * (1.0 / (1u64 << 24) as f32)
+        self.skip();
+        Rng::f32_at(self.state)
+    }
+
+    /// Moves on past one number without drawing it, and returns the state
+    /// that number is drawn from (`f32_at`): a counter step, no mixing.
+    pub fn skip(&mut self) -> u64 {
+        self.state = self.state.wrapping_add(GOLDEN);
+        self.state
+    }
+
+    /// The `next_f32` of the step that reached `state`.
+    pub fn f32_at(state: u64) -> f32 {
+        (mix(state) >> 40) as f32 * (1.0 / (1u64 << 24) as f32)
     }
 
     /// Two uniforms in [0, 1), in the order two `next_f32` calls give them:

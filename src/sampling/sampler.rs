@@ -54,9 +54,11 @@ pub struct Sampler {
 #[derive(Clone, Debug)]
 enum Source {
     Independent(Rng),
-    /// The key of (seed, pixel) and the next dimension to draw.
+    /// The key of (seed, pixel), the sample's index and the next dimension
+    /// to draw.
     Sobol {
         key: u64,
+        index: sobol::Index,
         dimension: u32,
     },
 }
@@ -69,6 +71,7 @@ impl Sampler {
             SamplerKind::Independent => Source::Independent(Rng::for_sample(seed, pixel, sample)),
             SamplerKind::Sobol => Source::Sobol {
                 key: mix(mix(seed ^ 0x6a09_e667_f3bc_c908).wrapping_add(pixel)),
+                index: sobol::Index::new(sample),
                 dimension: 0,
             },
         };
@@ -89,8 +92,37 @@ impl Sampler {
     pub fn get_1d(&mut self) -> f32 {
         match &mut self.source {
             Source::Independent(rng) => rng.next_f32(),
-            Source::Sobol { key, dimension } => {
-                sobol::sample_1d(self.sample, next_key(*key, dimension))
+            Source::Sobol {
+                key,
+                index,
+                dimension,
+            } => sobol::sample_1d(*index, next_key(*key, dimension)),
+        }
+    }
+
+    /// The next dimension, reserved in its place in the order but drawn
+    /// only if `later` is called with it: a decision that is often not
+    /// taken (Russian roulette before it may end a path) keeps its own
+    /// dimension, and the requests after it theirs, without the work of
+    /// drawing it. `later(d)` gives the number `get_1d` would have given.
+    pub fn defer_1d(&mut self) -> Deferred {
+        match &mut self.source {
+            Source::Independent(rng) => Deferred(rng.skip()),
+            Source::Sobol { dimension, .. } => {
+                let d = *dimension;
+                *dimension = d.wrapping_add(1);
+                Deferred(u64::from(d))
+            }
+        }
+    }
+
+    /// The number of a dimension `defer_1d` reserved.
+    pub fn later(&self, deferred: Deferred) -> f32 {
+        match &self.source {
+            Source::Independent(_) => Rng::f32_at(deferred.0),
+            Source::Sobol { key, index, .. } => {
+                let mut d = deferred.0 as u32;
+                sobol::sample_1d(*index, next_key(*key, &mut d))
             }
         }
     }
@@ -99,12 +131,19 @@ impl Sampler {
     pub fn get_2d(&mut self) -> [f32; 2] {
         match &mut self.source {
             Source::Independent(rng) => rng.next_2d(),
-            Source::Sobol { key, dimension } => {
-                sobol::sample_2d(self.sample, next_key(*key, dimension))
-            }
+            Source::Sobol {
+                key,
+                index,
+                dimension,
+            } => sobol::sample_2d(*index, next_key(*key, dimension)),
         }
     }
 }
+
+/// A dimension reserved by [`Sampler::defer_1d`]: the generator's state
+/// there (independent) or the dimension's index (Sobol).
+#[derive(Clone, Copy, Debug)]
+pub struct Deferred(u64);
 
 /// The key of dimension `dimension` of the pixel keyed `key`, moving on to
 /// the next dimension.

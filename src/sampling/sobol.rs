@@ -104,8 +104,30 @@ fn laine_karras(mut v: u32, seed: u32) -> u32 {
 /// chosen by `seed`: each bit is flipped or not by a hash of the bits above
 /// it, so points in one elementary interval stay in one. Laine and Karras's
 /// hash on the reversed bits, reversed back.
+#[cfg(test)]
 fn scramble(v: u32, seed: u32) -> u32 {
-    laine_karras(v.reverse_bits(), seed).reverse_bits()
+    scramble_reversed(v.reverse_bits(), seed)
+}
+
+/// `scramble` of the fraction whose bits reversed are `reversed`.
+fn scramble_reversed(reversed: u32, seed: u32) -> u32 {
+    laine_karras(reversed, seed).reverse_bits()
+}
+
+/// A sample index, held with its bits reversed: the form the index's
+/// shuffle takes, computed once for all the dimensions a sample draws (x86
+/// has no instruction that reverses bits; each reversal is a dozen).
+#[derive(Clone, Copy, Debug)]
+pub struct Index {
+    reversed: u32,
+}
+
+impl Index {
+    pub fn new(index: u32) -> Index {
+        Index {
+            reversed: index.reverse_bits(),
+        }
+    }
 }
 
 /// A 32-bit fraction as an f32 in [0, 1): its top 24 bits, exactly, so the
@@ -125,9 +147,9 @@ fn seeds(key: u64) -> [u32; 3] {
 /// Sample `index` of the one-dimensional sequence `key` names: van der
 /// Corput's, shuffled and scrambled. Its first 2^m samples put one in each
 /// interval [i/2^m, (i+1)/2^m).
-pub fn sample_1d(index: u32, key: u64) -> f32 {
+pub fn sample_1d(index: Index, key: u64) -> f32 {
     let [shuffle, x, _] = seeds(key);
-    let i = scramble(index, shuffle);
+    let i = scramble_reversed(index.reversed, shuffle);
     // Van der Corput's point is i reversed, which its scramble reverses back.
     unit(laine_karras(i, x).reverse_bits())
 }
@@ -135,9 +157,9 @@ pub fn sample_1d(index: u32, key: u64) -> f32 {
 /// Sample `index` of the two-dimensional sequence `key` names: Sobol's first
 /// two dimensions, shuffled and scrambled. Its first 2^m samples are a
 /// (0,m,2)-net.
-pub fn sample_2d(index: u32, key: u64) -> [f32; 2] {
+pub fn sample_2d(index: Index, key: u64) -> [f32; 2] {
     let [shuffle, x, y] = seeds(key);
-    let i = scramble(index, shuffle);
+    let i = scramble_reversed(index.reversed, shuffle);
     [
         unit(laine_karras(i, x).reverse_bits()),
         unit(laine_karras(second_reversed(i), y).reverse_bits()),

@@ -194,3 +194,31 @@ fn sobol_beats_independent_numbers_on_a_smooth_path_like_integrand() {
     let (sobol, independent) = (mse(SamplerKind::Sobol), mse(SamplerKind::Independent));
     assert!(sobol < independent / 100.0, "{sobol} vs {independent}");
 }
+
+#[test]
+fn a_deferred_dimension_is_the_number_drawn_in_its_place() {
+    for kind in BOTH {
+        for sample in [0, 1, 5, 1000] {
+            // In order: pixel, 1D, 2D, 1D, 2D.
+            let mut a = Sampler::new(kind, 5, 321, sample);
+            let (pa, xa, ya, za, wa) = (
+                a.pixel_2d(4),
+                a.get_1d(),
+                a.get_2d(),
+                a.get_1d(),
+                a.get_2d(),
+            );
+            // The same with the two 1D requests reserved, drawn late or not
+            // at all: every other request keeps its number.
+            let mut b = Sampler::new(kind, 5, 321, sample);
+            let pb = b.pixel_2d(4);
+            let x = b.defer_1d();
+            let yb = b.get_2d();
+            let skipped = b.defer_1d();
+            let wb = b.get_2d();
+            assert_eq!((pa, ya, wa), (pb, yb, wb), "{kind:?}");
+            assert_eq!(b.later(x).to_bits(), xa.to_bits(), "{kind:?}");
+            assert_eq!(b.later(skipped).to_bits(), za.to_bits(), "{kind:?}");
+        }
+    }
+}
