@@ -18,7 +18,7 @@ EMBREE4_DIR := $(CURDIR)/embree4
 EMBREE4_TARGET := target/embree4
 
 .PHONY: setup render test test-rust test-python lint bench scenes clean embree4 test-embree4 \
-	fuzz check-memory wrapper-overhead povray-compare povray-speed photon-radius peers \
+	fuzz check-memory wrapper-overhead povray-compare povray-speed photon-radius peers embree-modes \
 	sampler-study test-farm python-speed python-speed-embree4
 
 # Installs those of the Debian packages $(1) that are missing (none: no apt-get at all).
@@ -195,6 +195,17 @@ peers: setup
 	cargo build --release
 	DRJIT_LIBLLVM_PATH=/usr/lib/x86_64-linux-gnu/libLLVM.so.19.1 .venv-peers/bin/python \
 	  tools/peers/run.py --sturmray $(RELEASE_BIN) --rounds $(PEERS_ROUNDS) --threads 2
+
+# What Embree's own settings are worth on the Cornell box (issue 15): the
+# robust flag sturmray sets against Mitsuba's settings, and one ray a call
+# against packets of 8 and streams of 256, on camera, bounce and shadow rays,
+# one thread (tools/peers/embree_modes.c; docs/peers.md). Not part of `make test`,
+# where tests/embree_modes.rs runs it on a few rays without timing.
+EMBREE_MODES_ROUNDS ?= 5
+embree-modes: setup
+	mkdir -p out
+	cc -O2 -std=c11 tools/peers/embree_modes.c -lembree3 -lm -o out/embree_modes
+	out/embree_modes scenes/cornell/cornell.obj 1048576 $(EMBREE_MODES_ROUNDS)
 
 # What the sampler buys (issue 15): RMSE against a 4096-spp reference at 4, 16
 # and 64 spp for the sobol and independent samplers on the path-traced scenes,

@@ -44,27 +44,7 @@ fn c_and_rust_report_the_same_hits() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let dir = common::scratch("c-harness");
     let harness = dir.join("c_harness");
-    let mut cc = Command::new("cc");
-    cc.args(["-O2", "-std=c11", "-Wall", "-Wextra", "-Werror"])
-        .arg(root.join("benches/c_harness/c_harness.c"));
-    // The Embree sturmray was built with (ffi/build.rs reads the same variable).
-    if let Some(embree) = std::env::var_os("EMBREE_DIR") {
-        let embree = Path::new(&embree);
-        let lib = embree.join("lib");
-        cc.arg(format!("-I{}", embree.join("include").display()))
-            .arg(format!("-L{}", lib.display()))
-            .arg(format!("-Wl,-rpath,{}", lib.display()));
-    }
-    let built = cc
-        .args(["-lembree3", "-lm", "-o"])
-        .arg(&harness)
-        .output()
-        .expect("cc runs");
-    assert!(
-        built.status.success(),
-        "{}",
-        String::from_utf8_lossy(&built.stderr)
-    );
+    common::compile_embree3_c(&root.join("benches/c_harness/c_harness.c"), &harness);
 
     // The small knot (3,240 triangles) under the knot scene's camera.
     let knot = root.join("scenes/meshes/knot_small.obj");
