@@ -298,6 +298,35 @@ mod tests {
     }
 
     #[test]
+    fn offset_is_one_point_for_every_direction_on_a_side() {
+        // The path tracer finds the normal's side's point once a vertex and
+        // gives it to every ray leaving on that side: exact, bit for bit,
+        // grazing directions (w · n = 0) included.
+        let p = Vec3::new(0.3, -7.0, 1e4);
+        let err = Vec3::new(1e-3, 2e-6, 0.5);
+        let n = Vec3::new(0.6, 0.0, -0.8);
+        let above = offset(p, err, n, n);
+        let mut below = None;
+        for i in 0..200 {
+            let a = i as f32 * 0.1;
+            let w = Vec3::new(a.cos(), (a * 1.7).sin(), a.sin());
+            let o = offset(p, err, n, w);
+            if w.dot(n) < 0.0 {
+                assert_ne!(o, above);
+                // And one point for the other side too.
+                assert_eq!(o, *below.get_or_insert(o));
+            } else {
+                assert_eq!(
+                    o.to_array().map(f32::to_bits),
+                    above.to_array().map(f32::to_bits)
+                );
+            }
+        }
+        assert!(below.is_some());
+        assert_eq!(offset(p, err, n, Vec3::new(0.8, 0.0, 0.6)), above);
+    }
+
+    #[test]
     fn unit_vectors_of_long_and_short_vectors() {
         // glam's f32 normalize squares the length: 1e40 overflows, 1e-60 underflows.
         for scale in [1e-30f32, 1.0, 1e20, 3e37] {

@@ -169,9 +169,11 @@ impl Light {
                 let radiance = *radiance * emission_map::factor(map.as_deref(), b1, b2);
                 let point = *p0 + b1 * *edge1 + b2 * *edge2;
                 let to = point - p;
-                let distance = to.length();
+                let d2 = to.length_squared();
+                // `to.length()`, as `pdf` finds it too: computed once.
+                let distance = d2.sqrt();
                 let wi = to / distance;
-                let pdf = self.pdf(p, point);
+                let pdf = triangle_pdf(*edge1, *edge2, to, d2, distance);
                 (pdf > 0.0).then(|| Incident {
                     wi,
                     distance,
@@ -202,17 +204,9 @@ impl Light {
                 }
             }
             Light::Triangle { edge1, edge2, .. } => {
-                // Uniform on the area: pdf in solid angle = d² / (A cos θ_light).
-                let normal = edge1.cross(*edge2);
-                let double_area = normal.length();
                 let to = point - p;
                 let d2 = to.length_squared();
-                let cos_light = -to.dot(normal) / (d2.sqrt() * double_area);
-                if cos_light > 0.0 && double_area > 0.0 {
-                    d2 / (0.5 * double_area * cos_light)
-                } else {
-                    0.0
-                }
+                triangle_pdf(*edge1, *edge2, to, d2, d2.sqrt())
             }
         }
     }
@@ -249,6 +243,21 @@ impl Light {
         }
         let t = ((cos - cos_end) / (cos_start - cos_end)).clamp(0.0, 1.0);
         t * t * (3.0 - 2.0 * t)
+    }
+}
+
+/// The solid-angle density of a point picked uniformly on the triangle of
+/// edges `edge1`, `edge2`, seen along `to` (from the shading point to the
+/// point; `d2` its squared length, `distance` its length): d² / (A cos θ),
+/// zero from behind.
+fn triangle_pdf(edge1: Vec3, edge2: Vec3, to: Vec3, d2: f32, distance: f32) -> f32 {
+    let normal = edge1.cross(edge2);
+    let double_area = normal.length();
+    let cos_light = -to.dot(normal) / (distance * double_area);
+    if cos_light > 0.0 && double_area > 0.0 {
+        d2 / (0.5 * double_area * cos_light)
+    } else {
+        0.0
     }
 }
 

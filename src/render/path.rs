@@ -69,6 +69,8 @@ struct Vertex<'v> {
     bsdf: &'v Bsdf,
     frame: &'v Frame,
     wo: Vec3,
+    /// Where rays leaving on the normal's side start (see `spawn`).
+    above: Vec3,
     depth: u32,
     /// Whether the BSDF-sampled ray from here is traced, so that a light it
     /// meets counts with the other MIS weight. When it is not (the last
@@ -138,6 +140,7 @@ impl PathTracer<'_> {
             {
                 add += beta * map.caustic(it.p, it.n, |wi| bsdf.eval(&frame, wo, wi));
             }
+            let above = offset(it.p, it.error, it.n, it.n);
             let samples_lights = self.plan.shadow && !bsdf.is_delta();
             if samples_lights {
                 let vertex = Vertex {
@@ -145,6 +148,7 @@ impl PathTracer<'_> {
                     bsdf: &bsdf,
                     frame: &frame,
                     wo,
+                    above,
                     depth,
                     // A non-delta BSDF sample is a diffuse or glossy ray:
                     // traced only below the depth limit, if the plan has them.
@@ -185,7 +189,7 @@ impl PathTracer<'_> {
                 }
                 beta /= survive;
             }
-            ray = Ray::new(offset(it.p, it.error, it.n, s.wi), s.wi);
+            ray = Ray::new(spawn(&it, above, s.wi), s.wi);
         }
         tally.close_path(path);
         let (depth, normal, albedo) = first.unwrap_or((f32::INFINITY, Vec3::ZERO, Vec3::ZERO));
@@ -250,7 +254,7 @@ impl PathTracer<'_> {
         if f == Vec3::ZERO {
             return Vec3::ZERO;
         }
-        let mut shadow = Ray::new(offset(it.p, it.error, it.n, incident.wi), incident.wi);
+        let mut shadow = Ray::new(spawn(it, v.above, incident.wi), incident.wi);
         // Stop just short of the light: its own surface must not occlude it.
         shadow.tfar = incident.distance * (1.0 - 1e-4);
         tally.count(RayKind::Shadow, v.depth);
@@ -265,5 +269,16 @@ impl PathTracer<'_> {
             1.0
         };
         f * incident.irradiance * (cos * weight / picked)
+    }
+}
+
+/// The origin of a ray leaving `it` in direction `w`: `offset`'s point, which
+/// is the same for every direction on the normal's side, so that one
+/// (`above`, found once a vertex) serves the shadow ray and the bounce alike.
+fn spawn(it: &Interaction, above: Vec3, w: Vec3) -> Vec3 {
+    if w.dot(it.n) < 0.0 {
+        offset(it.p, it.error, it.n, w)
+    } else {
+        above
     }
 }
