@@ -27,6 +27,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import os
 import statistics
 import subprocess
 import sys
@@ -170,6 +171,23 @@ def mitsuba_part(args, work: Path) -> tuple[list[tuple], list[str], bool]:
     return rows, notes, agree
 
 
+def machine() -> str:
+    """The CPU the ratios were measured on: Dr.Jit picks its LLVM variants'
+    vector width from the CPU's features (8 lanes with AVX2, 16 with
+    AVX-512), so the ratios against `llvm_ad_rgb` depend on it."""
+    try:
+        info = Path("/proc/cpuinfo").read_text()
+    except OSError:
+        return "machine: unknown (no /proc/cpuinfo)"
+    model = next((line.split(":", 1)[1].strip() for line in info.splitlines()
+                  if line.startswith("model name")), "unknown")
+    flags = next((set(line.split(":", 1)[1].split()) for line in info.splitlines()
+                  if line.startswith("flags")), set())
+    widest = next((name for flag, name in (("avx512f", "AVX-512"), ("avx2", "AVX2"), ("avx", "AVX"))
+                   if flag in flags), "SSE")
+    return f"machine: {model}, {os.cpu_count()} logical CPUs, widest SIMD {widest}"
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--sturmray", type=Path, required=True)
@@ -201,6 +219,7 @@ def main(argv=None) -> int:
                 met = "–" if target is None else ("yes" if ratio <= target else "no")
                 lines.append(f"| Mitsuba Cornell box: {name} | {ratio:.2f} | "
                              f"{'–' if target is None else f'≤ {target:.2f}'} | {met} |")
+    notes.append(machine())
     text = "\n".join(lines) + "\n\n" + "".join(f"- {n}\n" for n in notes)
     print(text)
     args.markdown.parent.mkdir(parents=True, exist_ok=True)
