@@ -27,7 +27,6 @@ from __future__ import annotations
 import argparse
 import json
 import math
-import os
 import statistics
 import subprocess
 import sys
@@ -42,7 +41,7 @@ sys.path.insert(0, str(HERE.parent / "povray"))
 sys.path.insert(0, str(HERE))
 import cornell  # noqa: E402
 from compare import Renderers, run as compare_run  # noqa: E402
-from speed import time_povray, time_sturmray  # noqa: E402
+from speed import machine, time_povray, time_sturmray  # noqa: E402
 
 SAMPLERS = ("independent", "stratified", "multijitter", "orthogonal", "ldsampler")
 MEAN_LIMIT = 0.001  # the issue's: image means within 0.1%
@@ -169,23 +168,6 @@ def mitsuba_part(args, work: Path) -> tuple[list[tuple], list[str], bool]:
     for name, c in curves.items():
         notes.append(f"{name}: (s, RMSE whole) " + ", ".join(f"({t:.3f}, {e:.4f})" for t, e in c["whole"]))
     return rows, notes, agree
-
-
-def machine() -> str:
-    """The CPU the ratios were measured on: Dr.Jit picks its LLVM variants'
-    vector width from the CPU's features (8 lanes with AVX2, 16 with
-    AVX-512), so the ratios against `llvm_ad_rgb` depend on it."""
-    try:
-        info = Path("/proc/cpuinfo").read_text()
-    except OSError:
-        return "machine: unknown (no /proc/cpuinfo)"
-    model = next((line.split(":", 1)[1].strip() for line in info.splitlines()
-                  if line.startswith("model name")), "unknown")
-    flags = next((set(line.split(":", 1)[1].split()) for line in info.splitlines()
-                  if line.startswith("flags")), set())
-    widest = next((name for flag, name in (("avx512f", "AVX-512"), ("avx2", "AVX2"), ("avx", "AVX"))
-                   if flag in flags), "SSE")
-    return f"machine: {model}, {os.cpu_count()} logical CPUs, widest SIMD {widest}"
 
 
 def main(argv=None) -> int:

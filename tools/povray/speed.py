@@ -25,7 +25,6 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import platform
 import re
 import statistics
 import subprocess
@@ -67,6 +66,22 @@ def time_sturmray(renderers: Renderers, scene: Path, work: Path) -> tuple[float,
     return float(json.loads(stats.read_text())["seconds"]), wall
 
 
+def machine() -> str:
+    """The CPU the ratios were measured on. They depend on it: Dr.Jit picks
+    its LLVM variants' vector width from the CPU's features (8 lanes with
+    AVX2, 16 with AVX-512), and the renderers' own speeds differ by CPU."""
+    try:
+        info = Path("/proc/cpuinfo").read_text()
+    except OSError:
+        return f"machine: unknown CPU, {os.cpu_count()} logical CPUs"
+    lines = info.splitlines()
+    model = next((line.split(":", 1)[1].strip() for line in lines if line.startswith("model name")), "unknown")
+    flags = next((set(line.split(":", 1)[1].split()) for line in lines if line.startswith("flags")), set())
+    widest = next((name for flag, name in (("avx512f", "AVX-512"), ("avx2", "AVX2"), ("avx", "AVX"))
+                   if flag in flags), "SSE")
+    return f"machine: {model}, {os.cpu_count()} logical CPUs, widest SIMD {widest}"
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--sturmray", type=Path, required=True, help="the sturmray binary")
@@ -101,8 +116,7 @@ def main(argv=None) -> int:
             print(f"{scene.stem}: done", file=sys.stderr)
     print(
         f"{args.width}×{args.height}, {args.threads} threads each, no anti-aliasing, "
-        f"median of {args.rounds} alternated runs; {platform.processor() or platform.machine()}, "
-        f"{os.cpu_count()} logical CPUs\n"
+        f"median of {args.rounds} alternated runs; {machine()}\n"
     )
     print(
         "| scene | POV-Ray render s | POV-Ray wall s | sturmray render s | sturmray wall s "
