@@ -140,9 +140,11 @@ impl PathTracer<'_> {
             {
                 add += beta * map.caustic(it.p, it.n, |wi| bsdf.eval(&frame, wo, wi));
             }
-            let above = offset(it.p, it.error, it.n, it.n);
             let samples_lights = self.plan.shadow && !bsdf.is_delta();
-            if samples_lights {
+            // Found only where a shadow ray will use it: a delta vertex
+            // (glass, mirror) spawns just its one bounce.
+            let above = samples_lights.then(|| offset(it.p, it.error, it.n, it.n));
+            if let Some(above) = above {
                 let vertex = Vertex {
                     it: &it,
                     bsdf: &bsdf,
@@ -254,7 +256,7 @@ impl PathTracer<'_> {
         if f == Vec3::ZERO {
             return Vec3::ZERO;
         }
-        let mut shadow = Ray::new(spawn(it, v.above, incident.wi), incident.wi);
+        let mut shadow = Ray::new(spawn(it, Some(v.above), incident.wi), incident.wi);
         // Stop just short of the light: its own surface must not occlude it.
         shadow.tfar = incident.distance * (1.0 - 1e-4);
         tally.count(RayKind::Shadow, v.depth);
@@ -274,11 +276,11 @@ impl PathTracer<'_> {
 
 /// The origin of a ray leaving `it` in direction `w`: `offset`'s point, which
 /// is the same for every direction on the normal's side, so that one
-/// (`above`, found once a vertex) serves the shadow ray and the bounce alike.
-fn spawn(it: &Interaction, above: Vec3, w: Vec3) -> Vec3 {
-    if w.dot(it.n) < 0.0 {
-        offset(it.p, it.error, it.n, w)
-    } else {
-        above
+/// (`above`, found once a vertex where light sampling needs it) serves the
+/// shadow ray and the bounce alike.
+fn spawn(it: &Interaction, above: Option<Vec3>, w: Vec3) -> Vec3 {
+    match above {
+        Some(above) if w.dot(it.n) >= 0.0 => above,
+        _ => offset(it.p, it.error, it.n, w),
     }
 }
