@@ -27,14 +27,12 @@ impl Rng {
     }
 
     pub fn next_u64(&mut self) -> u64 {
-        self.state = self.state.wrapping_add(GOLDEN);
-        mix(self.state)
+        mix(self.skip())
     }
 
     /// Uniform in [0, 1): the top 24 bits as a float, so 1.0 is never returned.
     pub fn next_f32(&mut self) -> f32 {
-        self.skip();
-        Rng::f32_at(self.state)
+        Rng::f32_at(self.skip())
     }
 
     /// Moves on past one number without drawing it, and returns the state
