@@ -7,6 +7,8 @@
 //! (POV-Ray's torus fix), solve for the nearest root there, and map the
 //! gradient back to a world normal.
 
+use std::sync::OnceLock;
+
 use glam::{DAffine3, DMat3, DVec3};
 
 use crate::math::{Bounds, Vec3};
@@ -31,6 +33,7 @@ macro_rules! in_storage {
 
 mod crossings;
 pub mod csg;
+mod extent;
 mod gate;
 mod surface;
 mod unbounded;
@@ -113,6 +116,11 @@ pub struct Shape {
     normal_to_world: DMat3,
     /// Where the surface is searched, in object space: its own bounds clipped by the user's box.
     object_box: Box3,
+    /// Where an algebraic surface's own roots are searched: the box around
+    /// its points within `object_box` (see `extent`), found when first
+    /// asked; None if it has none there. Derived, so not hashed.
+    #[serde(skip)]
+    surface_box: OnceLock<Option<Box3>>,
     /// Object space is the surface's own, scaled by 2^unit (see `new`).
     unit: i32,
     world_bounds: Bounds,
@@ -252,6 +260,7 @@ impl Shape {
                 min: object_box.min * 2f64.powi(unit),
                 max: object_box.max * 2f64.powi(unit),
             },
+            surface_box: OnceLock::new(),
             unit,
             solver,
             gate: None,
@@ -313,9 +322,32 @@ impl Shape {
         similar.then_some((to_world.translation, radius * scale))
     }
 
-    /// World-space bounds, rounded outwards to f32.
+    /// World-space bounds of what rays can hit, rounded outwards to f32:
+    /// for an algebraic surface, of the box around its points.
     pub fn bounds(&self) -> Bounds {
+        match (&self.surface, self.search_box()) {
+            (Surface::Algebraic(_), Some(b)) => world_bounds(b, &self.to_object.inverse()),
+            _ => self.world_bounds,
+        }
+    }
+
+    /// World-space bounds of the shape's box, rounded outwards to f32:
+    /// where, as a CSG leaf, it may be inside.
+    pub fn box_bounds(&self) -> Bounds {
         self.world_bounds
+    }
+
+    /// Where the surface's own roots are searched, in object space: the
+    /// box around an algebraic surface's points (see `extent`), or the
+    /// shape's box; None if the surface has no point in its box.
+    fn search_box(&self) -> Option<&Box3> {
+        match &self.surface {
+            Surface::Algebraic(f) => self
+                .surface_box
+                .get_or_init(|| extent::surface_box(f, &self.object_box))
+                .as_ref(),
+            _ => Some(&self.object_box),
+        }
     }
 
     /// The nearest hit with t in (tmin, tmax) of the world ray o + t·d.
@@ -417,7 +449,20 @@ impl Shape {
         tmin: f64,
         tmax: f64,
     ) -> Option<RayPoly<S>> {
-        let frame = self.ray_frame(o, d, tmin, tmax)?;
+        self.ray_polynomial_within(&self.object_box, o, d, tmin, tmax)
+    }
+
+    /// `ray_polynomial_in` from where the ray enters `within`, a box
+    /// that holds the surface's points in the shape's box.
+    fn ray_polynomial_within<const S: usize>(
+        &self,
+        within: &Box3,
+        o: DVec3,
+        d: DVec3,
+        tmin: f64,
+        tmax: f64,
+    ) -> Option<RayPoly<S>> {
+        let frame = self.ray_frame(within, o, d, tmin, tmax)?;
         let q = self.surface.along_in::<S>(frame.start, frame.d);
         let formed = q.coeffs().len();
         Some(RayPoly {
@@ -432,8 +477,15 @@ impl Shape {
     }
 
     /// The world ray o + t·d in object space, from where it enters the
-    /// shape's box, or None if it misses the box.
-    fn ray_frame(&self, o: DVec3, d: DVec3, tmin: f64, tmax: f64) -> Option<RayFrame> {
+    /// box `within` (object space), or None if it misses the box.
+    fn ray_frame(
+        &self,
+        within: &Box3,
+        o: DVec3,
+        d: DVec3,
+        tmin: f64,
+        tmax: f64,
+    ) -> Option<RayFrame> {
         let (o, d) = (
             self.to_object.transform_point3(o),
             self.to_object.transform_vector3(d),
@@ -446,9 +498,7 @@ impl Shape {
             return None;
         }
         let d = d / length;
-        let (t0, t1) = self
-            .object_box
-            .clip_ray(o, d, tmin * length, tmax * length)?;
+        let (t0, t1) = within.clip_ray(o, d, tmin * length, tmax * length)?;
         // Move the origin to where the ray enters the box: Q's coefficients then
         // describe the surface near the ray's start, not far away from it.
         Some(RayFrame {
@@ -481,7 +531,7 @@ impl Shape {
         tmax: f64,
         shadow: bool,
     ) -> Option<Found> {
-        let ray = self.ray_polynomial_in::<S>(o, d, tmin, tmax)?;
+        let ray = self.ray_polynomial_within::<S>(self.search_box()?, o, d, tmin, tmax)?;
         // Shadow rays: a Sturm count of zero settles most of them without refining.
         if shadow && !self.quadratic() && !self.solver.any(&ray.q, 0.0, ray.hi) {
             return None;

@@ -7,6 +7,8 @@
 //! enters the box (`crossings_from`; docs/analytic.md has the measured
 //! error against the box's size).
 
+use std::sync::OnceLock;
+
 use glam::{DAffine3, DVec3};
 
 use super::{Box3, Shape, Surface, world_bounds, world_box};
@@ -62,6 +64,7 @@ impl Shape {
         }
         self.context_box |= !self.is_bounded();
         self.object_box = cut;
+        self.surface_box = OnceLock::new();
         self.world_bounds = world_bounds(&cut, &self.to_object.inverse());
         Ok(())
     }

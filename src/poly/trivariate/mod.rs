@@ -9,6 +9,9 @@
 
 use std::fmt;
 
+mod range;
+pub use range::Dense;
+
 use crate::poly::MAX_DEGREE;
 use crate::poly::univariate::{
     QUARTIC_SLOTS, SMALL_SLOTS, nonzero, normalize_pow2, scale_pow2_normal,

@@ -74,7 +74,7 @@ pub(super) fn node_bounds(node: &Node, leaves: &[Leaf]) -> Option<Box3> {
             }
             match &leaf.part {
                 Part::Solid(s) | Part::Sheet(s) => {
-                    let b = s.bounds();
+                    let b = s.box_bounds();
                     s.is_bounded().then(|| Box3 {
                         min: b.min.as_dvec3(),
                         max: b.max.as_dvec3(),
