@@ -104,12 +104,7 @@ impl Shape {
         let Some((t0, t1)) = self.object_box.clip_ray(o, d, tmin, f64::INFINITY) else {
             return false;
         };
-        let ad = quadric.a * d;
-        let (c0, c1, c2) = (
-            quadric.eval(o),
-            2.0 * o.dot(ad) + quadric.b.dot(d),
-            d.dot(ad),
-        );
+        let [c0, c1, c2] = quadric.along_line(o, d);
         let q = |t: f64| c0 + t * (c1 + t * c2);
         let mut least = q(t0).min(q(t1));
         if c2 > 0.0 {
@@ -146,11 +141,9 @@ impl Shape {
             self.to_object.transform_point3(o),
             self.to_object.transform_vector3(d),
         );
-        let (c0, c1, c2) = (
-            o.length_squared() - radius * radius,
-            2.0 * o.dot(d),
-            d.length_squared(),
-        );
+        let Some([c0, c1, c2]) = self.surface.along_line(o, d) else {
+            return true;
+        };
         // The closest approach at or beyond tmin: Q falls until the vertex.
         let vertex = if c2 > 0.0 {
             (-c1 / (2.0 * c2)).max(tmin)

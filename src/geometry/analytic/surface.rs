@@ -28,6 +28,13 @@ impl Quadric {
         2.0 * (self.a * p) + self.b
     }
 
+    /// [c0, c1, c2] of Q(t) = F(o + t·d) = c0 + c1 t + c2 t², in the
+    /// line's own t (d not normalised).
+    pub(super) fn along_line(&self, o: DVec3, d: DVec3) -> [f64; 3] {
+        let ad = self.a * d;
+        [self.eval(o), 2.0 * o.dot(ad) + self.b.dot(d), d.dot(ad)]
+    }
+
     /// A with every entry made positive.
     fn abs_a(&self) -> DMat3 {
         DMat3::from_cols(
@@ -54,8 +61,7 @@ impl Quadric {
     /// by every ray, and POV-Ray's `Axes` (three thin cylinders) were half
     /// the render time of its steiner.pov sample, nearly all of it misses.
     pub(super) fn misses_line(&self, o: DVec3, d: DVec3) -> bool {
-        let ad = self.a * d;
-        let (c2, c1, c0) = (d.dot(ad), 2.0 * o.dot(ad) + self.b.dot(d), self.eval(o));
+        let [c0, c1, c2] = self.along_line(o, d);
         let abs_a = self.abs_a();
         let pd = d.abs();
         let apd = abs_a * pd;
@@ -88,6 +94,20 @@ pub enum Surface {
 }
 
 impl Surface {
+    /// [c0, c1, c2] of Q(t) = F(o + t·d) for a sphere or a quadric, in
+    /// the line's own t (d not normalised); None for other surfaces.
+    pub(super) fn along_line(&self, o: DVec3, d: DVec3) -> Option<[f64; 3]> {
+        match self {
+            Surface::Sphere { radius } => Some([
+                o.length_squared() - radius * radius,
+                2.0 * o.dot(d),
+                d.length_squared(),
+            ]),
+            Surface::Quadric(q) => Some(q.along_line(o, d)),
+            _ => None,
+        }
+    }
+
     /// A one-line summary for `sturmray info`.
     pub fn describe(&self) -> String {
         match self {

@@ -37,6 +37,7 @@ use super::{Box3, Crossing, Crossings, Shape, ShapeHit};
 use bounds::{bound_leaves, narrow, node_bounds};
 
 mod bounds;
+mod clipped;
 use crate::poly::solve::Solver;
 
 /// How a node combines its children.
@@ -94,6 +95,10 @@ pub struct Csg {
     root: Node,
     leaves: Vec<Leaf>,
     bounds: Box3,
+    /// Whether the root is a clip that `nearest_clipped` answers. Derived,
+    /// so not hashed.
+    #[serde(skip)]
+    clipped: bool,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -163,11 +168,14 @@ impl Csg {
         if bounds.is_empty() {
             return Err("the children's boxes do not overlap: nothing is left".into());
         }
-        Ok(Csg {
+        let mut csg = Csg {
             root,
             leaves,
             bounds,
-        })
+            clipped: false,
+        };
+        csg.clipped = csg.clipped_root();
+        Ok(csg)
     }
 
     pub fn bounds(&self) -> Box3 {
@@ -235,14 +243,35 @@ impl Csg {
         seen: impl FnOnce(&Event) -> R,
     ) -> Option<R> {
         EVENTS.with_borrow_mut(|events| {
-            events.clear();
-            let line = (f64::NEG_INFINITY, tmax);
-            self.events(&self.root, o, d, tmin, line, seen_only, events);
-            events
-                .iter()
-                .find(|e| !e.hidden && e.t > tmin && e.t < tmax)
+            let clipped = self
+                .clipped
+                .then(|| self.nearest_clipped(o, d, tmin, tmax, seen_only, events))
+                .flatten();
+            clipped
+                .unwrap_or_else(|| self.nearest_walked(o, d, tmin, tmax, seen_only, events))
+                .as_ref()
                 .map(seen)
         })
+    }
+
+    /// The nearest seen event with t in (tmin, tmax), from the whole walk
+    /// over the tree's events (into `events`, scratch space).
+    fn nearest_walked(
+        &self,
+        o: DVec3,
+        d: DVec3,
+        tmin: f64,
+        tmax: f64,
+        seen_only: bool,
+        events: &mut Vec<Event>,
+    ) -> Option<Event> {
+        events.clear();
+        let line = (f64::NEG_INFINITY, tmax);
+        self.events(&self.root, o, d, tmin, line, seen_only, events);
+        events
+            .iter()
+            .find(|e| !e.hidden && e.t > tmin && e.t < tmax)
+            .copied()
     }
 
     /// Whether the line o + t·d is inside the tree at t = tmin or crosses its
@@ -439,6 +468,31 @@ impl Csg {
         }
     }
 
+    /// The event of crossing `c` of leaf `i`, of the given kind.
+    fn leaf_event(&self, i: u32, c: &Crossing, kind: Kind) -> Event {
+        Event {
+            t: c.t,
+            width: c.width,
+            kind,
+            leaf: i,
+            face: c.face,
+            flip: self.leaves[i as usize].inverse,
+            child: 0,
+            hidden: false,
+        }
+    }
+
+    /// The event of crossing `c` of leaf `i`, a shape (solid or sheet).
+    fn shape_event(&self, i: u32, c: &Crossing) -> Event {
+        let leaf = &self.leaves[i as usize];
+        let kind = match (&leaf.part, c.entering != leaf.inverse) {
+            (Part::Solid(_), true) => Kind::Enter,
+            (Part::Solid(_), false) => Kind::Leave,
+            _ => Kind::Sheet { inside: false },
+        };
+        self.leaf_event(i, c, kind)
+    }
+
     fn leaf_events(
         &self,
         i: u32,
@@ -451,16 +505,6 @@ impl Csg {
         let tmax = window.1;
         let leaf = &self.leaves[i as usize];
         let inverse = leaf.inverse;
-        let event = |c: &Crossing, kind| Event {
-            t: c.t,
-            width: c.width,
-            kind,
-            leaf: i,
-            face: c.face,
-            flip: inverse,
-            child: 0,
-            hidden: false,
-        };
         let crossing = |t| Crossing {
             t,
             width: face_width(t),
@@ -474,12 +518,7 @@ impl Csg {
                 FOUND.with_borrow_mut(|found| {
                     let starts = s.crossings(o, d, from, tmax, solid, found);
                     for c in found.as_slice() {
-                        let kind = match (solid, c.entering != inverse) {
-                            (false, _) => Kind::Sheet { inside: false },
-                            (true, true) => Kind::Enter,
-                            (true, false) => Kind::Leave,
-                        };
-                        out.push(event(c, kind));
+                        out.push(self.shape_event(i, c));
                     }
                     solid && (starts != inverse)
                 })
@@ -493,7 +532,7 @@ impl Csg {
                     } else {
                         Kind::Leave
                     };
-                    out.push(event(&crossing(t), kind));
+                    out.push(self.leaf_event(i, &crossing(t), kind));
                 }
                 // Far back along the line, n·p is below the offset when the
                 // line runs towards +n.
@@ -512,7 +551,7 @@ impl Csg {
                 let p = o + t * d;
                 let r2 = p.x * p.x + p.y * p.y;
                 if d.z != 0.0 && t < tmax && r2 <= radius * radius && r2 >= hole * hole {
-                    out.push(event(&crossing(t), Kind::Sheet { inside: false }));
+                    out.push(self.leaf_event(i, &crossing(t), Kind::Sheet { inside: false }));
                 }
                 false
             }
@@ -545,7 +584,7 @@ fn joint_inside(events: &mut [Event], cheap: usize, state: &State) -> Option<(f6
             Kind::Leave => count -= 1,
             Kind::Sheet { .. } => continue,
         }
-        let margin = 4.0 * e.width + 1e-9 * e.t.abs().max(1.0);
+        let margin = margin(e);
         if count == all && !was {
             span = Some((span.map_or(e.t - margin, |s| s.0), f64::INFINITY));
         } else if was && count != all {
@@ -553,6 +592,13 @@ fn joint_inside(events: &mut [Event], cheap: usize, state: &State) -> Option<(f6
         }
     }
     span
+}
+
+/// How far either side of a cheap child's event `joint_inside` widens its
+/// span: past the event's width, where a costly child's crossing may be
+/// grouped with it.
+fn margin(e: &Event) -> f64 {
+    4.0 * e.width + 1e-9 * e.t.abs().max(1.0)
 }
 
 /// The inside state of an operation's children at one point of the line:
