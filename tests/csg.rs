@@ -633,6 +633,34 @@ fn a_pov_cylinder_is_placed_between_base_and_cap() {
 }
 
 #[test]
+fn an_open_tube_in_a_tree_has_no_cap_at_its_open_end() {
+    // An open tube along z from 0 to 3, radius 0.5, in a union with a box
+    // off to the side (so a tree, whose leaves give crossings). A line
+    // that crosses the wall inwards and leaves by the open top once had a
+    // phantom crossing there, the box's face, seen from inside the tube.
+    let tree = loaded(
+        "open-tube-union",
+        "[[objects]]\ntype = \"csg\"\nop = \"union\"\nchildren = [\n  \
+         { type = \"cylinder\", base = [0, 0, 0], cap = [0, 0, 3], radius = 0.5, caps = false },\n  \
+         { type = \"box\", min = [4, 0, 0], max = [5, 1, 1] },\n]\n",
+    );
+    // From outside, through the wall at (0.1, √0.24), out of the top.
+    let (o, d) = (DVec3::new(0.1, 2.0, 1.6), DVec3::new(0.0, -1.0, 0.8));
+    let wall = 0.24f64.sqrt();
+    let (t, n) = hit(&tree, o, d).expect("the wall");
+    assert!((t - (2.0 - wall)).abs() < 1e-9, "{t}");
+    assert!(n.abs_diff_eq(DVec3::new(0.2, 2.0 * wall, 0.0), 1e-9), "{n}");
+    // From inside, on the same line past the wall: nothing ahead.
+    let inside = o + 1.6 * d;
+    assert!(
+        hit(&tree, inside, d).is_none(),
+        "{:?}",
+        hit(&tree, inside, d)
+    );
+    assert!(!tree.occluded(inside, d, 0.0, f64::INFINITY));
+}
+
+#[test]
 fn the_plan_sees_the_materials_of_a_trees_children() {
     // The tree's own material is diffuse; one child is glass: refraction rays
     // are planned only because of the child.

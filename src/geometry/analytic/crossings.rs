@@ -143,7 +143,9 @@ impl Crossings {
             });
         }
         // Not where the walk stopped early: the line may cross again first.
-        if inside && ends.exit.1 && !self.stopped {
+        // A sheet has no inside, so no face: where its line leaves the box
+        // after crossing inwards, the surface is open.
+        if solid && inside && ends.exit.1 && !self.stopped {
             self.push(face(ends.exit.0, faces().1, false));
         }
         starts_inside
