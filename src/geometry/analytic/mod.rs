@@ -155,6 +155,9 @@ pub struct RayPoly<const S: usize = SLOTS> {
     start: DVec3,
     d: DVec3,
     t0: f64,
+    /// Where the interval ends, as the clip gave it (the box's exit or
+    /// tmax, in distance): t0 + hi may round below tmax where tmax ends it.
+    t1: f64,
     length: f64,
     /// Q's coefficient count before trimming: what F's rounding noise at
     /// `start` is scaled by (see `Shape::side_of_start`).
@@ -171,7 +174,7 @@ impl<const S: usize> RayPoly<S> {
     /// Whether the box, not tmax, ends the interval: the line leaves it
     /// through a face before tmax.
     fn leaves_before(&self, tmax: f64) -> bool {
-        self.t0 + self.hi < tmax * self.length
+        self.t1 < tmax * self.length
     }
 }
 
@@ -180,6 +183,7 @@ struct RayFrame {
     start: DVec3,
     d: DVec3,
     t0: f64,
+    t1: f64,
     hi: f64,
     length: f64,
 }
@@ -471,6 +475,7 @@ impl Shape {
             start: frame.start,
             d: frame.d,
             t0: frame.t0,
+            t1: frame.t1,
             length: frame.length,
             formed,
         })
@@ -505,6 +510,7 @@ impl Shape {
             start: o + t0 * d,
             d,
             t0,
+            t1,
             hi: t1 - t0,
             length,
         })
