@@ -249,14 +249,7 @@ impl Shape {
         if !self.quadratic() {
             return None;
         }
-        let (o, d) = (
-            self.to_object.transform_point3(o),
-            self.to_object.transform_vector3(d),
-        );
-        let length = d.length();
-        if !(length > 0.0 && length.is_finite()) {
-            return None;
-        }
+        let (o, d, length) = self.object_line(o, d)?;
         let Some((t0, t1)) = self.object_box.clip_ray(o, d, tmin, tmax) else {
             return Some(false);
         };

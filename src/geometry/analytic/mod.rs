@@ -481,6 +481,17 @@ impl Shape {
         })
     }
 
+    /// The world line o + t·d in object space, with the length of its
+    /// direction there; None for a direction of zero or infinite length.
+    fn object_line(&self, o: DVec3, d: DVec3) -> Option<(DVec3, DVec3, f64)> {
+        let (o, d) = (
+            self.to_object.transform_point3(o),
+            self.to_object.transform_vector3(d),
+        );
+        let length = d.length();
+        (length > 0.0 && length.is_finite()).then_some((o, d, length))
+    }
+
     /// The world ray o + t·d in object space, from where it enters the
     /// box `within` (object space), or None if it misses the box.
     fn ray_frame(
@@ -491,17 +502,10 @@ impl Shape {
         tmin: f64,
         tmax: f64,
     ) -> Option<RayFrame> {
-        let (o, d) = (
-            self.to_object.transform_point3(o),
-            self.to_object.transform_vector3(d),
-        );
         // Search in object-space distance, not in t: a shape scaled by 1e-6 would
         // otherwise give Q(t) coefficients spanning 1e24 to 1, and tolerances would
         // mean nothing in the object's own units. t = distance / |d|.
-        let length = d.length();
-        if !(length > 0.0 && length.is_finite()) {
-            return None;
-        }
+        let (o, d, length) = self.object_line(o, d)?;
         let d = d / length;
         let (t0, t1) = within.clip_ray(o, d, tmin * length, tmax * length)?;
         // Move the origin to where the ray enters the box: Q's coefficients then
