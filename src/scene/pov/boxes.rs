@@ -52,8 +52,8 @@ pub(super) fn world_box(obj: &Obj, parent: DAffine3) -> Box3 {
                 min: DVec3::INFINITY,
                 max: DVec3::NEG_INFINITY,
             };
-            for (corners, _) in triangles {
-                for p in corners {
+            for triangle in triangles {
+                for p in &triangle.corners {
                     b.min = b.min.min(*p);
                     b.max = b.max.max(*p);
                 }

@@ -16,7 +16,7 @@ use std::path::Path;
 use glam::{DAffine3, DVec3};
 
 use super::csg::tree;
-use super::object::{BeamKind, CsgOp, Kind, LightSource, Obj, clear};
+use super::object::{BeamKind, CsgOp, Kind, LightSource, Obj, Triangle, clear};
 use super::parse::{Loc, Parser};
 use super::texture::{Pigment, Texture, default_texture};
 use super::{Globals, Statements};
@@ -79,6 +79,12 @@ pub(super) fn scene(
     let resolved = camera
         .resolve()
         .map_err(|m| parser.error_at(camera.loc, m))?;
+    if camera.sky_along_view() {
+        parser.warn(
+            camera.loc,
+            "the camera looks along its sky vector: its right vector is kept, as POV-Ray does",
+        );
+    }
     let plane = ImagePlane {
         direction: resolved.direction,
         right: resolved.right,
@@ -267,7 +273,8 @@ impl Builder<'_> {
         let mut leaves = Vec::new();
         let root = tree(built, &mut leaves);
         let material = leaves.first().map_or(0, |l| l.material);
-        let tree = Csg::new(root, leaves).map_err(|e| self.parser.error_at(loc, e))?;
+        let tree = Csg::within(root, leaves, Box3::cube(WORLD))
+            .map_err(|e| self.parser.error_at(loc, e))?;
         Shape::new(
             Surface::Csg(Box::new(tree)),
             DAffine3::IDENTITY,
@@ -405,10 +412,12 @@ impl Builder<'_> {
     /// The tree node of `obj`, placed by `parent`, in `context` (a world
     /// box outside which nothing of it can show): None for what draws
     /// nothing (a light).
-    /// A mesh's triangles in the world, each with its texture's material.
+    /// A mesh's triangles in the world, each with its texture's material;
+    /// a `smooth_triangle`'s corners with their normals, the others' with
+    /// none (zero: shaded flat), if any triangle is smooth.
     fn mesh(
         &mut self,
-        triangles: &[([DVec3; 3], Option<Texture>)],
+        triangles: &[Triangle],
         to_world: DAffine3,
         texture: Option<&Texture>,
         ior: Option<f64>,
@@ -417,11 +426,22 @@ impl Builder<'_> {
             name: format!("mesh {}", self.scene.meshes.len()),
             ..Mesh::default()
         };
-        for (corners, own) in triangles {
-            let material = self.material(own.as_ref().or(texture), ior, to_world);
+        let smooth = triangles.iter().any(|t| t.normals.is_some());
+        // Normals map by the inverse transpose, so they stay normal to
+        // the surface under a scale.
+        let normal_map = to_world.matrix3.inverse().transpose();
+        for triangle in triangles {
+            let material = self.material(triangle.texture.as_ref().or(texture), ior, to_world);
             let first = mesh.positions.len() as u32;
-            for p in corners {
-                mesh.positions.push(to_world.transform_point3(*p).as_vec3());
+            for p in triangle.corners {
+                mesh.positions.push(to_world.transform_point3(p).as_vec3());
+            }
+            if smooth {
+                let normals = triangle.normals.unwrap_or([DVec3::ZERO; 3]);
+                for n in normals {
+                    mesh.normals
+                        .push((normal_map * n).normalize_or_zero().as_vec3());
+                }
             }
             mesh.triangles.push([first, first + 1, first + 2]);
             mesh.materials.push(material);

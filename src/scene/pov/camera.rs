@@ -69,11 +69,20 @@ impl CameraSpec {
             let handedness = up.cross(direction).dot(right);
             let (dl, ul, rl) = (direction.length(), up.length(), right.length());
             let d = (look_at - self.location).normalize_or_zero();
-            let r = self.sky.cross(d).normalize_or_zero();
-            if d == DVec3::ZERO || r == DVec3::ZERO {
-                return Err(
-                    "the camera looks at its own location, or along its sky vector: no view".into(),
-                );
+            if d == DVec3::ZERO {
+                return Err("the camera looks at its own location: no view".into());
+            }
+            // Looking along the sky (a view straight down, say), POV-Ray
+            // keeps the right vector given (or its default) and warns (see
+            // `sky_along_view`).
+            let across = if self.sky_along_view() {
+                right
+            } else {
+                self.sky.cross(d)
+            };
+            let r = across.normalize_or_zero();
+            if r == DVec3::ZERO || r.cross(d) == DVec3::ZERO {
+                return Err("the camera looks along its sky and its right vector: no view".into());
             }
             let u = d.cross(r).normalize();
             direction = d * dl;
@@ -89,6 +98,18 @@ impl CameraSpec {
             up: m.transform_vector3(up),
         };
         Ok(resolved)
+    }
+}
+
+impl CameraSpec {
+    /// Whether `look_at` lies along the sky vector from the camera, where
+    /// the sky gives no right vector: POV-Ray's test, each component of
+    /// sky × the unit view below its EPSILON (1e-10).
+    pub fn sky_along_view(&self) -> bool {
+        self.look_at.is_some_and(|look_at| {
+            let d = (look_at - self.location).normalize_or_zero();
+            self.sky.cross(d).abs().max_element() < 1e-10
+        })
     }
 }
 

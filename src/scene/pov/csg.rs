@@ -193,7 +193,7 @@ impl Builder<'_> {
             Kind::Mesh(_) => {
                 self.parser.warn(
                     obj.loc,
-                    "a mesh inside CSG is left out: it has no inside here",
+                    "a mesh or triangle inside CSG is left out: it has no inside here",
                 );
                 None
             }

@@ -53,6 +53,15 @@ pub enum BeamKind {
     Cylinder,
 }
 
+/// A triangle of a mesh: its corners, its corners' normals (a
+/// `smooth_triangle`'s), and its own texture if it gave one.
+#[derive(Clone, Debug)]
+pub struct Triangle {
+    pub corners: [DVec3; 3],
+    pub normals: Option<[DVec3; 3]>,
+    pub texture: Option<Texture>,
+}
+
 #[derive(Clone, Debug)]
 pub enum Kind {
     Sphere {
@@ -93,8 +102,8 @@ pub enum Kind {
     },
     /// `cubic`, `quartic`, `poly`.
     Poly(Trivariate),
-    /// Triangles, each with its own texture if it gave one.
-    Mesh(Vec<([DVec3; 3], Option<Texture>)>),
+    /// Triangles (a mesh's, or one alone).
+    Mesh(Vec<Triangle>),
     Csg {
         op: CsgOp,
         children: Vec<Obj>,
@@ -391,6 +400,11 @@ impl Parser {
             }
             "mesh" => self.mesh(loc)?,
             "mesh2" => self.mesh2(loc)?,
+            // A triangle alone is a mesh of one: textured and placed as
+            // any object, by the modifiers after its corners.
+            "triangle" | "smooth_triangle" => {
+                Kind::Mesh(vec![self.triangle(keyword == "smooth_triangle")?])
+            }
             _ => unreachable!("object keywords are matched before"),
         })
     }

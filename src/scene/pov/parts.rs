@@ -5,7 +5,7 @@
 use glam::{DAffine3, DVec3};
 
 use super::lex::Tok;
-use super::object::{BeamKind, Kind, LightSource};
+use super::object::{BeamKind, Kind, LightSource, Triangle};
 use super::parse::{Loc, Parser};
 use super::texture::Texture;
 use super::value::Value;
@@ -160,31 +160,42 @@ impl Parser {
             }
             self.next()?;
             self.expect('{')?;
-            let mut p = [DVec3::ZERO; 3];
-            for (i, corner) in p.iter_mut().enumerate() {
-                if i > 0 {
-                    self.eat(',')?;
-                }
-                *corner = self.vector()?;
-                if w == "smooth_triangle" {
-                    self.eat(',')?;
-                    self.vector()?;
-                }
-            }
-            let mut texture = None;
+            let mut triangle = self.triangle(w == "smooth_triangle")?;
             while !self.eat('}')? {
                 let tloc = self.here();
                 match self.word()?.as_str() {
-                    "texture" => texture = Some(self.texture_block()?),
+                    "texture" => triangle.texture = Some(self.texture_block()?),
                     other => self.unknown_item(tloc, other, "triangle")?,
                 }
             }
-            triangles.push((p, texture));
+            triangles.push(triangle);
         }
         if triangles.is_empty() {
             return Err(self.error_at(loc, "a mesh needs at least one triangle"));
         }
         Ok(Kind::Mesh(triangles))
+    }
+
+    /// The corners of a `triangle`, or of a `smooth_triangle` with each
+    /// corner's normal, up to its texture.
+    pub(super) fn triangle(&mut self, smooth: bool) -> Result<Triangle> {
+        let mut corners = [DVec3::ZERO; 3];
+        let mut normals = [DVec3::ZERO; 3];
+        for (i, (corner, normal)) in corners.iter_mut().zip(&mut normals).enumerate() {
+            if i > 0 {
+                self.eat(',')?;
+            }
+            *corner = self.vector()?;
+            if smooth {
+                self.eat(',')?;
+                *normal = self.vector()?;
+            }
+        }
+        Ok(Triangle {
+            corners,
+            normals: smooth.then_some(normals),
+            texture: None,
+        })
     }
 
     /// `mesh2 { vertex_vectors { n, … } face_indices { n, … } … }`.
@@ -272,10 +283,11 @@ impl Parser {
                     ),
                 ));
             };
-            triangles.push((
-                [p[0], p[1], p[2]],
-                texture.and_then(|t| textures.get(t).cloned()),
-            ));
+            triangles.push(Triangle {
+                corners: [p[0], p[1], p[2]],
+                normals: None,
+                texture: texture.and_then(|t| textures.get(t).cloned()),
+            });
         }
         if triangles.is_empty() {
             return Err(self.error_at(loc, "a mesh2 needs at least one face"));

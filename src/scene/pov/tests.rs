@@ -216,6 +216,24 @@ fn the_camera_resolves_as_povray_does() {
         ..CameraSpec::default()
     };
     assert!(nowhere.resolve().is_err());
+    // Straight down, along the sky: the right vector given stays, and up is
+    // direction × right (+z here, POV-Ray's view from above: its sample
+    // optics.pov).
+    let above = CameraSpec {
+        location: DVec3::new(0.0, 18.0, 0.0),
+        ..spec.clone()
+    };
+    assert!(above.sky_along_view() && !spec.sky_along_view());
+    let c = above.resolve().unwrap();
+    assert!((c.direction - DVec3::new(0.0, -2.0 / 3.0, 0.0)).length() < 1e-12);
+    assert!((c.right - DVec3::new(4.0 / 3.0, 0.0, 0.0)).length() < 1e-12);
+    assert!((c.up - DVec3::Z).length() < 1e-12, "{:?}", c.up);
+    // With the right vector along the view too, nothing is left to see by.
+    let blind = CameraSpec {
+        right: DVec3::new(0.0, -1.0, 0.0),
+        ..above
+    };
+    assert!(blind.resolve().is_err());
 }
 
 #[test]
@@ -823,5 +841,74 @@ fn spotlights_cylinders_and_parallel_lights_take_povrays_defaults_and_order() {
             )),
             "{e}"
         );
+    }
+}
+
+#[test]
+fn csg_unbounded_as_a_whole_is_cut_by_the_world_box() {
+    // Down the y axis from y = 10 at (x, z): the first hit's t and its
+    // normal's y, or None.
+    let down = |scene: &Scene, x: f64, z: f64| {
+        scene.shapes[0]
+            .intersect(DVec3::new(x, 10.0, z), DVec3::NEG_Y, 0.0, f64::INFINITY)
+            .map(|hit| (hit.t, hit.normal.normalize().y))
+    };
+    let close = |got: Option<(f64, f64)>, t: f64, ny: f64| {
+        let (gt, gn) = got.unwrap_or_else(|| panic!("no hit, expected t = {t}"));
+        assert!(
+            (gt - t).abs() < 1e-9 && (gn - ny).abs() < 1e-9,
+            "{got:?}, expected ({t}, {ny})"
+        );
+    };
+    // A floor merged with a ball on it (POV-Ray's idiom: a union holding a
+    // plane): the ball's top, and the floor beside it.
+    let merged = load(&format!(
+        "{VIEW}merge {{ plane {{ y, -1 }} sphere {{ 0, 1 }} }}"
+    ))
+    .unwrap();
+    close(down(&merged, 0.0, 0.0), 9.0, 1.0);
+    close(down(&merged, 3.0, 0.0), 11.0, 1.0);
+    // Ground with a channel cut out (the first child of a difference
+    // unbounded): the channel's floor, and the ground beside it.
+    let channel = load(&format!(
+        "{VIEW}difference {{ plane {{ y, 0 }} box {{ <-1, -2, -5>, <1, 0.1, 20> }} }}"
+    ))
+    .unwrap();
+    close(down(&channel, 0.0, 0.0), 12.0, 1.0);
+    close(down(&channel, 3.0, 0.0), 10.0, 1.0);
+    // A cube made of six half-spaces (shapes2.inc's polyhedra are made so):
+    // bounded, though no child is.
+    let cube = load(&format!(
+        "{VIEW}intersection {{ plane {{ y, 1 }} plane {{ -y, 1 }} plane {{ x, 1 }} \
+         plane {{ -x, 1 }} plane {{ z, 1 }} plane {{ -z, 1 }} }}"
+    ))
+    .unwrap();
+    close(down(&cube, 0.5, 0.3), 9.0, 1.0);
+    assert_eq!(down(&cube, 3.0, 0.0), None);
+}
+
+#[test]
+fn a_triangle_alone_is_a_mesh_of_one_placed_and_textured_as_any_object() {
+    let scene = load(&format!(
+        "{VIEW}triangle {{ <-1, 0, -1>, <1, 0, -1>, <0, 0, 1> pigment {{ rgb <1, 0, 0> }} translate y }}\n\
+         smooth_triangle {{ <-1, 0, 0>, <-1, 1, 0>, <1, 0, 0>, <1, 1, 0>, <0, 1, 0>, <1, 1, 0> scale <2, 1, 1> }}\n\
+         mesh {{ triangle {{ <0, 0, 0>, <1, 0, 0>, <0, 1, 0> }} }}"
+    ))
+    .unwrap();
+    let [flat, smooth, plain] = &scene.meshes[..] else {
+        panic!("{} meshes", scene.meshes.len());
+    };
+    assert_eq!(flat.triangles, [[0, 1, 2]]);
+    let y: Vec<f32> = flat.positions.iter().map(|p| p.y).collect();
+    assert_eq!(y, [1.0, 1.0, 1.0]);
+    assert!(flat.normals.is_empty() && plain.normals.is_empty());
+    let material = &scene.materials[flat.materials[0] as usize];
+    assert_ne!(material, &scene.materials[plain.materials[0] as usize]);
+    // A smooth triangle keeps its corners' normals, mapped as normals are:
+    // <±1, 1, 0> under scale <2, 1, 1> leans towards y.
+    assert_eq!(smooth.normals.len(), 3);
+    for (n, x) in smooth.normals.iter().zip([-0.5, 0.5, 0.5]) {
+        let expected = crate::math::Vec3::new(x, 1.0, 0.0).normalize();
+        assert!((*n - expected).length() < 1e-6, "{n} against {expected}");
     }
 }
