@@ -132,12 +132,43 @@ impl Builder<'_> {
                 r1,
                 open,
             } => {
-                let (surface, clip) = round(*r0, *r1, (*cap - *base).length());
-                let s = shape(self, surface, axis_frame(*base, *cap - *base), Some(clip))?;
-                if *open {
+                let length = (*cap - *base).length();
+                let (surface, clip) = round(*r0, *r1, length);
+                let frame = axis_frame(*base, *cap - *base);
+                if !*open {
+                    let s = shape(self, surface, frame, Some(clip))?;
+                    leaf(Part::Solid(s), true)
+                } else if depth == 0 {
+                    // Alone, only its surface counts: a tube with no inside.
+                    let s = shape(self, surface, frame, Some(clip))?;
                     leaf(Part::Sheet(s), false)
                 } else {
-                    leaf(Part::Solid(s), true)
+                    // In CSG, POV-Ray's open tube keeps the capped solid's
+                    // inside and shows no caps: the solid a little longer,
+                    // clipped to the slab between the caps' planes, whose
+                    // faces are never seen (see `open_tube`).
+                    let (longer, [below, above]) = open_tube(clip, *r0, *r1, to_world * frame);
+                    let s = shape(self, surface, frame, Some(longer))?;
+                    let plane = |part: Part| Built::Leaf {
+                        part: Box::new(part),
+                        closed: false,
+                        inverse: false,
+                        material,
+                    };
+                    Some(Built::Op {
+                        op: Op::Clip,
+                        inverse: obj.inverse,
+                        children: vec![
+                            Built::Leaf {
+                                part: Box::new(Part::Solid(s)),
+                                closed: true,
+                                inverse: false,
+                                material,
+                            },
+                            plane(below),
+                            plane(above),
+                        ],
+                    })
                 }
             }
             Kind::Disc {
@@ -156,16 +187,7 @@ impl Builder<'_> {
             Kind::Plane { normal, distance } => {
                 let n = normal.normalize();
                 if depth > 0 {
-                    // n·p < d in object space is n'·q < n'·M(p0) in the world.
-                    let world = to_world.inverse().matrix3.transpose() * n;
-                    let p0 = to_world.transform_point3(*distance * n);
-                    leaf(
-                        Part::Plane {
-                            normal: world,
-                            offset: world.dot(p0),
-                        },
-                        false,
-                    )
+                    leaf(half_space(to_world, n, *distance * n), false)
                 } else {
                     let s = unbounded(self, linear(n, *distance))?;
                     leaf(Part::Solid(s), false)
@@ -345,5 +367,37 @@ pub(super) fn tree(built: Built, leaves: &mut Vec<Leaf>) -> Node {
             inverse,
             children: children.into_iter().map(|c| tree(c, leaves)).collect(),
         },
+    }
+}
+
+/// For an open cylinder or cone in CSG, with its capped box `clip` (its
+/// axis along z from 0 to the length, in the frame `to_world` places): a
+/// box an eighth of the length longer at each end, wide enough for the
+/// surface there, and the two half-spaces between the caps' planes.
+/// Clipped to them, the longer solid is POV-Ray's open tube: the capped
+/// solid's inside (its `Inside` test ignores `open`), with its faces
+/// beyond the caps never seen.
+fn open_tube(clip: Box3, r0: f64, r1: f64, to_world: DAffine3) -> (Box3, [Part; 2]) {
+    let length = clip.max.z;
+    let margin = length / 8.0;
+    let reach = clip.max.x + (r1 - r0).abs() / length * margin;
+    let longer = Box3 {
+        min: DVec3::new(-reach, -reach, -margin),
+        max: DVec3::new(reach, reach, length + margin),
+    };
+    let slab = [
+        half_space(to_world, DVec3::NEG_Z, DVec3::ZERO),
+        half_space(to_world, DVec3::Z, DVec3::new(0.0, 0.0, length)),
+    ];
+    (longer, slab)
+}
+
+/// The half-space n·p < n·p0 of an object's own space, placed in the world
+/// by `to_world`: n'·q < n'·M(p0), with n' = M⁻ᵀ n.
+fn half_space(to_world: DAffine3, n: DVec3, p0: DVec3) -> Part {
+    let normal = to_world.inverse().matrix3.transpose() * n;
+    Part::Plane {
+        normal,
+        offset: normal.dot(to_world.transform_point3(p0)),
     }
 }

@@ -844,22 +844,29 @@ fn spotlights_cylinders_and_parallel_lights_take_povrays_defaults_and_order() {
     }
 }
 
+/// The first hit of the ray o + t·d on the scene's first shape: its t and
+/// its unit normal.
+fn first_hit(scene: &Scene, o: DVec3, d: DVec3) -> Option<(f64, DVec3)> {
+    scene.shapes[0]
+        .intersect(o, d, 0.0, f64::INFINITY)
+        .map(|hit| (hit.t, hit.normal.normalize()))
+}
+
+/// That a hit is there, at t with the unit normal n.
+fn assert_hit(got: Option<(f64, DVec3)>, t: f64, n: DVec3) {
+    let (gt, gn) = got.unwrap_or_else(|| panic!("no hit, expected t = {t}"));
+    assert!(
+        (gt - t).abs() < 1e-9 && (gn - n).length() < 1e-9,
+        "{got:?}, expected ({t}, {n})"
+    );
+}
+
 #[test]
 fn csg_unbounded_as_a_whole_is_cut_by_the_world_box() {
-    // Down the y axis from y = 10 at (x, z): the first hit's t and its
-    // normal's y, or None.
-    let down = |scene: &Scene, x: f64, z: f64| {
-        scene.shapes[0]
-            .intersect(DVec3::new(x, 10.0, z), DVec3::NEG_Y, 0.0, f64::INFINITY)
-            .map(|hit| (hit.t, hit.normal.normalize().y))
-    };
-    let close = |got: Option<(f64, f64)>, t: f64, ny: f64| {
-        let (gt, gn) = got.unwrap_or_else(|| panic!("no hit, expected t = {t}"));
-        assert!(
-            (gt - t).abs() < 1e-9 && (gn - ny).abs() < 1e-9,
-            "{got:?}, expected ({t}, {ny})"
-        );
-    };
+    // Down the y axis from y = 10 at (x, z).
+    let down =
+        |scene: &Scene, x: f64, z: f64| first_hit(scene, DVec3::new(x, 10.0, z), DVec3::NEG_Y);
+    let close = |got, t: f64, ny: f64| assert_hit(got, t, DVec3::new(0.0, ny, 0.0));
     // A floor merged with a ball on it (POV-Ray's idiom: a union holding a
     // plane): the ball's top, and the floor beside it.
     let merged = load(&format!(
@@ -911,4 +918,42 @@ fn a_triangle_alone_is_a_mesh_of_one_placed_and_textured_as_any_object() {
         let expected = crate::math::Vec3::new(x, 1.0, 0.0).normalize();
         assert!((*n - expected).length() < 1e-6, "{n} against {expected}");
     }
+}
+
+#[test]
+fn an_open_tube_in_csg_keeps_its_inside_and_shows_no_caps() {
+    let (first, close) = (first_hit, assert_hit);
+    // A box less an open tube through it (POV-Ray's Inside test ignores
+    // `open`): the hole goes through the box's faces, and a ray down the
+    // axis meets nothing; beside the hole, the face is there.
+    let drilled = load(&format!(
+        "{VIEW}difference {{ box {{ -2, 2 }} cylinder {{ <-3, 0, 0>, <3, 0, 0>, 1 open }} }}"
+    ))
+    .unwrap();
+    let from_left = DVec3::new(-10.0, 0.0, 0.0);
+    assert_eq!(first(&drilled, from_left, DVec3::X), None);
+    close(
+        first(&drilled, DVec3::new(-10.0, 1.5, 0.0), DVec3::X),
+        8.0,
+        DVec3::NEG_X,
+    );
+    // Across the axis: the box's face, then the tube's inner wall.
+    close(
+        first(&drilled, DVec3::new(0.0, 0.0, -10.0), DVec3::Z),
+        8.0,
+        DVec3::NEG_Z,
+    );
+    close(
+        first(&drilled, DVec3::new(0.0, 0.0, -1.5), DVec3::Z),
+        0.5,
+        DVec3::Z,
+    );
+    // A ball cut to a short open tube: its ends are open (the caps are not
+    // seen), its wall is.
+    let ring = load(&format!(
+        "{VIEW}intersection {{ sphere {{ 0, 1.5 }} cylinder {{ <0, 0, -1>, <0, 0, 1>, 1 open }} }}"
+    ))
+    .unwrap();
+    assert_eq!(first(&ring, DVec3::new(0.0, 0.0, -10.0), DVec3::Z), None);
+    close(first(&ring, from_left, DVec3::X), 9.0, DVec3::NEG_X);
 }
