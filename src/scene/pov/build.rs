@@ -190,6 +190,33 @@ impl Builder<'_> {
                 }
                 return Ok(());
             }
+            // A bounded union's meshes and triangles have no inside for a
+            // tree to hold: drawn beside it, as they would be unbounded (a
+            // bound is meant to hold what it bounds), and the rest gated.
+            Kind::Csg {
+                op: CsgOp::Union,
+                children,
+            } if obj.clipped_by.is_empty()
+                && children.iter().any(|c| matches!(c.kind, Kind::Mesh(_))) =>
+            {
+                let (meshes, rest): (Vec<Obj>, Vec<Obj>) = children
+                    .iter()
+                    .cloned()
+                    .partition(|c| matches!(c.kind, Kind::Mesh(_)));
+                for mut mesh in meshes {
+                    mesh.no_shadow |= obj.no_shadow;
+                    self.top(&mesh, to_world, texture)?;
+                }
+                if rest.is_empty() {
+                    return Ok(());
+                }
+                let mut others = obj.clone();
+                others.kind = Kind::Csg {
+                    op: CsgOp::Union,
+                    children: rest,
+                };
+                return self.top(&others, parent, inherited);
+            }
             Kind::Mesh(triangles) => {
                 if !obj.clipped_by.is_empty() {
                     self.parser.warn(

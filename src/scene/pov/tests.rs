@@ -957,3 +957,25 @@ fn an_open_tube_in_csg_keeps_its_inside_and_shows_no_caps() {
     assert_eq!(first(&ring, DVec3::new(0.0, 0.0, -10.0), DVec3::Z), None);
     close(first(&ring, from_left, DVec3::X), 9.0, DVec3::NEG_X);
 }
+
+#[test]
+fn a_bounded_unions_triangles_are_drawn_beside_its_gated_rest() {
+    let scene = load(&format!(
+        "{VIEW}union {{ triangle {{ <-2, -1, 0>, <2, -1, 0>, <0, 2, 0> }} \
+         sphere {{ <0, 0, -1>, 0.5 }} mesh {{ triangle {{ <0, 0, 1>, <1, 0, 1>, <0, 1, 1> }} }} \
+         bounded_by {{ box {{ -3, 3 }} }} translate x }}"
+    ))
+    .unwrap();
+    assert_eq!(scene.meshes.len(), 2);
+    assert_eq!(
+        scene.meshes[0].positions[0],
+        crate::math::Vec3::new(-1.0, -1.0, 0.0)
+    );
+    // The sphere keeps the bound, moved with it.
+    assert_eq!(scene.shapes.len(), 1);
+    assert_hit(
+        first_hit(&scene, DVec3::new(1.0, 0.0, -10.0), DVec3::Z),
+        8.5,
+        DVec3::NEG_Z,
+    );
+}
