@@ -201,7 +201,11 @@ impl Parser {
     /// `mesh2 { vertex_vectors { n, … } face_indices { n, … } … }`.
     pub(super) fn mesh2(&mut self, loc: Loc) -> Result<Kind> {
         let mut vertices: Vec<DVec3> = Vec::new();
+        let mut normals: Vec<DVec3> = Vec::new();
         let mut faces: Vec<([usize; 3], Option<usize>)> = Vec::new();
+        // Per face, its corners' indices into `normals`; with none given,
+        // the face's own indices are (POV-Ray's rule).
+        let mut normal_faces: Vec<[usize; 3]> = Vec::new();
         let mut textures: Vec<Texture> = Vec::new();
         while let Some(w) = self.peek_word()? {
             match w.as_str() {
@@ -219,8 +223,10 @@ impl Parser {
                     }
                     self.eat(',')?;
                     self.expect('}')?;
-                    if w == "vertex_vectors" {
-                        vertices = list;
+                    match w.as_str() {
+                        "vertex_vectors" => vertices = list,
+                        "normal_vectors" => normals = list,
+                        _ => {}
                     }
                 }
                 "texture_list" => {
@@ -252,14 +258,15 @@ impl Parser {
                                 break;
                             }
                         }
-                        if w == "face_indices" {
-                            let idx = [v.x, v.y, v.z];
-                            if idx.iter().any(|&i| i < 0.0 || i.fract() != 0.0) {
-                                return Err(
-                                    self.error_at(floc, "face indices are whole numbers >= 0")
-                                );
-                            }
-                            faces.push((idx.map(|i| i as usize), texture));
+                        let idx = [v.x, v.y, v.z];
+                        if w != "uv_indices" && idx.iter().any(|&i| i < 0.0 || i.fract() != 0.0) {
+                            return Err(self.error_at(floc, format!("{w} are whole numbers >= 0")));
+                        }
+                        let idx = idx.map(|i| i as usize);
+                        match w.as_str() {
+                            "face_indices" => faces.push((idx, texture)),
+                            "normal_indices" => normal_faces.push(idx),
+                            _ => {}
                         }
                     }
                     self.eat(',')?;
@@ -269,7 +276,7 @@ impl Parser {
             }
         }
         let mut triangles = Vec::with_capacity(faces.len());
-        for (idx, texture) in faces {
+        for (k, (idx, texture)) in faces.into_iter().enumerate() {
             let Some(p) = idx
                 .iter()
                 .map(|&i| vertices.get(i).copied())
@@ -283,9 +290,35 @@ impl Parser {
                     ),
                 ));
             };
+            // Smooth where normals are given (a face past the end of
+            // normal_indices is flat).
+            let corner_normals = if normals.is_empty() {
+                None
+            } else if normal_faces.is_empty() {
+                Some(idx)
+            } else {
+                normal_faces.get(k).copied()
+            };
+            let smooth = match corner_normals {
+                None => None,
+                Some(n) => {
+                    let found: Option<Vec<DVec3>> =
+                        n.iter().map(|&i| normals.get(i).copied()).collect();
+                    let Some(found) = found else {
+                        return Err(self.error_at(
+                            loc,
+                            format!(
+                                "a face refers to a normal beyond the {} in normal_vectors",
+                                normals.len()
+                            ),
+                        ));
+                    };
+                    Some([found[0], found[1], found[2]])
+                }
+            };
             triangles.push(Triangle {
                 corners: [p[0], p[1], p[2]],
-                normals: None,
+                normals: smooth,
                 texture: texture.and_then(|t| textures.get(t).cloned()),
             });
         }

@@ -979,3 +979,37 @@ fn a_bounded_unions_triangles_are_drawn_beside_its_gated_rest() {
         DVec3::NEG_Z,
     );
 }
+
+#[test]
+fn a_mesh2s_normals_shade_it_smooth() {
+    let quad = "vertex_vectors { 4, <0,0,0>, <1,0,0>, <1,1,0>, <0,1,0> }\n\
+                normal_vectors { 2, <0,0,-1>, <1,0,-1> }";
+    // With normal_indices: each face's corners pick their normals.
+    let indexed = load(&format!(
+        "{VIEW}mesh2 {{ {quad} face_indices {{ 2, <0,1,2>, <0,2,3> }} \
+         normal_indices {{ 2, <0,1,1>, <0,1,0> }} }}"
+    ))
+    .unwrap();
+    let mesh = &indexed.meshes[0];
+    let (a, b) = (
+        crate::math::Vec3::new(0.0, 0.0, -1.0),
+        crate::math::Vec3::new(1.0, 0.0, -1.0).normalize(),
+    );
+    assert_eq!(mesh.normals.len(), 6);
+    for (got, want) in mesh.normals.iter().zip([a, b, b, a, b, a]) {
+        assert!((*got - want).length() < 1e-6, "{got} against {want}");
+    }
+    // Without: the face's own indices pick them, and one past the list is
+    // an error naming it.
+    let own = load(&format!(
+        "{VIEW}mesh2 {{ {quad} face_indices {{ 1, <0,1,0> }} }}"
+    ))
+    .unwrap();
+    assert!((own.meshes[0].normals[1] - b).length() < 1e-6);
+    let past = load(&format!(
+        "{VIEW}mesh2 {{ {quad} face_indices {{ 1, <0,1,2> }} }}"
+    ))
+    .unwrap_err()
+    .to_string();
+    assert!(past.contains("beyond the 2 in normal_vectors"), "{past}");
+}
