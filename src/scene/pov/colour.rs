@@ -38,10 +38,10 @@ impl Parser {
                 self.colour_word(&w, &mut c)?;
             }
         }
+        // Components may follow and change it (`rgb 1 filter 0.5`); another
+        // `rgb` starts the next colour, as in a checker's `rgb 1 rgb 0`.
         while let Some(w) = self.peek_word()? {
-            if !(COLOUR_WORDS.contains(&w.as_str())
-                || matches!(w.as_str(), "red" | "green" | "blue" | "filter" | "transmit"))
-            {
+            if !matches!(w.as_str(), "red" | "green" | "blue" | "filter" | "transmit") {
                 break;
             }
             self.next()?;

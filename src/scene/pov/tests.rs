@@ -1013,3 +1013,60 @@ fn a_mesh2s_normals_shade_it_smooth() {
     .to_string();
     assert!(past.contains("beyond the 2 in normal_vectors"), "{past}");
 }
+
+#[test]
+fn a_checker_of_textures_is_a_checker_of_their_colours() {
+    let p = read(
+        "#declare A = texture { pigment { rgb <1, 0, 0> } finish { phong 1 } }\n\
+         #declare B = texture { pigment { rgb <0, 0, 1> } }\n\
+         #declare X = texture { checker texture { A }, texture { B } scale 0.5 }\n\
+         #declare Y = texture { checker texture { A } texture { pigment { checker rgb 1 rgb 0 } } }\n\
+         #declare P = pigment { checker rgb <1, 0, 0> rgb <0, 0, 1> }\n",
+    );
+    // Another `rgb` starts the checker's second colour, as in POV-Ray (it
+    // used to be read as changing the first).
+    let Some(Value::Pigment(super::texture::Pigment::Checker { colours, .. })) = p.symbol("P")
+    else {
+        panic!("P is {:?}", p.symbol("P"));
+    };
+    assert_eq!(
+        colours,
+        &[[1.0, 0.0, 0.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0, 0.0]]
+    );
+    let Some(Value::Texture(x)) = p.symbol("X") else {
+        panic!("X is {:?}", p.symbol("X"));
+    };
+    let super::texture::Pigment::Checker { colours, to_owner } = &x.pigment else {
+        panic!("{:?}", x.pigment);
+    };
+    assert_eq!(
+        colours,
+        &[[1.0, 0.0, 0.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0, 0.0]]
+    );
+    assert_eq!(to_owner.matrix3.x_axis.x, 0.5);
+    let Some(Value::Texture(a)) = p.symbol("A") else {
+        panic!("A is {:?}", p.symbol("A"));
+    };
+    assert_eq!(x.finish, a.finish);
+    // Y's second texture is patterned: Y is its first, A.
+    let Some(Value::Texture(y)) = p.symbol("Y") else {
+        panic!("Y is {:?}", p.symbol("Y"));
+    };
+    assert_eq!(**y, **a);
+    // Their warnings come where they are used.
+    let scene = load(&format!(
+        "{VIEW}#declare A = texture {{ pigment {{ rgb 1 }} finish {{ phong 1 }} }}\n\
+         sphere {{ 0, 1 texture {{ checker texture {{ A }} texture {{ pigment {{ rgb 0 }} }} }} }}\n\
+         sphere {{ 0, 1 texture {{ checker texture {{ A }} texture {{ pigment {{ checker }} }} }} }}"
+    ))
+    .unwrap();
+    let warnings = scene.warnings.join("\n");
+    assert!(
+        warnings.contains("t.pov:3:25: a checker of textures takes its first"),
+        "{warnings}"
+    );
+    assert!(
+        warnings.contains("t.pov:4:25: a checker of patterned textures"),
+        "{warnings}"
+    );
+}

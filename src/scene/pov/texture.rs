@@ -68,6 +68,9 @@ pub fn default_texture() -> Texture {
     }
 }
 
+/// A checker's colours where it gives none: POV-Ray's blue and green.
+const CHECKER_COLOURS: [[f64; 5]; 2] = [[0.0, 0.0, 1.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0, 0.0]];
+
 /// The name the reader keeps `#default`'s texture under (not a name a
 /// scene can write: it starts with a space).
 pub const DEFAULT: &str = " default";
@@ -123,6 +126,7 @@ impl Parser {
                     self.skip_warning(loc, "normal", "the surface is drawn without its bumps");
                     self.skip_block()?;
                 }
+                "checker" => t = self.texture_checker(loc)?,
                 w => {
                     if let Some(m) = self.transform_item(w)? {
                         t.transform(m);
@@ -130,6 +134,60 @@ impl Parser {
                         self.unknown_item(loc, w, "texture")?;
                     }
                 }
+            }
+        }
+        Ok(t)
+    }
+
+    /// A checker of two textures, after `checker` in a texture: unit cubes
+    /// taking one texture or the other. Two plain colours make a pigment
+    /// checker with the first texture's finish (a warning if the second's
+    /// differs); a texture with a patterned pigment stands for the whole
+    /// with a warning.
+    fn texture_checker(&mut self, loc: Loc) -> Result<Texture> {
+        let mut parts = Vec::new();
+        while parts.len() < 2 && self.eat_word("texture")? {
+            parts.push(self.texture_block()?);
+            self.eat(',')?;
+        }
+        let mut t = self.defaults();
+        match &parts[..] {
+            [] => {
+                t.pigment = Pigment::Checker {
+                    colours: CHECKER_COLOURS,
+                    to_owner: DAffine3::IDENTITY,
+                }
+            }
+            [
+                Texture {
+                    pigment: Pigment::Colour(a),
+                    finish,
+                },
+                Texture {
+                    pigment: Pigment::Colour(b),
+                    finish: second,
+                },
+            ] => {
+                if finish != second {
+                    self.warn(
+                        loc,
+                        "a checker of textures takes its first texture's finish for both",
+                    );
+                }
+                t = Texture {
+                    pigment: Pigment::Checker {
+                        colours: [*a, *b],
+                        to_owner: DAffine3::IDENTITY,
+                    },
+                    finish: *finish,
+                };
+            }
+            [first, ..] => {
+                self.warn(
+                    loc,
+                    "a checker of patterned textures is drawn with its first texture",
+                );
+                t = first.clone();
             }
         }
         Ok(t)
@@ -159,9 +217,15 @@ impl Parser {
             match word.as_str() {
                 "checker" => {
                     self.next()?;
-                    let mut colours = [[0.0, 0.0, 1.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0, 0.0]];
+                    let mut colours = CHECKER_COLOURS;
                     for c in &mut colours {
-                        if self.peek_word()?.is_none_or(|w| self.starts_colour(&w)) {
+                        // A colour, a number or a vector; none (the block's
+                        // end, a transform) keeps POV-Ray's default.
+                        let given = match self.peek_word()? {
+                            Some(w) => self.starts_colour(&w),
+                            None => self.starts_number()? || self.peek()? == Some(Tok::Punct('<')),
+                        };
+                        if given {
                             let loc = self.here();
                             let v = self.colour_rest(None)?;
                             *c = self.as_colour(&v, loc)?;
