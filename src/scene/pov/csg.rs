@@ -110,20 +110,49 @@ impl Builder<'_> {
                     min: a.min(*b),
                     max: a.max(*b),
                 };
-                if clip.min.cmpge(clip.max).any() {
-                    self.parser.warn(
-                        obj.loc,
-                        "a flat box (two corners share a coordinate) is left out",
-                    );
-                    return Ok(None);
-                }
                 let inside = crate::geometry::Surface::Quadric(crate::geometry::Quadric {
                     a: glam::DMat3::ZERO,
                     b: DVec3::ZERO,
                     c: -1.0,
                 });
-                let s = shape(self, inside, DAffine3::IDENTITY, Some(clip))?;
-                leaf(Part::Solid(s), true)
+                let flat: Vec<usize> = (0..3).filter(|&i| clip.min[i] >= clip.max[i]).collect();
+                match flat[..] {
+                    [] => {
+                        let s = shape(self, inside, DAffine3::IDENTITY, Some(clip))?;
+                        leaf(Part::Solid(s), true)
+                    }
+                    // Alone, a box flat along one axis is the rectangle
+                    // POV-Ray draws: the plane there, clipped to the box
+                    // made deep along that axis (whose faces are not seen).
+                    [axis] if depth == 0 => {
+                        let mut deep = clip;
+                        deep.min[axis] -= 1.0;
+                        deep.max[axis] += 1.0;
+                        let s = shape(self, inside, DAffine3::IDENTITY, Some(deep))?;
+                        let part = |part: Part, closed: bool| Built::Leaf {
+                            part: Box::new(part),
+                            closed,
+                            inverse: false,
+                            material,
+                        };
+                        Some(Built::Op {
+                            op: Op::Clip,
+                            inverse: false,
+                            children: vec![
+                                part(half_space(to_world, DVec3::AXES[axis], clip.min), false),
+                                part(Part::Solid(s), true),
+                            ],
+                        })
+                    }
+                    _ => {
+                        self.parser.warn(
+                            obj.loc,
+                            "a flat box is left out: in CSG it has no inside, and flat along \
+                             two axes it is a line",
+                        );
+                        return Ok(None);
+                    }
+                }
             }
             Kind::Round {
                 base,

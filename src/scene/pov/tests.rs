@@ -1070,3 +1070,36 @@ fn a_checker_of_textures_is_a_checker_of_their_colours() {
         "{warnings}"
     );
 }
+
+#[test]
+fn a_flat_box_alone_is_the_rectangle_povray_draws() {
+    let scene = load(&format!(
+        "{VIEW}box {{ <-1, -1, 0>, <1, 2, 0> rotate 90*x translate y }}"
+    ))
+    .unwrap();
+    // Turned to lie in y = 1, from x = -1 to 1 and z = -1 to 2 (rotate
+    // 90*x takes +y to +z), seen from either side.
+    let (t, n) = first_hit(&scene, DVec3::new(0.5, 10.0, 1.5), DVec3::NEG_Y).unwrap();
+    assert!(
+        (t - 9.0).abs() < 1e-9 && (n.y.abs() - 1.0).abs() < 1e-9,
+        "{t} {n}"
+    );
+    let (t, _) = first_hit(&scene, DVec3::new(0.5, -10.0, 1.5), DVec3::Y).unwrap();
+    assert!((t - 11.0).abs() < 1e-9, "{t}");
+    assert_eq!(
+        first_hit(&scene, DVec3::new(1.5, 10.0, 0.0), DVec3::NEG_Y),
+        None
+    );
+    assert_eq!(
+        first_hit(&scene, DVec3::new(0.0, 10.0, -1.5), DVec3::NEG_Y),
+        None
+    );
+    // In CSG it has no inside: left out, with a warning naming why.
+    let cut = load(&format!(
+        "{VIEW}intersection {{ sphere {{ 0, 1 }} box {{ <-1, -1, 0>, <1, 1, 0> }} }}"
+    ));
+    let warnings = cut
+        .map(|s| s.warnings.join("\n"))
+        .unwrap_or_else(|e| e.to_string());
+    assert!(warnings.contains("a flat box is left out"), "{warnings}");
+}
