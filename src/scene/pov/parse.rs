@@ -578,7 +578,14 @@ impl Parser {
         }
         if self.peek()? == Some(Tok::Punct('[')) {
             self.skip_warning(loc, "array", "an array element is not declared");
-            while !matches!(self.next()?, Tok::Punct(';')) {}
+            while self.peek()? == Some(Tok::Punct('[')) {
+                self.skip_brackets()?;
+            }
+            self.expect('=')?;
+            // Read and dropped: an element that is a texture or an object
+            // ends at its `}`, with no `;` to skip to.
+            self.value()?;
+            self.eat(';')?;
             return Ok(());
         }
         self.expect('=')?;

@@ -1103,3 +1103,23 @@ fn a_flat_box_alone_is_the_rectangle_povray_draws() {
         .unwrap_or_else(|e| e.to_string());
     assert!(warnings.contains("a flat box is left out"), "{warnings}");
 }
+
+#[test]
+fn an_array_elements_declaration_is_skipped_whatever_its_value() {
+    // A texture or object element has no `;` after it (POV-Ray's
+    // stackergold.pov): skipped up to its end, not to the file's.
+    let scene = load(&format!(
+        "{VIEW}#declare TG[0] = texture {{ pigment {{ rgb 1 }} }}\n\
+         #declare TG[1][0] = 2;\n\
+         sphere {{ 0, 1 }}"
+    ))
+    .unwrap();
+    assert_eq!(scene.shapes.len(), 1);
+    let warnings = scene.warnings.join("\n");
+    assert!(warnings.contains("t.pov:2:"), "{warnings}");
+    assert!(warnings.contains("t.pov:3:"), "{warnings}");
+    assert!(
+        warnings.contains("an array element is not declared"),
+        "{warnings}"
+    );
+}
