@@ -1123,3 +1123,19 @@ fn an_array_elements_declaration_is_skipped_whatever_its_value() {
         "{warnings}"
     );
 }
+
+#[test]
+fn a_two_number_vector_has_a_zero_third_component() {
+    // POV-Ray 3.7 renders `translate <1, 0.5>` as `translate <1, 0.5, 0>`
+    // (the same pixels), and a sphere centred on a declared <a, b>.
+    let declared = load(&format!(
+        "{VIEW}#declare C = <0, 2>;\nsphere {{ C, 1 translate <1, 0.5> }}"
+    ))
+    .unwrap();
+    // Down the y axis over the centre (1, 2.5, 0): the top at y = 3.5.
+    let got = first_hit(&declared, DVec3::new(1.0, 10.0, 0.0), DVec3::NEG_Y);
+    assert_hit(got, 6.5, DVec3::Y);
+    // Off the centre along z, the hit's height tells the centre's z: 0.
+    let off = first_hit(&declared, DVec3::new(1.0, 10.0, 0.6), DVec3::NEG_Y);
+    assert_hit(off, 7.5 - 0.8, DVec3::new(0.0, 0.8, 0.6));
+}
