@@ -5,6 +5,7 @@
 use glam::{DAffine3, DVec3};
 
 use super::parse::{Loc, Parser};
+use super::value::Value;
 use crate::error::Result;
 
 /// A camera statement as read, before it is resolved.
@@ -121,6 +122,16 @@ impl Parser {
             ..CameraSpec::default()
         };
         self.expect('{')?;
+        // `camera { Declared … }` goes on from the declared camera.
+        if let Some(w) = self.peek_word()?
+            && let Some(Value::Camera(base)) = self.symbol(&w)
+        {
+            c = CameraSpec {
+                loc: c.loc,
+                ..(**base).clone()
+            };
+            self.next()?;
+        }
         // A camera of another kind (read as a perspective one) may see 180
         // degrees or more, which no perspective camera can.
         let mut other_kind = false;

@@ -34,9 +34,8 @@ use super::{LoadOptions, Scene};
 use crate::error::Result;
 use camera::CameraSpec;
 use lex::Tok;
-use object::Obj;
+use object::{Kind, Obj};
 use parse::Parser;
-use texture::Pigment;
 use value::{OBJECT_KEYWORDS, UNSUPPORTED, Value};
 
 /// POV-Ray's image size when the command line gives none.
@@ -88,6 +87,9 @@ fn statements(p: &mut Parser) -> Result<Statements> {
         globals: Globals::default(),
     };
     let mut cameras = 0;
+    // POV-Ray draws a sky_sphere wherever a ray leaves the scene, and its
+    // background only where there is none, whichever comes first.
+    let mut sky = None;
     while let Some(tok) = p.peek()? {
         let loc = p.here();
         let Tok::Word(word) = tok else {
@@ -118,27 +120,7 @@ fn statements(p: &mut Parser) -> Result<Statements> {
             }
             "sky_sphere" => {
                 p.next()?;
-                p.expect('{')?;
-                while !p.eat('}')? {
-                    let iloc = p.here();
-                    match p.word()?.as_str() {
-                        "pigment" => {
-                            s.background = match p.pigment_block()? {
-                                Pigment::Colour(c) => DVec3::new(c[0], c[1], c[2]),
-                                Pigment::Checker { colours, .. } => {
-                                    p.warn(iloc, "a checkered sky is drawn as its mean colour");
-                                    let [a, b] = colours;
-                                    DVec3::new(a[0] + b[0], a[1] + b[1], a[2] + b[2]) * 0.5
-                                }
-                            }
-                        }
-                        w => {
-                            if p.transform_item(w)?.is_none() {
-                                p.unknown_item(iloc, w, "sky_sphere")?;
-                            }
-                        }
-                    }
-                }
+                sky = p.sky_sphere_block()?.or(sky);
                 p.count("sky_sphere");
             }
             "global_settings" => {
@@ -146,7 +128,13 @@ fn statements(p: &mut Parser) -> Result<Statements> {
                 globals(p, &mut s.globals)?;
             }
             w if OBJECT_KEYWORDS.contains(&w) || UNSUPPORTED.contains(&w) => {
-                if let Some(obj) = p.object_statement()? {
+                if let Some(mut obj) = p.object_statement()? {
+                    // POV-Ray gives an object with no texture the `#default`
+                    // in force where its statement ends, so a shape declared
+                    // before a `#default` and placed after it takes it.
+                    if obj.texture.is_none() && !matches!(obj.kind, Kind::Light(_)) {
+                        obj.set_texture(p.defaults());
+                    }
                     s.objects.push(obj);
                 }
             }
@@ -168,6 +156,9 @@ fn statements(p: &mut Parser) -> Result<Statements> {
                 }
             }
         }
+    }
+    if let Some(sky) = sky {
+        s.background = sky;
     }
     if !s.globals.gamma {
         let file = p.files[0].display().to_string();

@@ -152,7 +152,7 @@ impl Obj {
     }
 
     /// Sets the texture, given in the parent's space now.
-    fn set_texture(&mut self, mut t: Texture) {
+    pub(super) fn set_texture(&mut self, mut t: Texture) {
         t.transform(self.local());
         self.texture = Some(t);
     }

@@ -1139,3 +1139,61 @@ fn a_two_number_vector_has_a_zero_third_component() {
     let off = first_hit(&declared, DVec3::new(1.0, 10.0, 0.6), DVec3::NEG_Y);
     assert_hit(off, 7.5 - 0.8, DVec3::new(0.0, 0.8, 0.6));
 }
+
+#[test]
+fn a_sky_sphere_is_drawn_over_any_background_before_or_after_it() {
+    // POV-Ray 3.7 shows the sky_sphere wherever both are given, in either
+    // order (checked on a render of each order); a later sky_sphere
+    // replaces an earlier one.
+    for text in [
+        "sky_sphere { pigment { rgb <0.2, 0.4, 0.6> } }\nbackground { color rgb <1, 0, 0> }",
+        "background { color rgb <1, 0, 0> }\nsky_sphere { pigment { rgb <0.2, 0.4, 0.6> } }",
+        "sky_sphere { pigment { rgb 1 } }\nsky_sphere { pigment { rgb <0.2, 0.4, 0.6> } }",
+    ] {
+        let scene = load(&format!("{VIEW}{text}")).unwrap();
+        assert_eq!(scene.background.to_array(), [0.2, 0.4, 0.6], "{text}");
+    }
+}
+
+#[test]
+fn an_object_without_a_texture_takes_the_default_in_force_where_it_is_placed() {
+    // POV-Ray 3.7 draws both spheres red here (checked on a render): the
+    // `#default` after the declarations applies where the objects are
+    // placed; a child's own texture stays its own.
+    let scene = load(&format!(
+        "{VIEW}#declare A = sphere {{ <-2, 0, 0>, 1 }}\n\
+         #declare B = union {{ sphere {{ <2, 0, 0>, 1 }} sphere {{ <2, 2, 0>, 0.5 pigment {{ rgb <0, 0, 1> }} }} }}\n\
+         #default {{ texture {{ pigment {{ rgb <1, 0, 0> }} }} }}\n\
+         object {{ A }}\nobject {{ B }}"
+    ))
+    .unwrap();
+    let albedo = |i: usize| {
+        scene.materials[scene.shapes[i].material as usize]
+            .albedo
+            .to_array()
+    };
+    let mut colours: Vec<[f32; 3]> = (0..scene.shapes.len()).map(albedo).collect();
+    colours.sort_by(|a, b| a.partial_cmp(b).unwrap());
+    assert_eq!(colours, [[0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [1.0, 0.0, 0.0]]);
+}
+
+#[test]
+fn declared_cameras_and_skies_are_used_where_named() {
+    // POV-Ray's scene templates declare their camera and sky, then name
+    // them: `camera { Camera_0 }`, `sky_sphere { Sky translate … }`.
+    let scene = load(
+        "#declare Cam = camera { location <0, 0, -5> look_at <0, 0, 0> angle 40 }\n\
+         #declare Sky = sky_sphere { pigment { rgb <0.2, 0.4, 0.6> } }\n\
+         camera { Cam translate <0, 1, 0> }\n\
+         sky_sphere { Sky rotate <0, 30, 0> }\n\
+         sphere { <0, 1, 0>, 1 }",
+    )
+    .unwrap();
+    let named = load(
+        "camera { location <0, 1, -5> look_at <0, 1, 0> angle 40 }\n\
+         sky_sphere { pigment { rgb <0.2, 0.4, 0.6> } }\nsphere { <0, 1, 0>, 1 }",
+    )
+    .unwrap();
+    assert_eq!(scene.camera, named.camera);
+    assert_eq!(scene.background.to_array(), [0.2, 0.4, 0.6]);
+}

@@ -106,6 +106,40 @@ impl Parser {
         Ok(())
     }
 
+    /// The colour of `sky_sphere { … }` (after the keyword): its last
+    /// pigment's, or a declared sky's it starts from; None if it has
+    /// neither.
+    pub fn sky_sphere_block(&mut self) -> Result<Option<DVec3>> {
+        self.expect('{')?;
+        let mut sky = None;
+        while !self.eat('}')? {
+            let loc = self.here();
+            let word = self.word()?;
+            if let Some(Value::Sky(colour)) = self.symbol(&word) {
+                sky = Some(*colour);
+                continue;
+            }
+            match word.as_str() {
+                "pigment" => {
+                    let c = match self.pigment_block()? {
+                        Pigment::Colour(c) => c,
+                        Pigment::Checker { colours, .. } => {
+                            self.warn(loc, "a checkered sky is drawn as its mean colour");
+                            mean(&colours)
+                        }
+                    };
+                    sky = Some(DVec3::new(c[0], c[1], c[2]));
+                }
+                w => {
+                    if self.transform_item(w)?.is_none() {
+                        self.unknown_item(loc, w, "sky_sphere")?;
+                    }
+                }
+            }
+        }
+        Ok(sky)
+    }
+
     /// The contents of `texture { … }` (after the keyword).
     pub fn texture_block(&mut self) -> Result<Texture> {
         self.expect('{')?;

@@ -28,6 +28,11 @@ pub enum Value {
     /// An interior's index of refraction.
     Interior(f64),
     Transform(DAffine3),
+    /// A declared camera, which `camera { NAME … }` starts from.
+    Camera(Box<super::camera::CameraSpec>),
+    /// A declared `sky_sphere`'s colour, which `sky_sphere { NAME … }`
+    /// starts from.
+    Sky(glam::DVec3),
     /// A `#macro`: calling it is outside the subset.
     Macro,
     /// Something outside the subset (its keyword), skipped where declared
@@ -146,11 +151,16 @@ impl Parser {
                     self.next()?;
                     return Ok(Value::Transform(self.transform_block()?));
                 }
-                "camera" | "sky_sphere" => {
+                "camera" => {
                     self.next()?;
-                    self.skip_warning(loc, w, &format!("a declared {w} is not used"));
-                    self.skip_block()?;
-                    return Ok(Value::Unsupported(w.to_owned()));
+                    return Ok(Value::Camera(Box::new(self.camera_block()?)));
+                }
+                "sky_sphere" => {
+                    self.next()?;
+                    return Ok(match self.sky_sphere_block()? {
+                        Some(colour) => Value::Sky(colour),
+                        None => Value::Unsupported("sky_sphere without a pigment".into()),
+                    });
                 }
                 _ => {}
             }
