@@ -42,6 +42,9 @@ struct Frame {
     pos: usize,
     /// How many `#if` branches that are being taken this file has open.
     open_ifs: usize,
+    /// The names this include file declared with `#local`, each with the
+    /// value it had before (None: undeclared), given back where it ends.
+    locals: Vec<(String, Option<Value>)>,
 }
 
 /// The reader's state: the token stream and what the directives declared.
@@ -121,6 +124,7 @@ impl Parser {
             tokens: Rc::new(tokens),
             pos: 0,
             open_ifs: 0,
+            locals: Vec::new(),
         });
         Ok(())
     }
@@ -189,7 +193,13 @@ impl Parser {
             if frame.open_ifs > 0 {
                 return None;
             }
-            self.frames.pop();
+            let ended = self.frames.pop().expect("a frame was at the top");
+            for (name, before) in ended.locals.into_iter().rev() {
+                match before {
+                    Some(value) => self.symbols.insert(name, value),
+                    None => self.symbols.remove(&name),
+                };
+            }
         }
     }
 
@@ -406,7 +416,7 @@ impl Parser {
     /// Runs the directive `#name` found at `loc`.
     fn directive(&mut self, name: &str, loc: Loc) -> Result<()> {
         match name {
-            "declare" | "local" => self.declare(loc),
+            "declare" | "local" => self.declare(loc, name == "local"),
             "undef" => {
                 let name = self.word()?;
                 self.symbols.remove(&name);
@@ -558,8 +568,8 @@ impl Parser {
         Ok(())
     }
 
-    /// `#declare NAME = value [;]`.
-    fn declare(&mut self, loc: Loc) -> Result<()> {
+    /// `#declare NAME = value [;]`, or `#local` with `local`.
+    fn declare(&mut self, loc: Loc, local: bool) -> Result<()> {
         let mut name = self.word()?;
         // `#declare deprecated [once] "why" NAME = …`: the note is given
         // where the name is used, as the value's own warnings are.
@@ -607,9 +617,26 @@ impl Parser {
         }
         // Declared before the `;` is looked for: looking ahead runs the
         // directives after it, which may use the name.
-        self.symbols.insert(name, value);
+        self.bind(name, value, local);
         self.eat(';')?;
         Ok(())
+    }
+
+    /// Declares `name`. As in POV-Ray (checked against 3.7's renders), a
+    /// `#local` in an include file holds to that file's end, where the
+    /// value before it comes back; a `#declare` of a name a `#local` holds
+    /// changes that local. In the scene file itself `#local` is `#declare`.
+    fn bind(&mut self, name: String, value: Value, local: bool) {
+        if local
+            && self.frames.len() > 1
+            && let Some(frame) = self.frames.last_mut()
+            && !frame.locals.iter().any(|(n, _)| *n == name)
+        {
+            frame
+                .locals
+                .push((name.clone(), self.symbols.get(&name).cloned()));
+        }
+        self.symbols.insert(name, value);
     }
 
     /// The include file `name`, searched in the include folders.

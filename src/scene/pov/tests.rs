@@ -1197,3 +1197,41 @@ fn declared_cameras_and_skies_are_used_where_named() {
     assert_eq!(scene.camera, named.camera);
     assert_eq!(scene.background.to_array(), [0.2, 0.4, 0.6]);
 }
+
+#[test]
+fn a_local_in_an_include_file_holds_to_its_end_and_declare_changes_it() {
+    // As POV-Ray 3.7 renders it (language/macros/local.pov, and a scene
+    // written for this test): inside the include, a #declare of a name a
+    // #local holds changes the local; after it, the global comes back and
+    // the include's other locals are gone.
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("inc.inc"),
+        "#local R = 0.25;\n#declare R = 0.5;\nsphere { <-2, 0, 0>, R }\n\
+         #local Gone = 1;\n#declare Kept = 0.75;",
+    )
+    .unwrap();
+    let path = dir.path().join("s.pov");
+    std::fs::write(
+        &path,
+        format!(
+            "{VIEW}#declare R = 1;\n#include \"inc.inc\"\nsphere {{ <2, 0, 0>, R }}\n\
+             #ifdef (Gone) sphere {{ <0, 5, 0>, 1 }} #end\nsphere {{ <0, -3, 0>, Kept }}"
+        ),
+    )
+    .unwrap();
+    let scene = Scene::load_with(&path, &LoadOptions::default()).unwrap();
+    assert_eq!(scene.shapes.len(), 3);
+    // Down each centre from y = 10: the top at y = radius (or -3 + radius).
+    let top = |x: f64| {
+        scene
+            .shapes
+            .iter()
+            .filter_map(|s| s.intersect(DVec3::new(x, 10.0, 0.0), DVec3::NEG_Y, 0.0, 1e9))
+            .map(|hit| 10.0 - hit.t)
+            .fold(f64::NEG_INFINITY, f64::max)
+    };
+    assert!((top(-2.0) - 0.5).abs() < 1e-9, "{}", top(-2.0));
+    assert!((top(2.0) - 1.0).abs() < 1e-9, "{}", top(2.0));
+    assert!((top(0.0) + 2.25).abs() < 1e-9, "{}", top(0.0));
+}
