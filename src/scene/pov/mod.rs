@@ -15,6 +15,7 @@ mod build;
 mod camera;
 mod colour;
 mod csg;
+mod flow;
 mod functions;
 mod lex;
 mod object;

@@ -1,14 +1,16 @@
 //! The token stream of a POV-Ray scene with its language directives applied
 //! as it is read: `#include` (a stack of files), `#declare`/`#local`,
-//! `#if`/`#ifdef`/`#ifndef`/`#else`/`#end`, `#version`, `#default`. What the
-//! subset does not run (`#macro`, `#while`, `#switch`, file I/O) is skipped
-//! whole, balanced by its `#end`, with a warning where it would have acted:
-//! a macro is named when it is called, not where an include defines it.
+//! `#if`/`#ifdef`/`#ifndef`/`#else`/`#end` and the loops `#while` and `#for`
+//! (in `flow`), `#version`, `#default`. What the subset does not run
+//! (`#macro`, `#switch`, file I/O) is skipped whole, balanced by its `#end`,
+//! with a warning where it would have acted: a macro is named when it is
+//! called, not where an include defines it.
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::rc::Rc;
 
+use super::flow::Block;
 use super::lex::{self, At, Tok, Token};
 use super::value::Value;
 use crate::error::{Error, Result};
@@ -40,8 +42,8 @@ struct Frame {
     file: u16,
     tokens: Rc<Vec<Token>>,
     pos: usize,
-    /// How many `#if` branches that are being taken this file has open.
-    open_ifs: usize,
+    /// The branches and loops this file has open, innermost last.
+    blocks: Vec<Block>,
     /// The names this include file declared with `#local`, each with the
     /// value it had before (None: undeclared), given back where it ends.
     locals: Vec<(String, Option<Value>)>,
@@ -72,6 +74,9 @@ pub struct Parser {
     hold: bool,
     /// How deep expressions and objects nest at this point of the read.
     nesting: usize,
+    /// How many times loops have gone round, against
+    /// [`super::flow::MAX_LOOP_PASSES`].
+    pub(super) loop_passes: u64,
 }
 
 /// Expressions and objects nest at most this deep: far beyond any scene a
@@ -99,6 +104,7 @@ impl Parser {
             last: Loc::default(),
             hold: false,
             nesting: 0,
+            loop_passes: 0,
         };
         parser.open(path)?;
         Ok(parser)
@@ -123,7 +129,7 @@ impl Parser {
             file,
             tokens: Rc::new(tokens),
             pos: 0,
-            open_ifs: 0,
+            blocks: Vec::new(),
             locals: Vec::new(),
         });
         Ok(())
@@ -190,7 +196,7 @@ impl Parser {
             if frame.pos < frame.tokens.len() {
                 return Some(frame.tokens[frame.pos].clone());
             }
-            if frame.open_ifs > 0 {
+            if !frame.blocks.is_empty() {
                 return None;
             }
             let ended = self.frames.pop().expect("a frame was at the top");
@@ -218,9 +224,11 @@ impl Parser {
         loop {
             let Some(token) = self.raw() else {
                 if let Some(f) = self.frames.last()
-                    && f.open_ifs > 0
+                    && !f.blocks.is_empty()
                 {
-                    return Err(self.error("this file ends inside an `#if` (a missing `#end`)"));
+                    return Err(self.error(
+                        "this file ends inside an `#if`, `#while` or `#for` (a missing `#end`)",
+                    ));
                 }
                 return Ok(None);
             };
@@ -388,7 +396,7 @@ impl Parser {
     /// Skips raw tokens to the `#end` that closes the construct just
     /// opened; with `at_else`, stops after an `#else` or `#elseif` of the same
     /// level instead, returning its name.
-    fn skip_to_end(&mut self, at_else: bool, opened: Loc) -> Result<Option<String>> {
+    pub(super) fn skip_to_end(&mut self, at_else: bool, opened: Loc) -> Result<Option<String>> {
         let mut depth = 0usize;
         loop {
             // The file the directive is in may have ended already.
@@ -463,21 +471,20 @@ impl Parser {
                 let defined = self.symbols.contains_key(&word);
                 self.branch(defined == (name == "ifdef"), loc)
             }
-            "elseif" | "else" => {
-                // Met while taking a branch: the rest up to `#end` is not taken.
-                self.close_if(loc, name)?;
-                self.skip_to_end(false, loc)?;
-                Ok(())
-            }
-            "end" => self.close_if(loc, "end"),
+            // Met while taking a branch: the rest up to `#end` is not taken.
+            "elseif" | "else" => self.end_branch(loc, name),
+            "end" => self.end_block(loc),
+            "while" => self.start_while(loc),
+            "for" => self.start_for(loc),
+            "break" => self.break_loop(loc),
             "macro" => {
                 let name = self.word()?;
                 self.symbols.insert(name, Value::Macro);
                 self.skip_to_end(false, loc)?;
                 Ok(())
             }
-            "while" | "for" | "switch" => {
-                self.skip_warning(loc, &format!("#{name}"), "skipped up to its #end");
+            "switch" => {
+                self.skip_warning(loc, "#switch", "skipped up to its #end");
                 self.skip_to_end(false, loc)?;
                 Ok(())
             }
@@ -519,28 +526,8 @@ impl Parser {
         }
     }
 
-    /// After `#if`-like at `loc`: go on in the branch taken, or skip to the
-    /// `#else` (taken) or `#end`.
-    fn branch(&mut self, taken: bool, loc: Loc) -> Result<()> {
-        let mut taken = taken;
-        while !taken {
-            match self.skip_to_end(true, loc)?.as_deref() {
-                None => return Ok(()),
-                Some("else") => taken = true,
-                _ => taken = self.held_float()? != 0.0,
-            }
-        }
-        match self.frames.last_mut() {
-            Some(frame) => frame.open_ifs += 1,
-            None => {
-                return Err(self.error_at(loc, "the scene ends inside an `#if` (a missing `#end`)"));
-            }
-        }
-        Ok(())
-    }
-
     /// A number read with directives after it held back.
-    fn held_float(&mut self) -> Result<f64> {
+    pub(super) fn held_float(&mut self) -> Result<f64> {
         self.hold = true;
         let v = self.float();
         self.hold = false;
@@ -557,15 +544,51 @@ impl Parser {
         v
     }
 
-    fn close_if(&mut self, loc: Loc, name: &str) -> Result<()> {
-        let Some(frame) = self.frames.last_mut().filter(|f| f.open_ifs > 0) else {
-            return Err(self.error_at(
+    /// Where the reader is in the file it reads now.
+    pub(super) fn position(&self) -> usize {
+        self.frames.last().map_or(0, |f| f.pos)
+    }
+
+    /// The current file's tokens from the reader's position on, as they
+    /// stand, no directive run.
+    pub(super) fn ahead(&self) -> &[Token] {
+        self.frames.last().map_or(&[], |f| &f.tokens[f.pos..])
+    }
+
+    /// Goes on reading the current file at token `pos` (a loop's start).
+    pub(super) fn jump(&mut self, pos: usize) {
+        if let Some(frame) = self.frames.last_mut() {
+            frame.pos = pos;
+        }
+    }
+
+    /// Opens `block` in the current file (`loc` is its directive).
+    pub(super) fn open_block(&mut self, block: Block, loc: Loc) -> Result<()> {
+        match self.frames.last_mut() {
+            Some(frame) => {
+                frame.blocks.push(block);
+                Ok(())
+            }
+            None => Err(self.error_at(
                 loc,
-                format!("`#{name}` without an `#if` (or #ifdef, #ifndef) before it in this file"),
-            ));
-        };
-        frame.open_ifs -= 1;
-        Ok(())
+                "the scene ends inside an `#if`, `#while` or `#for` (a missing `#end`)",
+            )),
+        }
+    }
+
+    /// Closes the innermost construct open in the current file, for the
+    /// directive `#name` at `loc`.
+    pub(super) fn close_block(&mut self, loc: Loc, name: &str) -> Result<Block> {
+        match self.frames.last_mut().and_then(|f| f.blocks.pop()) {
+            Some(block) => Ok(block),
+            None => Err(self.error_at(
+                loc,
+                format!(
+                    "`#{name}` without an `#if`, `#ifdef`, `#ifndef`, `#while` or `#for` \
+                     before it in this file"
+                ),
+            )),
+        }
     }
 
     /// `#declare NAME = value [;]`, or `#local` with `local`.

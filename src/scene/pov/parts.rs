@@ -12,27 +12,26 @@ use super::value::Value;
 use crate::error::Result;
 
 impl Parser {
-    /// `light_source { position, colour, … }` after its `{`.
+    /// `light_source { position, colour, … }` after its `{`, or
+    /// `light_source { NAME … }` going on from a declared light.
     pub(super) fn light_source(&mut self) -> Result<LightSource> {
-        let position = self.vector()?;
-        self.eat(',')?;
-        let cloc = self.here();
-        let c = self.colour_rest(None)?;
-        let c = self.as_colour(&c, cloc)?;
-        let mut light = LightSource {
-            position,
-            colour: DVec3::new(c[0], c[1], c[2]),
-            area: None,
-            shadowless: false,
-            beam: BeamKind::Point,
-            radius: 0.0,
-            falloff: 0.0,
-            tightness: 0.0,
-            parallel: false,
-            // POV-Ray's default aim.
-            point_at: DVec3::Z,
+        let declared = match self.peek_word()? {
+            Some(w) => match self.symbol(&w) {
+                Some(Value::Object(o)) => match &o.kind {
+                    Kind::Light(l) => Some((l.clone(), o.transform)),
+                    _ => None,
+                },
+                _ => None,
+            },
+            None => None,
         };
-        let mut transform = DAffine3::IDENTITY;
+        let (mut light, mut transform) = match declared {
+            Some(base) => {
+                self.next()?;
+                base
+            }
+            None => (self.light_head()?, DAffine3::IDENTITY),
+        };
         let mut area_at = None;
         while !self.eat('}')? {
             let iloc = self.here();
@@ -137,6 +136,28 @@ impl Parser {
         Ok(light)
     }
 
+    /// A light's position and colour, which `light_source {` starts with,
+    /// and POV-Ray's defaults for the rest.
+    fn light_head(&mut self) -> Result<LightSource> {
+        let position = self.vector()?;
+        self.eat(',')?;
+        let cloc = self.here();
+        let c = self.colour_rest(None)?;
+        let c = self.as_colour(&c, cloc)?;
+        Ok(LightSource {
+            position,
+            colour: DVec3::new(c[0], c[1], c[2]),
+            area: None,
+            shadowless: false,
+            beam: BeamKind::Point,
+            radius: 0.0,
+            falloff: 0.0,
+            tightness: 0.0,
+            parallel: false,
+            // POV-Ray's default aim.
+            point_at: DVec3::Z,
+        })
+    }
     /// A light keyword before the type it belongs to: a parse error in
     /// POV-Ray too.
     fn light_order_error(&self, loc: Loc, keyword: &str) -> crate::error::Error {

@@ -514,6 +514,12 @@ const PIECES: &[&str] = &[
     "#end",
     "#macro",
     "#while",
+    "#for",
+    "#break",
+    "I",
+    "(I, 0, 2)",
+    "(I < 3)",
+    "#declare I = I + 1;",
     "#include",
     "#version",
     "#default",
@@ -1234,4 +1240,83 @@ fn a_local_in_an_include_file_holds_to_its_end_and_declare_changes_it() {
     assert!((top(-2.0) - 0.5).abs() < 1e-9, "{}", top(-2.0));
     assert!((top(2.0) - 1.0).abs() < 1e-9, "{}", top(2.0));
     assert!((top(0.0) + 2.25).abs() < 1e-9, "{}", top(0.0));
+}
+
+/// The centres of a scene's spheres, in the order placed.
+fn centres(scene: &Scene) -> Vec<[f64; 3]> {
+    scene
+        .shapes
+        .iter()
+        .map(|s| {
+            let b = s.bounds();
+            ((b.min + b.max) * 0.5).as_dvec3().to_array()
+        })
+        .collect()
+}
+
+#[test]
+fn while_and_for_loops_run_their_bodies_as_povray_does() {
+    let scene = load(&format!(
+        "{VIEW}#declare I = 0;\n#while (I < 3) sphere {{ <I * 3, 0, 0>, 1 }} #declare I = I + 1; #end\n\
+         #for (J, 10, 1, -4) sphere {{ <J, 5, 0>, 1 }} #end\n\
+         #for (K, 0, 9) #if (K = 2) #break #end sphere {{ <K, 9, 0>, 1 }} #end\n\
+         #declare N = 0;\n#while (1) #declare N = N + 1; #if (N > 1) #break #else sphere {{ <0, 20, 0>, 1 }} #end #end"
+    ))
+    .unwrap();
+    let want: Vec<[f64; 3]> = vec![
+        [0.0, 0.0, 0.0],
+        [3.0, 0.0, 0.0],
+        [6.0, 0.0, 0.0],
+        [10.0, 5.0, 0.0],
+        [6.0, 5.0, 0.0],
+        [2.0, 5.0, 0.0],
+        [0.0, 9.0, 0.0],
+        [1.0, 9.0, 0.0],
+        [0.0, 20.0, 0.0],
+    ];
+    let got = centres(&scene);
+    assert_eq!(got.len(), want.len(), "{got:?}");
+    for (g, w) in got.iter().zip(&want) {
+        assert!(
+            // The bounds are rounded outwards to f32.
+            g.iter().zip(w).all(|(a, b)| (a - b).abs() < 1e-5),
+            "{got:?}"
+        );
+    }
+    let import = scene.import.as_ref().unwrap();
+    assert_eq!(import.read.get("#while"), Some(&2));
+    assert_eq!(import.read.get("#for"), Some(&2));
+}
+
+#[test]
+fn a_loop_that_never_ends_stops_with_an_error_at_it() {
+    let e = load(&format!("{VIEW}#declare A = 1;\n#while (A > 0) #end")).unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("t.pov:3:1: loops have run 1000000 times"),
+        "{e}"
+    );
+    let e = load(&format!("{VIEW}#for (I, 0, 1, 0) #end")).unwrap_err();
+    assert!(e.to_string().contains("step of 0 never ends"), "{e}");
+    let e = load(&format!("{VIEW}#while (1) sphere {{ 0, 1 }}")).unwrap_err();
+    assert!(e.to_string().contains("missing `#end`"), "{e}");
+}
+
+#[test]
+fn a_declared_light_goes_on_in_a_light_source_naming_it() {
+    // radiosity/cornell.pov's idiom: one declared light placed by a loop.
+    let scene = load(&format!(
+        "{VIEW}#declare L = light_source {{ <0, 10, 0> color rgb 1 }}\n\
+         #for (I, 0, 1) light_source {{ L translate <I * 4, 0, 0> }} #end"
+    ))
+    .unwrap();
+    let positions: Vec<[f32; 3]> = scene
+        .lights
+        .iter()
+        .map(|l| match l {
+            Light::Unfading { position, .. } => position.to_array(),
+            other => panic!("{other:?}"),
+        })
+        .collect();
+    assert_eq!(positions, [[0.0, 10.0, 0.0], [4.0, 10.0, 0.0]]);
 }
