@@ -3,9 +3,9 @@
 //! A loop's body is read again from the token stream each time round, as
 //! POV-Ray reads it, so what it declares or places takes each pass's values.
 
-use super::lex::Tok;
+use super::lex::{Tok, Token};
 use super::parse::{Loc, Parser};
-use super::value::Value;
+use super::value::{STRING_FUNCTIONS, Value};
 use crate::error::Result;
 
 /// Loops run at most this many times in all over one scene: a loop whose
@@ -41,6 +41,10 @@ const NOT_RUN: &[&str] = &[
     "function",
 ];
 
+/// How many macro calls deep a body is followed to see whether it runs:
+/// a macro that calls itself is taken to run past this depth.
+const MAX_SCAN_DEPTH: usize = 8;
+
 /// A construct open in a file: closed by its `#end`.
 #[derive(Clone, Debug)]
 pub enum Block {
@@ -51,6 +55,8 @@ pub enum Block {
     While { at: usize, loc: Loc },
     /// A `#for` going round.
     For(ForLoop),
+    /// A `#switch` running from the clause that matched.
+    Switch,
 }
 
 /// A `#for`: its variable, last value and step, where the body starts, and
@@ -82,7 +88,7 @@ impl Parser {
     pub(super) fn branch(&mut self, taken: bool, loc: Loc) -> Result<()> {
         let mut taken = taken;
         while !taken {
-            match self.skip_to_end(true, loc)?.as_deref() {
+            match self.skip_to_end(&["else", "elseif"], loc)?.as_deref() {
                 None => return Ok(()),
                 Some("else") => taken = true,
                 _ => taken = self.held_float()? != 0.0,
@@ -100,7 +106,7 @@ impl Parser {
         if self.held_float()? != 0.0 {
             self.open_block(Block::While { at, loc }, loc)
         } else {
-            self.skip_to_end(false, loc)?;
+            self.skip_to_end(&[], loc)?;
             self.count("#while");
             Ok(())
         }
@@ -135,7 +141,7 @@ impl Parser {
             loc,
         };
         if l.passed(start) {
-            self.skip_to_end(false, loc)?;
+            self.skip_to_end(&[], loc)?;
             self.count("#for");
             return Ok(());
         }
@@ -146,7 +152,7 @@ impl Parser {
     /// again.
     pub(super) fn end_block(&mut self, loc: Loc) -> Result<()> {
         match self.close_block(loc, "end")? {
-            Block::If => Ok(()),
+            Block::If | Block::Switch => Ok(()),
             Block::While { at, loc: opened } => {
                 self.pass(opened)?;
                 self.jump(at);
@@ -180,23 +186,73 @@ impl Parser {
     }
 
     /// `#else` or `#elseif` met in a branch being taken: the rest of the
-    /// construct is skipped to its `#end`.
+    /// construct is skipped to its `#end`. In a `#switch` running from an
+    /// earlier clause, an `#else` is passed, as POV-Ray falls through.
     pub(super) fn end_branch(&mut self, loc: Loc, name: &str) -> Result<()> {
         match self.close_block(loc, name)? {
             Block::If => {
-                self.skip_to_end(false, loc)?;
+                self.skip_to_end(&[], loc)?;
                 Ok(())
             }
-            _ => Err(self.error_at(loc, format!("`#{name}` inside a loop, not an `#if`"))),
+            Block::Switch if name == "else" => self.open_block(Block::Switch, loc),
+            _ => Err(self.error_at(loc, format!("`#{name}` without an `#if` it belongs to"))),
         }
     }
 
-    /// `#break`: leaves the innermost loop, past its `#end` (and the `#end`s
-    /// of the branches open inside it).
+    /// `#switch (value)`: runs from the first `#case (v)` with v equal to
+    /// the value, or `#range (lo, hi)` holding it, or else the `#else`, to
+    /// a `#break` or the `#end`; later clauses met on the way are passed.
+    pub(super) fn start_switch(&mut self, loc: Loc) -> Result<()> {
+        let value = self.held_float()?;
+        loop {
+            let taken = match self
+                .skip_to_end(&["case", "range", "else"], loc)?
+                .as_deref()
+            {
+                None => return Ok(()),
+                Some("case") => self.held_float()? == value,
+                Some("range") => {
+                    let (lo, hi) = self.held(|p| {
+                        p.expect('(')?;
+                        let lo = p.float()?;
+                        p.expect(',')?;
+                        let hi = p.float()?;
+                        p.expect(')')?;
+                        Ok((lo, hi))
+                    })?;
+                    (lo..=hi).contains(&value)
+                }
+                _ => true,
+            };
+            if taken {
+                return self.open_block(Block::Switch, loc);
+            }
+        }
+    }
+
+    /// `#case` or `#range` met in a `#switch` running from an earlier
+    /// clause: passed (its value read and dropped), as POV-Ray falls
+    /// through.
+    pub(super) fn fall_through(&mut self, loc: Loc, name: &str) -> Result<()> {
+        if !matches!(self.open_blocks().last(), Some(Block::Switch)) {
+            return Err(self.error_at(loc, format!("`#{name}` outside a `#switch`")));
+        }
+        self.held(|p| {
+            p.expect('(')?;
+            p.float()?;
+            while p.eat(',')? {
+                p.float()?;
+            }
+            p.expect(')')
+        })
+    }
+
+    /// `#break`: leaves the innermost loop or `#switch`, past its `#end`
+    /// (and the `#end`s of the branches open inside it).
     pub(super) fn break_loop(&mut self, loc: Loc) -> Result<()> {
         loop {
             let block = self.close_block(loc, "break")?;
-            self.skip_to_end(false, loc)?;
+            self.skip_to_end(&[], loc)?;
             match block {
                 Block::If => {}
                 Block::While { .. } => {
@@ -207,6 +263,7 @@ impl Parser {
                     self.count("#for");
                     return Ok(());
                 }
+                Block::Switch => return Ok(()),
             }
         }
     }
@@ -224,44 +281,51 @@ impl Parser {
             name,
             &format!("skipped up to its #end: its body uses `{what}`, which is not run"),
         );
-        self.skip_to_end(false, loc)?;
+        self.skip_to_end(&[], loc)?;
         Ok(true)
     }
 
     /// The first name in the body ahead (up to the `#end` that closes it)
-    /// that the reader cannot evaluate: a function outside the subset, a
-    /// macro, a value it skipped (an array, a spline, a function), or the
-    /// keyword that declares one.
+    /// that the reader cannot evaluate (see [`Parser::unrunnable_in`]).
     fn unrunnable(&self) -> Option<String> {
-        let mut depth = 0usize;
-        for token in self.ahead() {
+        self.unrunnable_in(self.ahead(), 0)
+    }
+
+    /// The first name in `tokens` (up to an `#end` that closes nothing
+    /// opened in them) that the reader cannot evaluate: a function outside
+    /// the subset, a value it skipped (an array, a spline, a function), the
+    /// keyword that declares one, or a macro whose body uses one (followed
+    /// `depth` calls deep, at most [`MAX_SCAN_DEPTH`]).
+    pub(super) fn unrunnable_in(&self, tokens: &[Token], depth: usize) -> Option<String> {
+        let mut open = 0usize;
+        for token in tokens {
             match &token.tok {
                 Tok::Directive(d) => match d.as_str() {
-                    "if" | "ifdef" | "ifndef" | "while" | "switch" | "macro" | "for" => depth += 1,
-                    "end" if depth == 0 => return None,
-                    "end" => depth -= 1,
+                    "if" | "ifdef" | "ifndef" | "while" | "switch" | "macro" | "for" => open += 1,
+                    "end" if open == 0 => return None,
+                    "end" => open -= 1,
                     _ => {}
                 },
-                Tok::Word(w) if NOT_RUN.contains(&w.as_str()) || self.unrunnable_name(w) => {
-                    return Some(w.clone());
-                }
+                Tok::Word(w) if NOT_RUN.contains(&w.as_str()) => return Some(w.clone()),
+                Tok::Word(w) => match self.symbol(w) {
+                    Some(Value::Unsupported(kind))
+                        if kind.ends_with("()")
+                            || NOT_RUN.contains(&kind.as_str())
+                            || STRING_FUNCTIONS.contains(&kind.as_str()) =>
+                    {
+                        return Some(w.clone());
+                    }
+                    Some(Value::Macro(m)) if depth < MAX_SCAN_DEPTH => {
+                        if let Some(inner) = self.unrunnable_in(m.body(), depth + 1) {
+                            return Some(inner);
+                        }
+                    }
+                    _ => {}
+                },
                 _ => {}
             }
         }
         None
-    }
-
-    /// True if `name` is a macro, or was declared as a value the reader
-    /// skipped that an expression would need (a shape outside the subset
-    /// is only left out where it is placed, so it is not one).
-    fn unrunnable_name(&self, name: &str) -> bool {
-        match self.symbol(name) {
-            Some(Value::Macro) => true,
-            Some(Value::Unsupported(kind)) => {
-                kind.ends_with("()") || NOT_RUN.contains(&kind.as_str())
-            }
-            _ => false,
-        }
     }
 
     /// Counts one more pass of a loop, refusing one past [`MAX_LOOP_PASSES`].

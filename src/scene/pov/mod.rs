@@ -18,6 +18,7 @@ mod csg;
 mod flow;
 mod functions;
 mod lex;
+mod macros;
 mod object;
 mod parse;
 mod parts;
@@ -144,7 +145,7 @@ fn statements(p: &mut Parser) -> Result<Statements> {
                 if p.peek()? == Some(Tok::Punct('{')) {
                     p.skip_warning(loc, &word, "skipped");
                     p.skip_block()?;
-                } else if matches!(p.symbol(&word), Some(Value::Macro)) {
+                } else if matches!(p.symbol(&word), Some(Value::Macro(_))) {
                     p.skip_warning(loc, &word, "a macro is not run (its call is skipped)");
                     p.skip_parens()?;
                 } else {

@@ -200,7 +200,7 @@ impl Parser {
                                 self.skip_rest()?;
                                 return Ok(None);
                             }
-                            Some(Value::Macro) => {
+                            Some(Value::Macro(_)) => {
                                 self.skip_warning(
                                     inner_loc,
                                     &w,

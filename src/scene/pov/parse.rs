@@ -38,15 +38,18 @@ pub struct Loc {
     pub at: At,
 }
 
-struct Frame {
-    file: u16,
-    tokens: Rc<Vec<Token>>,
-    pos: usize,
+pub(super) struct Frame {
+    pub(super) file: u16,
+    pub(super) tokens: Rc<Vec<Token>>,
+    pub(super) pos: usize,
+    /// Where this frame's tokens end: the file's end, or a macro body's
+    /// `#end`.
+    pub(super) end: usize,
     /// The branches and loops this file has open, innermost last.
-    blocks: Vec<Block>,
+    pub(super) blocks: Vec<Block>,
     /// The names this include file declared with `#local`, each with the
     /// value it had before (None: undeclared), given back where it ends.
-    locals: Vec<(String, Option<Value>)>,
+    pub(super) locals: Vec<(String, Option<Value>)>,
 }
 
 /// The reader's state: the token stream and what the directives declared.
@@ -69,9 +72,10 @@ pub struct Parser {
     /// Where the last token taken was, for errors at the end of a file.
     last: Loc,
     /// While a directive's own expression is read (an `#if` condition, a
-    /// declared number): a directive after it ends the expression instead of
-    /// running inside it.
-    hold: bool,
+    /// declared number): a directive after it in the same file ends the
+    /// expression instead of running inside it. The depth of frames it was
+    /// set at: a macro called in the expression runs its own directives.
+    hold: Option<usize>,
     /// How deep expressions and objects nest at this point of the read.
     nesting: usize,
     /// How many times loops have gone round, against
@@ -102,7 +106,7 @@ impl Parser {
             skipped: Vec::new(),
             size,
             last: Loc::default(),
-            hold: false,
+            hold: None,
             nesting: 0,
             loop_passes: 0,
         };
@@ -111,11 +115,6 @@ impl Parser {
     }
 
     fn open(&mut self, path: &Path) -> Result<()> {
-        if self.frames.len() >= MAX_INCLUDE_DEPTH {
-            return Err(self.error(format!(
-                "includes nest deeper than {MAX_INCLUDE_DEPTH} files (does a file include itself?)"
-            )));
-        }
         let text = crate::io::input::read_text(path)?;
         let file = self.files.len() as u16;
         self.files.push(path.to_owned());
@@ -125,20 +124,33 @@ impl Parser {
             column: e.at.column as usize,
             message: e.message,
         })?;
-        self.frames.push(Frame {
+        self.push_frame(Frame {
             file,
+            end: tokens.len(),
             tokens: Rc::new(tokens),
             pos: 0,
             blocks: Vec::new(),
             locals: Vec::new(),
-        });
+        })
+    }
+
+    /// Reads `frame` (an include file or a macro's body) next, up to its
+    /// end, then goes on where the reader was.
+    pub(super) fn push_frame(&mut self, frame: Frame) -> Result<()> {
+        if self.frames.len() >= MAX_INCLUDE_DEPTH {
+            return Err(self.error(format!(
+                "includes and macro calls nest deeper than {MAX_INCLUDE_DEPTH} \
+                 (does a file include itself, or a macro call itself without end?)"
+            )));
+        }
+        self.frames.push(frame);
         Ok(())
     }
 
     /// Where the next token is (or the last one, at the end).
     pub fn here(&self) -> Loc {
         match self.frames.last() {
-            Some(f) if f.pos < f.tokens.len() => Loc {
+            Some(f) if f.pos < f.end => Loc {
                 file: f.file,
                 at: f.tokens[f.pos].at,
             },
@@ -190,10 +202,10 @@ impl Parser {
     }
 
     /// The raw token at the top of the stream, without running directives.
-    fn raw(&mut self) -> Option<Token> {
+    pub(super) fn raw(&mut self) -> Option<Token> {
         loop {
             let frame = self.frames.last_mut()?;
-            if frame.pos < frame.tokens.len() {
+            if frame.pos < frame.end {
                 return Some(frame.tokens[frame.pos].clone());
             }
             if !frame.blocks.is_empty() {
@@ -209,7 +221,7 @@ impl Parser {
         }
     }
 
-    fn advance(&mut self) {
+    pub(super) fn advance(&mut self) {
         let frame = self.frames.last_mut().expect("a token was peeked");
         self.last = Loc {
             file: frame.file,
@@ -233,11 +245,16 @@ impl Parser {
                 return Ok(None);
             };
             match token.tok {
-                Tok::Directive(_) if self.hold => return Ok(None),
+                Tok::Directive(_) if self.holding() => return Ok(None),
                 Tok::Directive(name) => {
                     self.advance();
                     let loc = self.last;
                     self.directive(&name, loc)?;
+                }
+                Tok::Word(name) if self.calls_macro(&name) => {
+                    self.advance();
+                    let loc = self.last;
+                    self.call_macro(&name, loc)?;
                 }
                 tok => return Ok(Some(tok)),
             }
@@ -394,15 +411,17 @@ impl Parser {
     }
 
     /// Skips raw tokens to the `#end` that closes the construct just
-    /// opened; with `at_else`, stops after an `#else` or `#elseif` of the same
-    /// level instead, returning its name.
-    pub(super) fn skip_to_end(&mut self, at_else: bool, opened: Loc) -> Result<Option<String>> {
+    /// opened; stops after a directive of the same level named in `stops`
+    /// (`#else` of an `#if`, `#case` of a `#switch`) instead, returning its
+    /// name.
+    pub(super) fn skip_to_end(&mut self, stops: &[&str], opened: Loc) -> Result<Option<String>> {
         let mut depth = 0usize;
         loop {
             // The file the directive is in may have ended already.
             let token = self
                 .frames
                 .last()
+                .filter(|frame| frame.pos < frame.end)
                 .and_then(|frame| frame.tokens.get(frame.pos).cloned());
             let Some(token) = token else {
                 return Err(self.error_at(opened, "this directive is never closed by `#end`"));
@@ -415,7 +434,7 @@ impl Parser {
                 "if" | "ifdef" | "ifndef" | "while" | "switch" | "macro" | "for" => depth += 1,
                 "end" if depth == 0 => return Ok(None),
                 "end" => depth -= 1,
-                "else" | "elseif" if depth == 0 && at_else => return Ok(Some(name)),
+                _ if depth == 0 && stops.contains(&name.as_str()) => return Ok(Some(name)),
                 _ => {}
             }
         }
@@ -477,17 +496,9 @@ impl Parser {
             "while" => self.start_while(loc),
             "for" => self.start_for(loc),
             "break" => self.break_loop(loc),
-            "macro" => {
-                let name = self.word()?;
-                self.symbols.insert(name, Value::Macro);
-                self.skip_to_end(false, loc)?;
-                Ok(())
-            }
-            "switch" => {
-                self.skip_warning(loc, "#switch", "skipped up to its #end");
-                self.skip_to_end(false, loc)?;
-                Ok(())
-            }
+            "macro" => self.define_macro(loc),
+            "switch" => self.start_switch(loc),
+            "case" | "range" => self.fall_through(loc, name),
             "debug" | "warning" => {
                 self.skip_value()?;
                 Ok(())
@@ -528,17 +539,19 @@ impl Parser {
 
     /// A number read with directives after it held back.
     pub(super) fn held_float(&mut self) -> Result<f64> {
-        self.hold = true;
-        let v = self.float();
-        self.hold = false;
-        v
+        self.held(Parser::float)
+    }
+
+    /// True while a directive met now would end a held expression.
+    fn holding(&self) -> bool {
+        self.hold.is_some_and(|depth| self.frames.len() <= depth)
     }
 
     /// A declared value read with directives after it held back when it is
     /// an expression (a block's directives run as it is read).
     pub fn held<T>(&mut self, read: impl FnOnce(&mut Parser) -> Result<T>) -> Result<T> {
         let before = self.hold;
-        self.hold = true;
+        self.hold = Some(self.frames.len());
         let v = read(self);
         self.hold = before;
         v
@@ -552,7 +565,12 @@ impl Parser {
     /// The current file's tokens from the reader's position on, as they
     /// stand, no directive run.
     pub(super) fn ahead(&self) -> &[Token] {
-        self.frames.last().map_or(&[], |f| &f.tokens[f.pos..])
+        self.frames.last().map_or(&[], |f| &f.tokens[f.pos..f.end])
+    }
+
+    /// The file the reader is in now, and its tokens.
+    pub(super) fn current_file(&self) -> Option<(u16, Rc<Vec<Token>>)> {
+        self.frames.last().map(|f| (f.file, Rc::clone(&f.tokens)))
     }
 
     /// Goes on reading the current file at token `pos` (a loop's start).
@@ -560,6 +578,11 @@ impl Parser {
         if let Some(frame) = self.frames.last_mut() {
             frame.pos = pos;
         }
+    }
+
+    /// The constructs open in the current file, innermost last.
+    pub(super) fn open_blocks(&self) -> &[Block] {
+        self.frames.last().map_or(&[], |f| &f.blocks)
     }
 
     /// Opens `block` in the current file (`loc` is its directive).
@@ -649,7 +672,7 @@ impl Parser {
     /// `#local` in an include file holds to that file's end, where the
     /// value before it comes back; a `#declare` of a name a `#local` holds
     /// changes that local. In the scene file itself `#local` is `#declare`.
-    fn bind(&mut self, name: String, value: Value, local: bool) {
+    pub(super) fn bind(&mut self, name: String, value: Value, local: bool) {
         if local
             && self.frames.len() > 1
             && let Some(frame) = self.frames.last_mut()

@@ -127,7 +127,7 @@ fn conditionals_take_one_branch_and_macros_are_skipped_whole() {
     assert_eq!(float(&p, "C"), 3.0);
     assert_eq!(float(&p, "D"), 4.0);
     assert!(p.symbol("E").is_none());
-    assert!(matches!(p.symbol("M"), Some(Value::Macro)));
+    assert!(matches!(p.symbol("M"), Some(Value::Macro(_))));
     assert_eq!(float(&p, "F"), 5.0);
     assert!(p.warnings.is_empty(), "{:?}", p.warnings);
 }
@@ -413,7 +413,8 @@ fn includes_are_found_beside_the_file_then_in_the_given_folders() {
     std::fs::write(&path, "#include \"s.pov\"").unwrap();
     let e = Scene::load_with(&path, &LoadOptions::default()).unwrap_err();
     assert!(
-        e.to_string().contains("includes nest deeper than 32"),
+        e.to_string()
+            .contains("includes and macro calls nest deeper than 32"),
         "{e}"
     );
 }
@@ -514,6 +515,9 @@ const PIECES: &[&str] = &[
     "#end",
     "#macro",
     "#while",
+    "#switch",
+    "#case",
+    "(1)",
     "#for",
     "#break",
     "I",
@@ -689,34 +693,73 @@ fn a_matrix_takes_its_twelve_numbers() {
     assert!(err.to_string().contains("12 numbers"), "{err}");
 }
 
-/// Macros are not run: a call is skipped with a warning wherever it
-/// stands (a statement, an object, a declaration, a block's item), and an
-/// object made by one is left out. Arrays and declared skies are skipped too.
+/// Macros run: a call stands for its body wherever it is (a statement,
+/// an object, a declared value, a texture, an expression), its parameters
+/// and `#local`s local to it. A macro whose body needs what the reader
+/// does not run (`rand`) is skipped with a warning wherever it stands, as
+/// arrays are.
 #[test]
-fn macro_calls_and_arrays_are_skipped_with_a_warning_wherever_they_stand() {
+fn macros_run_where_called_and_those_that_cannot_are_skipped_with_a_warning() {
     let scene = load(&format!(
         "{VIEW}#macro Thing(a, b) sphere {{ a, b }} #end\n\
          #macro Paint(p) texture {{ pigment {{ p }} }} #end\n\
+         #macro Twice(v) #local w = v * 2; w #end\n\
+         #declare a = 7;\n\
          Thing(<1, 2, 3>, 1)\n\
-         object {{ Thing(0, 1) }}\n\
-         #declare Made = Thing(0, 2);\n\
+         object {{ Thing(<0, 5, 0>, 1) }}\n\
+         #declare Made = Thing(<0, 10, 0>, Twice(1));\n\
+         object {{ Made }}\n\
+         sphere {{ <0, 20, 0>, a Paint(rgb <1, 0, 0>) }}\n\
+         #declare R = seed(1);\n\
+         #macro Jitter(p) sphere {{ p + rand(R), 1 }} #end\n\
+         Jitter(0)\n\
+         object {{ Jitter(0) }}\n\
          #declare Grid = array[3][9] {{ {{1}} }}\n\
-         #declare Sky = sky_sphere {{ pigment {{ rgb 1 }} }}\n\
-         sphere {{ 0, 1 texture {{ Paint(rgb <1, 0, 0>, 2) }} finish {{ Grid[1][2] }} }}\n\
-         object {{ Made }}\n"
+         sphere {{ 0, 1 finish {{ Grid[1][2] }} }}\n"
     ))
     .unwrap();
-    assert_eq!(scene.shapes.len(), 1);
+    // Centre and radius of each sphere, from its bounds (rounded outwards
+    // to f32).
+    let got: Vec<[f64; 4]> = scene
+        .shapes
+        .iter()
+        .map(|s| {
+            let b = s.bounds();
+            let c = ((b.min + b.max) * 0.5).as_dvec3();
+            [c.x, c.y, c.z, f64::from(b.max.x - b.min.x) * 0.5]
+        })
+        .collect();
+    let want = [
+        [1.0, 2.0, 3.0, 1.0],
+        [0.0, 5.0, 0.0, 1.0],
+        [0.0, 10.0, 0.0, 2.0],
+        [0.0, 20.0, 0.0, 7.0],
+        [0.0, 0.0, 0.0, 1.0],
+    ];
+    assert_eq!(got.len(), want.len(), "{got:?}");
+    for (g, w) in got.iter().zip(&want) {
+        assert!(
+            g.iter().zip(w).all(|(a, b)| (a - b).abs() < 1e-5),
+            "{got:?}"
+        );
+    }
+    let red = &scene.materials[scene.shapes[3].material as usize];
+    assert_eq!(red.albedo.to_array(), [1.0, 0.0, 0.0]);
     let warnings = scene.warnings.join("\n");
-    for place in [
-        "t.pov:4:1: `Thing`",
-        "t.pov:5:10: `Thing`",
-        "t.pov:6:17: `Thing`",
-    ] {
+    for place in ["t.pov:13:1: `Jitter`", "t.pov:14:10: `Jitter`", "`Grid`"] {
         assert!(warnings.contains(place), "{place} in {warnings}");
     }
-    assert!(warnings.contains("`Paint`"), "{warnings}");
-    assert!(warnings.contains("`Grid`"), "{warnings}");
+    // A call with the wrong number of arguments is an error at the call.
+    let e = load(&format!(
+        "{VIEW}#macro Paint(p) texture {{ pigment {{ p }} }} #end\n\
+         sphere {{ 0, 1 Paint(rgb 1, 2) }}"
+    ))
+    .unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("t.pov:3:15: the macro `Paint` takes 1 argument(s), found 2"),
+        "{e}"
+    );
 }
 
 /// A camera kind outside the subset is read as a perspective one; an angle
@@ -1254,6 +1297,19 @@ fn centres(scene: &Scene) -> Vec<[f64; 3]> {
         .collect()
 }
 
+/// That the scene's spheres have these centres, in order (their bounds
+/// are rounded outwards to f32, hence the tolerance).
+fn assert_centres(scene: &Scene, want: &[[f64; 3]]) {
+    let got = centres(scene);
+    assert_eq!(got.len(), want.len(), "{got:?}");
+    for (g, w) in got.iter().zip(want) {
+        assert!(
+            g.iter().zip(w).all(|(a, b)| (a - b).abs() < 1e-5),
+            "{got:?}"
+        );
+    }
+}
+
 #[test]
 fn while_and_for_loops_run_their_bodies_as_povray_does() {
     let scene = load(&format!(
@@ -1263,26 +1319,20 @@ fn while_and_for_loops_run_their_bodies_as_povray_does() {
          #declare N = 0;\n#while (1) #declare N = N + 1; #if (N > 1) #break #else sphere {{ <0, 20, 0>, 1 }} #end #end"
     ))
     .unwrap();
-    let want: Vec<[f64; 3]> = vec![
-        [0.0, 0.0, 0.0],
-        [3.0, 0.0, 0.0],
-        [6.0, 0.0, 0.0],
-        [10.0, 5.0, 0.0],
-        [6.0, 5.0, 0.0],
-        [2.0, 5.0, 0.0],
-        [0.0, 9.0, 0.0],
-        [1.0, 9.0, 0.0],
-        [0.0, 20.0, 0.0],
-    ];
-    let got = centres(&scene);
-    assert_eq!(got.len(), want.len(), "{got:?}");
-    for (g, w) in got.iter().zip(&want) {
-        assert!(
-            // The bounds are rounded outwards to f32.
-            g.iter().zip(w).all(|(a, b)| (a - b).abs() < 1e-5),
-            "{got:?}"
-        );
-    }
+    assert_centres(
+        &scene,
+        &[
+            [0.0, 0.0, 0.0],
+            [3.0, 0.0, 0.0],
+            [6.0, 0.0, 0.0],
+            [10.0, 5.0, 0.0],
+            [6.0, 5.0, 0.0],
+            [2.0, 5.0, 0.0],
+            [0.0, 9.0, 0.0],
+            [1.0, 9.0, 0.0],
+            [0.0, 20.0, 0.0],
+        ],
+    );
     let import = scene.import.as_ref().unwrap();
     assert_eq!(import.read.get("#while"), Some(&2));
     assert_eq!(import.read.get("#for"), Some(&2));
@@ -1319,4 +1369,29 @@ fn a_declared_light_goes_on_in_a_light_source_naming_it() {
         })
         .collect();
     assert_eq!(positions, [[0.0, 10.0, 0.0], [4.0, 10.0, 0.0]]);
+}
+
+#[test]
+fn a_switch_runs_from_the_clause_that_matches_and_falls_through_to_a_break() {
+    // POV-Ray 3.7 draws the spheres at x = -3 and 0 here (checked on a
+    // render): #range (2, 3) holds 2, and the run falls through #case (4)
+    // to its #break.
+    let scene = load(&format!(
+        "{VIEW}#declare G = 2;\n\
+         #switch (G)\n\
+           #case (1) sphere {{ <-6, 0, 0>, 1 }} #break\n\
+           #range (2, 3) sphere {{ <-3, 0, 0>, 1 }}\n\
+           #case (4) sphere {{ <0, 0, 0>, 1 }} #break\n\
+           #else sphere {{ <3, 0, 0>, 1 }}\n\
+         #end\n\
+         #switch (7) #case (1) sphere {{ <-6, 4, 0>, 1 }} #else sphere {{ <0, 4, 0>, 1 }} #end\n\
+         #switch (5) #case (1) sphere {{ <1, 1, 1>, 1 }} #end"
+    ))
+    .unwrap();
+    assert_centres(
+        &scene,
+        &[[-3.0, 0.0, 0.0], [0.0, 0.0, 0.0], [0.0, 4.0, 0.0]],
+    );
+    let e = load(&format!("{VIEW}#case (1) sphere {{ 0, 1 }}")).unwrap_err();
+    assert!(e.to_string().contains("`#case` outside a `#switch`"), "{e}");
 }

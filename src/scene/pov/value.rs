@@ -33,8 +33,8 @@ pub enum Value {
     /// A declared `sky_sphere`'s colour, which `sky_sphere { NAME … }`
     /// starts from.
     Sky(glam::DVec3),
-    /// A `#macro`: calling it is outside the subset.
-    Macro,
+    /// A `#macro`: its body and parameters.
+    Macro(std::rc::Rc<super::macros::Macro>),
     /// Something outside the subset (its keyword), skipped where declared
     /// and warned about where used.
     Unsupported(String),
@@ -122,8 +122,11 @@ impl Parser {
                     self.next()?;
                     let texture = self.texture_block()?;
                     // Layers over the first: POV-Ray's layered texture.
-                    // Held: the directive after the declaration may use its name.
-                    while self.held(|p| p.peek_word())?.as_deref() == Some("texture") {
+                    // Looked for in the raw tokens: a directive or a macro
+                    // call after the declaration may use its name, so
+                    // neither runs here.
+                    while matches!(self.raw().map(|t| t.tok), Some(Tok::Word(w)) if w == "texture")
+                    {
                         let at = self.here();
                         self.skip_warning(
                             at,
@@ -185,7 +188,7 @@ impl Parser {
             {
                 let v = v.clone();
                 self.next()?;
-                if matches!(v, Value::Macro) {
+                if matches!(v, Value::Macro(_)) {
                     self.skip_warning(loc, w, "a macro is not run (its call is skipped)");
                     self.skip_parens()?;
                     return Ok(Value::Unsupported(format!("{w}()")));
@@ -409,7 +412,7 @@ impl Parser {
     fn word_value(&mut self, w: &str, loc: super::parse::Loc) -> Result<Value> {
         if let Some(v) = self.symbol(w) {
             return match v.clone() {
-                Value::Macro => {
+                Value::Macro(_) => {
                     self.skip_warning(loc, w, "a macro is not run (its call is skipped)");
                     self.skip_parens()?;
                     Ok(Value::Float(0.0))
@@ -502,7 +505,7 @@ impl Parser {
 }
 
 /// String functions: a declaration made with one is a string, outside the subset.
-const STRING_FUNCTIONS: &[&str] = &[
+pub const STRING_FUNCTIONS: &[&str] = &[
     "concat", "str", "chr", "substr", "strupr", "strlwr", "vstr", "datetime",
 ];
 
