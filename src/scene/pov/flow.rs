@@ -8,10 +8,11 @@ use super::parse::{Loc, Parser};
 use super::value::{STRING_FUNCTIONS, Value};
 use crate::error::Result;
 
-/// Loops run at most this many times in all over one scene: a loop whose
-/// condition never turns false stops the read with an error at it, instead
-/// of running on for ever.
-pub const MAX_LOOP_PASSES: u64 = 1_000_000;
+/// Loops go round and macros are called at most this many times in all
+/// over one scene: a loop whose condition never turns false, or a macro
+/// that calls itself twice over, stops the read with an error at it
+/// instead of running on for ever.
+pub const MAX_PASSES: u64 = 1_000_000;
 
 /// Names a loop's body may use that the reader cannot evaluate: POV-Ray's
 /// functions outside the subset, and the keywords that declare values it
@@ -41,9 +42,9 @@ const NOT_RUN: &[&str] = &[
     "function",
 ];
 
-/// How many macro calls deep a body is followed to see whether it runs:
-/// a macro that calls itself is taken to run past this depth.
-const MAX_SCAN_DEPTH: usize = 8;
+/// How many macros' bodies one look at whether a body runs follows: past
+/// them, the others it calls are taken to run.
+const MAX_SCAN_MACROS: usize = 64;
 
 /// A construct open in a file: closed by its `#end`.
 #[derive(Clone, Debug)]
@@ -288,15 +289,16 @@ impl Parser {
     /// The first name in the body ahead (up to the `#end` that closes it)
     /// that the reader cannot evaluate (see [`Parser::unrunnable_in`]).
     fn unrunnable(&self) -> Option<String> {
-        self.unrunnable_in(self.ahead(), 0)
+        self.unrunnable_in(self.ahead(), &mut Vec::new())
     }
 
     /// The first name in `tokens` (up to an `#end` that closes nothing
     /// opened in them) that the reader cannot evaluate: a function outside
     /// the subset, a value it skipped (an array, a spline, a function), the
-    /// keyword that declares one, or a macro whose body uses one (followed
-    /// `depth` calls deep, at most [`MAX_SCAN_DEPTH`]).
-    pub(super) fn unrunnable_in(&self, tokens: &[Token], depth: usize) -> Option<String> {
+    /// keyword that declares one, or a macro whose body uses one. `seen`
+    /// holds the macros whose bodies this walk has looked at, each once
+    /// (a macro that calls itself included), at most [`MAX_SCAN_MACROS`].
+    pub(super) fn unrunnable_in(&self, tokens: &[Token], seen: &mut Vec<String>) -> Option<String> {
         let mut open = 0usize;
         for token in tokens {
             match &token.tok {
@@ -315,8 +317,9 @@ impl Parser {
                     {
                         return Some(w.clone());
                     }
-                    Some(Value::Macro(m)) if depth < MAX_SCAN_DEPTH => {
-                        if let Some(inner) = self.unrunnable_in(m.body(), depth + 1) {
+                    Some(Value::Macro(m)) if seen.len() < MAX_SCAN_MACROS && !seen.contains(w) => {
+                        seen.push(w.clone());
+                        if let Some(inner) = self.unrunnable_in(m.body(), seen) {
                             return Some(inner);
                         }
                     }
@@ -328,14 +331,16 @@ impl Parser {
         None
     }
 
-    /// Counts one more pass of a loop, refusing one past [`MAX_LOOP_PASSES`].
-    fn pass(&mut self, opened: Loc) -> Result<()> {
-        self.loop_passes += 1;
-        if self.loop_passes > MAX_LOOP_PASSES {
+    /// Counts one more pass of a loop or call of a macro (`at`), refusing
+    /// one past [`MAX_PASSES`].
+    pub(super) fn pass(&mut self, at: Loc) -> Result<()> {
+        self.passes += 1;
+        if self.passes > MAX_PASSES {
             return Err(self.error_at(
-                opened,
+                at,
                 format!(
-                    "loops have run {MAX_LOOP_PASSES} times: does this one's condition ever turn false?"
+                    "loops and macro calls have gone round {MAX_PASSES} times: \
+                     does this one ever end?"
                 ),
             ));
         }

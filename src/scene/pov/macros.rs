@@ -101,8 +101,10 @@ impl Parser {
         // A string argument (a file name, a text) is read and not kept, so
         // a body that tests or uses it would stop too.
         !args.iter().any(|t| matches!(t.tok, Tok::Str(_)))
-            && self.unrunnable_in(args, 0).is_none()
-            && self.unrunnable_in(m.body(), 0).is_none()
+            && self.unrunnable_in(args, &mut Vec::new()).is_none()
+            && self
+                .unrunnable_in(m.body(), &mut vec![name.to_owned()])
+                .is_none()
     }
 
     /// Runs the call of the macro `name` at `loc` (its name taken): reads
@@ -132,6 +134,7 @@ impl Parser {
                 ),
             ));
         }
+        self.pass(loc)?;
         self.count("macro call");
         self.push_frame(Frame {
             file: m.file,

@@ -78,9 +78,9 @@ pub struct Parser {
     hold: Option<usize>,
     /// How deep expressions and objects nest at this point of the read.
     nesting: usize,
-    /// How many times loops have gone round, against
-    /// [`super::flow::MAX_LOOP_PASSES`].
-    pub(super) loop_passes: u64,
+    /// How many times loops have gone round and macros been called,
+    /// against [`super::flow::MAX_PASSES`].
+    pub(super) passes: u64,
 }
 
 /// Expressions and objects nest at most this deep: far beyond any scene a
@@ -108,7 +108,7 @@ impl Parser {
             last: Loc::default(),
             hold: None,
             nesting: 0,
-            loop_passes: 0,
+            passes: 0,
         };
         parser.open(path)?;
         Ok(parser)
@@ -251,7 +251,9 @@ impl Parser {
                     let loc = self.last;
                     self.directive(&name, loc)?;
                 }
-                Tok::Word(name) if self.calls_macro(&name) => {
+                // Held, a call is run only where an operand is read (see
+                // `primary`): here it may be the lookahead after a value.
+                Tok::Word(name) if !self.holding() && self.calls_macro(&name) => {
                     self.advance();
                     let loc = self.last;
                     self.call_macro(&name, loc)?;

@@ -1343,7 +1343,7 @@ fn a_loop_that_never_ends_stops_with_an_error_at_it() {
     let e = load(&format!("{VIEW}#declare A = 1;\n#while (A > 0) #end")).unwrap_err();
     assert!(
         e.to_string()
-            .contains("t.pov:3:1: loops have run 1000000 times"),
+            .contains("t.pov:3:1: loops and macro calls have gone round 1000000 times"),
         "{e}"
     );
     let e = load(&format!("{VIEW}#for (I, 0, 1, 0) #end")).unwrap_err();
@@ -1394,4 +1394,19 @@ fn a_switch_runs_from_the_clause_that_matches_and_falls_through_to_a_break() {
     );
     let e = load(&format!("{VIEW}#case (1) sphere {{ 0, 1 }}")).unwrap_err();
     assert!(e.to_string().contains("`#case` outside a `#switch`"), "{e}");
+}
+
+#[test]
+fn a_macro_that_calls_itself_twice_over_stops_with_an_error() {
+    // 2^21 calls, each well within the nesting limit: stopped at the cap on
+    // loop passes and macro calls, not run for hours.
+    let e = load(&format!(
+        "{VIEW}#macro R(n) #if (n < 20) R(n + 1) R(n + 1) #end #end\nR(0)"
+    ))
+    .unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("loops and macro calls have gone round 1000000 times"),
+        "{e}"
+    );
 }

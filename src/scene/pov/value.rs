@@ -362,6 +362,15 @@ impl Parser {
 
     fn primary(&mut self) -> Result<Value> {
         let loc = self.here();
+        // A macro called where an operand is read: its body's tokens stand
+        // in the call's place, as POV-Ray substitutes them.
+        if let Some(Tok::Word(w)) = self.peek()?
+            && self.calls_macro(&w)
+        {
+            self.advance();
+            self.call_macro(&w, loc)?;
+            return self.primary();
+        }
         match self.next()? {
             Tok::Number(v) => Ok(Value::Float(v)),
             Tok::Punct('(') => {
