@@ -144,8 +144,9 @@ impl Parser {
             blocks: Vec::new(),
             locals: Vec::new(),
         })?;
+        let scope = Some(self.frames_open());
         for (param, arg) in m.params.iter().zip(args) {
-            self.bind(param.clone(), arg, true);
+            self.bind(param.clone(), arg, scope);
         }
         Ok(())
     }

@@ -559,6 +559,11 @@ impl Parser {
         v
     }
 
+    /// How many files and macro bodies are open.
+    pub(super) fn frames_open(&self) -> usize {
+        self.frames.len()
+    }
+
     /// Where the reader is in the file it reads now.
     pub(super) fn position(&self) -> usize {
         self.frames.last().map_or(0, |f| f.pos)
@@ -618,6 +623,9 @@ impl Parser {
 
     /// `#declare NAME = value [;]`, or `#local` with `local`.
     fn declare(&mut self, loc: Loc, local: bool) -> Result<()> {
+        // The frame a `#local` belongs to: reading its value may end that
+        // frame (no `;` after it) or call a macro.
+        let scope = local.then_some(self.frames.len());
         let mut name = self.word()?;
         // `#declare deprecated [once] "why" NAME = …`: the note is given
         // where the name is used, as the value's own warnings are.
@@ -665,24 +673,31 @@ impl Parser {
         }
         // Declared before the `;` is looked for: looking ahead runs the
         // directives after it, which may use the name.
-        self.bind(name, value, local);
+        self.bind(name, value, scope);
         self.eat(';')?;
         Ok(())
     }
 
-    /// Declares `name`. As in POV-Ray (checked against 3.7's renders), a
-    /// `#local` in an include file holds to that file's end, where the
-    /// value before it comes back; a `#declare` of a name a `#local` holds
-    /// changes that local. In the scene file itself `#local` is `#declare`.
-    pub(super) fn bind(&mut self, name: String, value: Value, local: bool) {
-        if local
-            && self.frames.len() > 1
-            && let Some(frame) = self.frames.last_mut()
-            && !frame.locals.iter().any(|(n, _)| *n == name)
-        {
-            frame
-                .locals
-                .push((name.clone(), self.symbols.get(&name).cloned()));
+    /// Declares `name`, local to the frame `scope` deep (a `#local`, a
+    /// macro's parameter) or not (None, `#declare`). As in POV-Ray (checked
+    /// against 3.7's renders), a local in an include file or macro body
+    /// holds to its end, where the value before it comes back; a
+    /// `#declare` of a name a local holds changes that local. In the scene
+    /// file itself `#local` is `#declare`. A local whose frame has already
+    /// ended is out of scope, and dropped.
+    pub(super) fn bind(&mut self, name: String, value: Value, scope: Option<usize>) {
+        if let Some(depth) = scope {
+            if depth > self.frames.len() {
+                return;
+            }
+            if depth > 1
+                && let Some(frame) = self.frames.get_mut(depth - 1)
+                && !frame.locals.iter().any(|(n, _)| *n == name)
+            {
+                frame
+                    .locals
+                    .push((name.clone(), self.symbols.get(&name).cloned()));
+            }
         }
         self.symbols.insert(name, value);
     }

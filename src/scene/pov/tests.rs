@@ -1410,3 +1410,18 @@ fn a_macro_that_calls_itself_twice_over_stops_with_an_error() {
         "{e}"
     );
 }
+
+#[test]
+fn a_local_at_a_macros_end_goes_out_of_scope_with_it() {
+    // No `;` after the value: reading on to see where it ends leaves the
+    // macro's body first. The local still ends with the body, as in
+    // POV-Ray; a #declare there is kept.
+    let p = read(
+        "#macro Set(v) #declare Kept = v; #local Leak = v #end\n\
+         Set(3)\n#declare After = 1;",
+    );
+    assert!(p.symbol("Leak").is_none());
+    assert!(p.symbol("v").is_none());
+    assert_eq!(float(&p, "Kept"), 3.0);
+    assert_eq!(float(&p, "After"), 1.0);
+}
