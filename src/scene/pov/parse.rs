@@ -1,10 +1,11 @@
 //! The token stream of a POV-Ray scene with its language directives applied
-//! as it is read: `#include` (a stack of files), `#declare`/`#local`,
-//! `#if`/`#ifdef`/`#ifndef`/`#else`/`#end` and the loops `#while` and `#for`
-//! (in `flow`), `#version`, `#default`. What the subset does not run
-//! (`#macro`, `#switch`, file I/O) is skipped whole, balanced by its `#end`,
-//! with a warning where it would have acted: a macro is named when it is
-//! called, not where an include defines it.
+//! as it is read: `#include` and macro calls (a stack of frames, each a file
+//! or a macro's body, in `macros`), `#declare`/`#local`, the branches and
+//! loops (`#if`, `#switch`, `#while`, `#for`, in `flow`), `#version`,
+//! `#default`. What the subset does not run (file I/O, a macro or loop that
+//! needs what is outside the subset) is skipped whole, balanced by its
+//! `#end`, with a warning where it would have acted: a macro is named when
+//! it is called, not where an include defines it.
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -47,8 +48,9 @@ pub(super) struct Frame {
     pub(super) end: usize,
     /// The branches and loops this file has open, innermost last.
     pub(super) blocks: Vec<Block>,
-    /// The names this include file declared with `#local`, each with the
-    /// value it had before (None: undeclared), given back where it ends.
+    /// The names local to this include file or macro body (its `#local`s
+    /// and parameters), each with the value it had before (None:
+    /// undeclared), given back where the frame ends.
     pub(super) locals: Vec<(String, Option<Value>)>,
 }
 
