@@ -10,7 +10,6 @@
 //! (POV-Ray's `Clear`) become invisible cuts (`Op::Clip`): that is what
 //! POV-Ray draws, a cut face that neither shows nor shadows.
 
-use std::collections::BTreeMap;
 use std::path::Path;
 
 use glam::{DAffine3, DVec3};
@@ -119,15 +118,9 @@ pub(super) fn scene(
             scene.sources.push(file.clone());
         }
     }
-    let tally = |log: &[String]| {
-        log.iter().fold(BTreeMap::new(), |mut m, k| {
-            *m.entry(k.clone()).or_default() += 1;
-            m
-        })
-    };
     scene.import = Some(crate::scene::Import {
-        read: tally(&parser.read),
-        skipped: tally(&parser.skipped),
+        read: parser.read,
+        skipped: parser.skipped,
     });
     Ok(scene)
 }

@@ -18,8 +18,6 @@ pub const MAX_PASSES: u64 = 1_000_000;
 /// functions outside the subset, and the keywords that declare values it
 /// skips.
 const NOT_RUN: &[&str] = &[
-    "rand",
-    "seed",
     "trace",
     "inside",
     "eval_pigment",
@@ -27,8 +25,6 @@ const NOT_RUN: &[&str] = &[
     "max_extent",
     "vaxis_rotate",
     "vturbulence",
-    "dimension_size",
-    "dimensions",
     "file_exists",
     "bitwise_and",
     "bitwise_or",
@@ -37,7 +33,6 @@ const NOT_RUN: &[&str] = &[
     "strlen",
     "val",
     "asc",
-    "array",
     "spline",
     "function",
 ];

@@ -1,5 +1,6 @@
 //! The built-in functions of POV-Ray's expressions the subset evaluates:
-//! `sqrt`, `sin`, `pow`, `max`, `vlength`, `vcross`, `select` and the like.
+//! `sqrt`, `sin`, `pow`, `max`, `vlength`, `vcross`, `select` and the like,
+//! and the random streams of `seed` and `rand`.
 
 use super::parse::{Loc, Parser};
 use super::value::Value;
@@ -12,7 +13,7 @@ impl Parser {
         let arity = match name {
             "abs" | "acos" | "asin" | "atan" | "ceil" | "cos" | "cosh" | "degrees" | "exp"
             | "floor" | "int" | "ln" | "log" | "radians" | "sin" | "sinh" | "sqrt" | "tan"
-            | "tanh" | "vlength" | "vnormalize" | "sqr" => 1,
+            | "tanh" | "vlength" | "vnormalize" | "sqr" | "seed" | "rand" => 1,
             "atan2" | "div" | "mod" | "pow" | "vcross" | "vdot" | "max" | "min" | "vrotate" => 2,
             "select" => 3,
             _ => return Ok(None),
@@ -37,6 +38,11 @@ impl Parser {
                 _ => Err(p.error_at(loc, format!("`{name}` takes vectors"))),
             }
         };
+        match name {
+            "seed" => return Ok(Some(self.seed(self.scalar(&args[0], loc)?))),
+            "rand" => return self.rand(self.scalar(&args[0], loc)?, loc).map(Some),
+            _ => {}
+        }
         let out = |v: glam::DVec3| Value::Vector(v.to_array().to_vec());
         let f = |i: usize| self.scalar(&args[i], loc);
         Ok(Some(match name {
@@ -98,5 +104,46 @@ impl Parser {
                 })
             }
         }))
+    }
+}
+
+/// POV-Ray 3.7's random streams: `seed(n)` starts a stream and gives its
+/// number (0 for a scene's first, counted in the order they are made), and
+/// `rand(s)` steps stream s and gives its next number in [0, 1]. The
+/// generator is the linear congruence x <- 1812433253 x + 12345 mod 2^32,
+/// and a number is x / (2^32 - 1); a seed is cut to a C `int` first, as
+/// POV-Ray converts it, so a fraction is truncated and a seed outside the
+/// `int` range (or NaN) starts from -2^31. Checked against POV-Ray 3.7's
+/// `#debug` output for several seeds (see the tests), so a scene that
+/// scatters objects with `rand` places them where POV-Ray does.
+impl Parser {
+    fn seed(&mut self, n: f64) -> Value {
+        let start =
+            if n.is_nan() || n <= f64::from(i32::MIN) - 1.0 || n >= f64::from(i32::MAX) + 1.0 {
+                i32::MIN
+            } else {
+                n.trunc() as i32
+            };
+        // The bits of the C int, as POV-Ray's unsigned state takes them.
+        self.streams.push(start as u32);
+        Value::Float(self.streams.len() as f64 - 1.0)
+    }
+
+    fn rand(&mut self, stream: f64, loc: Loc) -> Result<Value> {
+        let index = stream.trunc();
+        let Some(state) = (index >= 0.0)
+            .then(|| self.streams.get_mut(index as usize))
+            .flatten()
+        else {
+            return Err(self.error_at(
+                loc,
+                format!(
+                    "`rand({stream})`: no random stream has that number \
+                     (a stream is made by `seed`: `#declare S = seed(1); rand(S)`)"
+                ),
+            ));
+        };
+        *state = state.wrapping_mul(1_812_433_253).wrapping_add(12_345);
+        Ok(Value::Float(f64::from(*state) / f64::from(u32::MAX)))
     }
 }

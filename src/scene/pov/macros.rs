@@ -152,7 +152,7 @@ impl Parser {
     }
 
     /// A name read as it stands, no directive run and no macro called.
-    fn raw_word(&mut self) -> Result<String> {
+    pub(super) fn raw_word(&mut self) -> Result<String> {
         match self.raw().map(|t| t.tok) {
             Some(Tok::Word(w)) => {
                 self.advance();

@@ -10,6 +10,7 @@
 //! given by its image plane, so every pixel's ray is the one POV-Ray traces
 //! and the image is not mirrored.
 
+mod arrays;
 mod boxes;
 mod build;
 mod camera;

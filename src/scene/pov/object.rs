@@ -374,9 +374,9 @@ impl Parser {
                 }
                 Kind::Poly(poly_terms(degree, &v))
             }
-            "union" | "intersection" | "difference" | "merge" => {
+            "union" | "intersection" | "difference" | "merge" | "light_group" => {
                 let op = match keyword {
-                    "union" => CsgOp::Union,
+                    "union" | "light_group" => CsgOp::Union,
                     "intersection" => CsgOp::Intersection,
                     "difference" => CsgOp::Difference,
                     _ => CsgOp::Merge,
@@ -394,6 +394,21 @@ impl Parser {
                     }
                     if let Some(child) = self.object_statement()? {
                         children.push(child);
+                    }
+                }
+                // A light group's own lights light only its objects, which
+                // the renderer cannot restrict: they are left out, and its
+                // objects are lit by the scene's lights, as a union's are.
+                if keyword == "light_group" {
+                    let objects = children.len();
+                    children.retain(|c| !matches!(c.kind, Kind::Light(_)));
+                    if children.len() < objects {
+                        self.skip_warning(
+                            loc,
+                            keyword,
+                            "read as a union of its objects; its own lights, which would light \
+                             only them, are left out",
+                        );
                     }
                 }
                 Kind::Csg { op, children }
@@ -491,9 +506,11 @@ impl Parser {
                 },
                 "no_shadow" => obj.no_shadow = true,
                 "sturm" | "hollow" | "double_illuminate" | "no_reflection" | "no_image"
-                | "no_radiosity" => {
+                | "no_radiosity" | "global_lights" => {
                     // `sturm`: sturmray's solver always isolates roots with
                     // Sturm sequences. `hollow`: there is no media to fill.
+                    // `global_lights`: a light group is lit by the scene's
+                    // lights in any case (its own are left out).
                     if self.starts_number()? {
                         self.float()?;
                     }

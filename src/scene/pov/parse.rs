@@ -7,7 +7,7 @@
 //! `#end`, with a warning where it would have acted: a macro is named when
 //! it is called, not where an include defines it.
 
-use std::collections::HashMap;
+use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};
 use std::rc::Rc;
 
@@ -24,12 +24,35 @@ pub const SYSTEM_INCLUDE: &str = "/usr/share/povray-3.7/include";
 const MAX_INCLUDE_DEPTH: usize = 32;
 
 /// What reading a declared value met, told where the name is used: an
-/// include declares much that a scene never uses.
+/// include declares much that a scene never uses. Kept as counts: a
+/// value built by loops of thousands of passes (benchmark.pov's lathe
+/// mesh, from arrays) and named in another loop's every pass was a list
+/// copied at each use, quadratic in time and memory.
 #[derive(Clone, Debug, Default)]
 struct Deferred {
     warnings: Vec<String>,
-    skipped: Vec<String>,
-    read: Vec<String>,
+    skipped: Tally,
+    read: Tally,
+}
+
+/// How many of each kind were read or skipped, for `sturmray info`.
+pub type Tally = BTreeMap<String, usize>;
+
+/// `now` less `before`, the counts `before` (taken earlier) does not hold.
+fn since(now: &Tally, before: &Tally) -> Tally {
+    now.iter()
+        .filter_map(|(k, &n)| {
+            let more = n - before.get(k).copied().unwrap_or(0);
+            (more > 0).then(|| (k.clone(), more))
+        })
+        .collect()
+}
+
+/// Adds the counts of `more` to `into`.
+fn add(into: &mut Tally, more: &Tally) {
+    for (k, n) in more {
+        *into.entry(k.clone()).or_default() += n;
+    }
 }
 
 /// Where a token is: its file (an index into `Parser::files`) and position.
@@ -65,10 +88,10 @@ pub struct Parser {
     deferred: HashMap<String, Deferred>,
     include_dirs: Vec<PathBuf>,
     pub warnings: Vec<String>,
-    /// What was read, by kind, in order, for `sturmray info`.
-    pub read: Vec<String>,
-    /// What was skipped, by keyword, in order.
-    pub skipped: Vec<String>,
+    /// What was read, by kind, for `sturmray info`.
+    pub read: Tally,
+    /// What was skipped, by keyword.
+    pub skipped: Tally,
     /// `image_width`, `image_height`.
     pub size: (u32, u32),
     /// Where the last token taken was, for errors at the end of a file.
@@ -83,6 +106,9 @@ pub struct Parser {
     /// How many times loops have gone round and macros been called,
     /// against [`super::flow::MAX_PASSES`].
     pub(super) passes: u64,
+    /// The states of the random streams `seed` has made, by number (see
+    /// `functions.rs`).
+    pub(super) streams: Vec<u32>,
 }
 
 /// Expressions and objects nest at most this deep: far beyond any scene a
@@ -104,13 +130,14 @@ impl Parser {
             deferred: HashMap::new(),
             include_dirs: dirs,
             warnings: Vec::new(),
-            read: Vec::new(),
-            skipped: Vec::new(),
+            read: Tally::new(),
+            skipped: Tally::new(),
             size,
             last: Loc::default(),
             hold: None,
             nesting: 0,
             passes: 0,
+            streams: Vec::new(),
         };
         parser.open(path)?;
         Ok(parser)
@@ -194,13 +221,13 @@ impl Parser {
 
     /// Warns that `keyword` at `loc` is outside the subset and was skipped.
     pub fn skip_warning(&mut self, loc: Loc, keyword: &str, what: &str) {
-        self.skipped.push(keyword.to_owned());
+        *self.skipped.entry(keyword.to_owned()).or_default() += 1;
         self.warn(loc, format!("`{keyword}` is not supported: {what}"));
     }
 
     /// Counts one `kind` read, for `info`.
     pub fn count(&mut self, kind: &str) {
-        self.read.push(kind.to_owned());
+        *self.read.entry(kind.to_owned()).or_default() += 1;
     }
 
     /// The raw token at the top of the stream, without running directives.
@@ -221,6 +248,18 @@ impl Parser {
                 };
             }
         }
+    }
+
+    /// Whether the raw token at the top of the stream is the punctuation `c`.
+    pub(super) fn raw_is(&mut self, c: char) -> bool {
+        matches!(self.raw(), Some(Token { tok: Tok::Punct(p), .. }) if p == c)
+    }
+
+    /// The raw token after the one at the top of the stream, in the same
+    /// file or macro body.
+    pub(super) fn raw_after(&self) -> Option<&Tok> {
+        let frame = self.frames.last()?;
+        (frame.pos + 1 < frame.end).then(|| &frame.tokens[frame.pos + 1].tok)
     }
 
     pub(super) fn advance(&mut self) {
@@ -260,6 +299,12 @@ impl Parser {
                     let loc = self.last;
                     self.call_macro(&name, loc)?;
                 }
+                // An array's element, wherever a declared value may stand.
+                Tok::Word(name) if !self.holding() && self.indexes_array(&name) => {
+                    self.advance();
+                    let loc = self.last;
+                    self.substitute_element(&name, loc)?;
+                }
                 tok => return Ok(Some(tok)),
             }
         }
@@ -273,14 +318,13 @@ impl Parser {
                 if let Tok::Word(w) = &tok
                     && let Some(d) = self.deferred.get(w)
                 {
-                    let d = d.clone();
-                    for w in d.warnings {
-                        if !self.warnings.contains(&w) {
-                            self.warnings.push(w);
+                    for w in &d.warnings {
+                        if !self.warnings.contains(w) {
+                            self.warnings.push(w.clone());
                         }
                     }
-                    self.skipped.extend(d.skipped);
-                    self.read.extend(d.read);
+                    add(&mut self.skipped, &d.skipped);
+                    add(&mut self.read, &d.read);
                 }
                 Ok(tok)
             }
@@ -628,7 +672,9 @@ impl Parser {
         // The frame a `#local` belongs to: reading its value may end that
         // frame (no `;` after it) or call a macro.
         let scope = local.then_some(self.frames.len());
-        let mut name = self.word()?;
+        // Read as it stands: `NAME[i]` here is the element to declare, not
+        // one to read, and a macro's name is declared anew, not called.
+        let mut name = self.raw_word()?;
         // `#declare deprecated [once] "why" NAME = …`: the note is given
         // where the name is used, as the value's own warnings are.
         let mut deprecated = None;
@@ -642,28 +688,26 @@ impl Parser {
                     );
                 }
             };
-            name = self.word()?;
+            name = self.raw_word()?;
         }
         if self.peek()? == Some(Tok::Punct('[')) {
-            self.skip_warning(loc, "array", "an array element is not declared");
-            while self.peek()? == Some(Tok::Punct('[')) {
-                self.skip_brackets()?;
-            }
-            self.expect('=')?;
-            // Read and dropped: an element that is a texture or an object
-            // ends at its `}`, with no `;` to skip to.
-            self.value()?;
-            self.eat(';')?;
-            return Ok(());
+            return self.declare_element(&name, loc);
         }
         self.expect('=')?;
-        let marks = (self.warnings.len(), self.skipped.len(), self.read.len());
-        let value = self.value()?;
+        let marks = (self.warnings.len(), self.skipped.clone(), self.read.clone());
+        let value = super::arrays::copied(self.value()?);
+        // What ran while the value was read (directives, macro calls) is
+        // counted once, here; what it made is counted where it is used.
+        let (ran, made): (Tally, Tally) = since(&self.read, &marks.2)
+            .into_iter()
+            .partition(|(kind, _)| kind.starts_with('#') || kind == "macro call");
         let mut deferred = Deferred {
             warnings: self.warnings.split_off(marks.0),
-            skipped: self.skipped.split_off(marks.1),
-            read: self.read.split_off(marks.2),
+            skipped: since(&self.skipped, &marks.1),
+            read: made,
         };
+        (self.skipped, self.read) = (marks.1, marks.2);
+        add(&mut self.read, &ran);
         if let Some(why) = deprecated {
             let note = format!("{}: `{name}` is deprecated: {why}", self.place(loc));
             deferred.warnings.push(note);

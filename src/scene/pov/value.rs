@@ -33,6 +33,8 @@ pub enum Value {
     /// A declared `sky_sphere`'s colour, which `sky_sphere { NAME … }`
     /// starts from.
     Sky(glam::DVec3),
+    /// An array, shared: a macro's parameter is the caller's array.
+    Array(super::arrays::SharedArray),
     /// A `#macro`: its body and parameters.
     Macro(std::rc::Rc<super::macros::Macro>),
     /// Something outside the subset (its keyword), skipped where declared
@@ -63,6 +65,7 @@ pub const OBJECT_KEYWORDS: &[&str] = &[
     "merge",
     "object",
     "light_source",
+    "light_group",
 ];
 
 /// Keywords of objects and values outside the subset: skipped with a warning.
@@ -81,7 +84,6 @@ pub const UNSUPPORTED: &[&str] = &[
     "bicubic_patch",
     "polygon",
     "function",
-    "array",
     "spline",
     "media",
     "fog",
@@ -97,8 +99,6 @@ pub const UNSUPPORTED: &[&str] = &[
     "photons",
     "radiosity",
     "ovus",
-    // Random numbers: POV-Ray's generator is not reproduced.
-    "seed",
 ];
 
 pub(super) const COLOUR_WORDS: &[&str] = &[
@@ -157,6 +157,10 @@ impl Parser {
                 "camera" => {
                     self.next()?;
                     return Ok(Value::Camera(Box::new(self.camera_block()?)));
+                }
+                "array" => {
+                    self.next()?;
+                    return self.array_value(loc);
                 }
                 "sky_sphere" => {
                     self.next()?;
@@ -431,6 +435,14 @@ impl Parser {
                     format!("`{w}` was declared as `{k}`, which is not supported, and a value is needed here"),
                 )),
                 v @ (Value::Float(_) | Value::Vector(_)) => Ok(v),
+                // Held (an `#if` condition), an element is read here, not
+                // put in the word's place as `peek` does.
+                Value::Array(a) if self.peek()? == Some(Tok::Punct('[')) => {
+                    match self.element(w, &a, loc)? {
+                        (v @ (Value::Float(_) | Value::Vector(_)), _) => Ok(v),
+                        (_, shown) => Err(self.error_at(loc, format!("`{shown}` is not a number or a vector"))),
+                    }
+                }
                 _ => Err(self.error_at(loc, format!("`{w}` is not a number or a vector here"))),
             };
         }
@@ -458,6 +470,7 @@ impl Parser {
             w if COLOUR_WORDS.contains(&w) || matches!(w, "red" | "green" | "blue") => {
                 self.colour_rest(Some((w.to_owned(), loc)))
             }
+            "dimensions" | "dimension_size" => self.array_function(w, loc),
             "defined" => {
                 self.expect('(')?;
                 let name = self.word()?;
