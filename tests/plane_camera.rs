@@ -48,6 +48,7 @@ fn an_image_plane_renders_as_the_camera_it_equals_and_stretches() {
         direction: -DVec3::Z,
         right: DVec3::new(span * 32.0 / 24.0, 0.0, 0.0),
         up: DVec3::new(0.0, span, 0.0),
+        orthographic: false,
     };
     let eye = scene.camera.eye;
     let same = depth(&scene, Camera::with_plane(eye, plane, 32, 24));

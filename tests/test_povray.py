@@ -449,7 +449,9 @@ background { color rgb 0 }
 # POV-Ray idioms that sturmray once refused or drew otherwise, each written
 # for this test: open tubes in CSG keep the capped solid's inside; trees
 # unbounded as a whole; a bounded union's triangles; a flat box; checkers
-# of textures and of `rgb a rgb b`; a camera looking straight down.
+# of textures and of `rgb a rgb b`; a camera looking straight down;
+# orthographic cameras sized by right and up, and by an angle; spheres
+# scattered by `rand`; objects taken from an array.
 IDIOMS = {
     "open_cylinder": "difference { box { -2, 2 } cylinder { -3*x, 3*x, 1 open } texture { T } rotate 40*y }",
     "open_cone": "difference { box { -2, 2 } cone { <-1.5, 0, 0>, 0.2, <3, 0, 0>, 1.2 open } texture { T } rotate 40*y }",
@@ -463,6 +465,14 @@ IDIOMS = {
     "sphere { <1.2, 0, 0>, 1 texture { checker texture { T } texture { pigment { rgb <0.2, 0.5, 1> } finish { ambient 0.3 diffuse 0.7 } } scale 0.5 } }",
     "from_above": "camera { location <0, 12, 0> look_at 0 angle 45 right x*image_width/image_height }\n"
     "cone { -y, 1.5, y, 0.5 texture { T } translate x } box { <-3, -0.5, -1>, <-1, 0.5, 2> texture { T } }",
+    "orthographic": "camera { orthographic location <1, 2, -10> up 5*y right 5*x*image_width/image_height look_at 0 }\n"
+    "sphere { 0, 1 texture { T } } torus { 1.2, 0.3 rotate 60*x translate <1.5, -1, 1> texture { T } }",
+    "orthographic_angle": "camera { orthographic location <3, 1, -5> angle 50 right x*image_width/image_height look_at <0, 0.5, 0> }\n"
+    "sphere { 0, 1 texture { T } } box { <-2, -1.5, 1>, <-1, -0.5, 3> rotate 20*y texture { T } }",
+    "random_spheres": "#declare S = seed(7);\n"
+    "#for (I, 1, 12) sphere { <rand(S) * 6 - 3, rand(S) * 3 - 1, rand(S) * 4>, 0.2 + 0.3 * rand(S) texture { T } } #end",
+    "array_of_objects": "#declare Things = array[3] { sphere { 0, 1 }, box { -0.8, 0.8 }, torus { 0.8, 0.3 rotate 90*x } }\n"
+    "#for (I, 0, 2) object { Things[I] texture { T } translate (I - 1) * 2.5 * x } #end",
 }
 
 

@@ -175,6 +175,13 @@ pub struct ImagePlane {
     pub right: DVec3,
     /// Across the whole image, from its bottom edge to its top.
     pub up: DVec3,
+    /// Parallel rays along `direction`, each from its point of the plane
+    /// of `right` and `up` through the eye (POV-Ray's `orthographic`): the
+    /// view is as large as `right` and `up` are. Left out of the
+    /// serialisation when false, so a perspective plane's scene hash is
+    /// what it was.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub orthographic: bool,
 }
 
 /// The camera's frame, precomputed once per render, in f64: the rays are
@@ -307,7 +314,11 @@ impl Camera {
         }
         // Rays leave from up to `reach` away from the eye (the lens's disc, an
         // orthographic view), so the eye must stay that far inside the limit.
-        let reach = self.optics.reach(aspect);
+        let reach = self.optics.reach(aspect)
+            + self
+                .plane
+                .filter(|p| p.orthographic)
+                .map_or(0.0, |p| (0.5 * (p.right.length() + p.up.length())) as f32);
         let eye_problem =
             |name: &str, eye: Vec3| {
                 (!(eye.abs() + Vec3::splat(reach)).cmple(Vec3::splat(RAY_LIMIT)).all()).then(|| {
@@ -340,12 +351,11 @@ impl Camera {
                     "a camera given by its image plane cannot also follow a path of keys".into(),
                 );
             }
-            if let Some(p) = eye_problem("camera", self.eye) {
-                return Err(p);
+            // The plane first: its vectors size an orthographic view's reach.
+            if let Some((key, message)) = plane.problem() {
+                return problem(key.into(), message);
             }
-            return plane
-                .problem()
-                .map_or(Ok(()), |(key, message)| problem(key.into(), message));
+            return eye_problem("camera", self.eye).map_or(Ok(()), Err);
         }
         let still = CameraKey {
             frame: 0,
@@ -511,6 +521,17 @@ impl ImagePlane {
     /// plane from `eye`.
     fn frame(&self, eye: Vec3, width: u32, height: u32) -> CameraFrame {
         let [d, r, u] = [self.direction, self.right, self.up];
+        if self.orthographic {
+            // The plane's size is the view's: not scaled.
+            return CameraFrame {
+                eye: eye.as_dvec3(),
+                right: r / f64::from(width),
+                down: -u / f64::from(height),
+                top_left: 0.5 * (u - r),
+                parallel: Some(d.normalize()),
+                lens: None,
+            };
+        }
         // Rays are normalised, so the plane may be scaled at will: at unit size
         // the sums of the ray directions can neither overflow nor underflow.
         let scale = 1.0 / d.abs().max(r.abs()).max(u.abs()).max_element();

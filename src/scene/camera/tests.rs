@@ -138,6 +138,7 @@ fn sample_plane() -> ImagePlane {
         direction: DVec3::new(0.0, 0.1, 1.5),
         right: DVec3::new(4.0 / 3.0, 0.0, 0.0),
         up: DVec3::Y,
+        orthographic: false,
     }
 }
 
@@ -195,6 +196,7 @@ fn an_image_plane_at_any_scale_makes_the_same_rays() {
             direction: scale * p.direction,
             right: scale * p.right,
             up: scale * p.up,
+            orthographic: false,
         };
         let s = Camera::with_plane(Vec3::ZERO, scaled, 4, 3);
         for point in [(0.0, 0.0), (2.0, 1.5), (4.0, 3.0), (0.5, 2.5)] {
@@ -213,6 +215,7 @@ fn an_image_plane_shows_its_centre_and_vertical_angle() {
         direction: DVec3::Z,
         right: DVec3::X,
         up: 2.0 * DVec3::Y,
+        orthographic: false,
     };
     let c = Camera::with_plane(Vec3::new(0.0, 0.0, -5.0), plane, 10, 10);
     assert_eq!(c.look_at, Vec3::new(0.0, 0.0, -4.0));

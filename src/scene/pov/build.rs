@@ -88,6 +88,7 @@ pub(super) fn scene(
         direction: resolved.direction,
         right: resolved.right,
         up: resolved.up,
+        orthographic: resolved.orthographic,
     };
     scene.camera = Camera::with_plane(resolved.location.as_vec3(), plane, size.0, size.1);
     scene

@@ -1,6 +1,7 @@
-//! POV-Ray's perspective camera: `location`, `direction`, `up`, `right`,
-//! `sky`, `angle`, `look_at` and transforms, resolved as POV-Ray 3.7 does
-//! into the image plane the rays go through.
+//! POV-Ray's perspective and orthographic cameras: `location`,
+//! `direction`, `up`, `right`, `sky`, `angle`, `look_at` and transforms,
+//! resolved as POV-Ray 3.7 does into the image plane the rays go through
+//! (from the location, or, orthographic, parallel from across the plane).
 
 use glam::{DAffine3, DVec3};
 
@@ -20,6 +21,12 @@ pub struct CameraSpec {
     pub look_at: Option<DVec3>,
     pub transform: DAffine3,
     pub loc: Loc,
+    /// Parallel rays (`orthographic`).
+    pub orthographic: bool,
+    /// Whether this camera block gave `up` or `right`: an orthographic
+    /// camera without either sees what the perspective one would at its
+    /// `look_at`.
+    pub sized: bool,
 }
 
 impl Default for CameraSpec {
@@ -35,20 +42,27 @@ impl Default for CameraSpec {
             look_at: None,
             transform: DAffine3::IDENTITY,
             loc: Loc::default(),
+            orthographic: false,
+            sized: false,
         }
     }
 }
 
 /// A resolved camera: where it is, and the image plane's three vectors
 /// (the ray through image point (u, v) ∈ [0, 1]², v down, is
-/// `direction + (u − ½) right + (½ − v) up`).
+/// `direction + (u − ½) right + (½ − v) up`; orthographic, it leaves
+/// `location + (u − ½) right + (½ − v) up` along `direction`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Resolved {
     pub location: DVec3,
     pub direction: DVec3,
     pub right: DVec3,
     pub up: DVec3,
+    pub orthographic: bool,
 }
+
+/// Where POV-Ray's camera looks when no `look_at` is given.
+const DEFAULT_LOOK_AT: DVec3 = DVec3::Z;
 
 impl CameraSpec {
     /// The camera as POV-Ray 3.7 sets it up: `angle` fixes the direction's
@@ -58,13 +72,17 @@ impl CameraSpec {
     pub fn resolve(&self) -> Result<Resolved, String> {
         let (mut direction, mut right, mut up) = (self.direction, self.right, self.up);
         if let Some(angle) = self.angle {
-            if !(angle > 0.0 && angle < 180.0) {
+            // An orthographic camera's angle may be 0 (given without a
+            // number): it then only sizes the view at look_at, below.
+            if !(angle > 0.0 || self.orthographic && angle == 0.0) || angle >= 180.0 {
                 return Err(format!(
                     "the camera's angle must be above 0 and below 180 degrees, found {angle}"
                 ));
             }
-            let length = 0.5 * right.length() / (angle.to_radians() / 2.0).tan();
-            direction = direction.normalize_or_zero() * length;
+            if angle > 0.0 {
+                let length = 0.5 * right.length() / (angle.to_radians() / 2.0).tan();
+                direction = direction.normalize_or_zero() * length;
+            }
         }
         if let Some(look_at) = self.look_at {
             let handedness = up.cross(direction).dot(right);
@@ -90,6 +108,19 @@ impl CameraSpec {
             right = r * if handedness >= 0.0 { rl } else { -rl };
             up = u * ul;
         }
+        // POV-Ray sizes an orthographic view given neither up nor right,
+        // or given an angle, to what the perspective camera sees at the
+        // look_at distance.
+        if self.orthographic && (!self.sized || self.angle.is_some()) {
+            let (k1, k2) = (
+                (self.look_at.unwrap_or(DEFAULT_LOOK_AT) - self.location).length(),
+                direction.length(),
+            );
+            if k1 > 1e-10 && k2 > 1e-10 {
+                right *= k1 / k2;
+                up *= k1 / k2;
+            }
+        }
         let m = self.transform;
         // Whether the three vectors make rays is `Camera::check`'s to say.
         let resolved = Resolved {
@@ -97,6 +128,7 @@ impl CameraSpec {
             direction: m.transform_vector3(direction),
             right: m.transform_vector3(right),
             up: m.transform_vector3(up),
+            orthographic: self.orthographic,
         };
         Ok(resolved)
     }
@@ -128,6 +160,7 @@ impl Parser {
         {
             c = CameraSpec {
                 loc: c.loc,
+                sized: false,
                 ..(**base).clone()
             };
             self.next()?;
@@ -145,10 +178,18 @@ impl Parser {
             match word.as_str() {
                 "location" => c.location = self.vector()?,
                 "direction" => c.direction = self.vector()?,
-                "up" => c.up = self.vector()?,
-                "right" => c.right = self.vector()?,
+                "up" => {
+                    c.up = self.vector()?;
+                    c.sized = true;
+                }
+                "right" => {
+                    c.right = self.vector()?;
+                    c.sized = true;
+                }
                 "sky" => c.sky = self.vector()?,
                 "look_at" => c.look_at = Some(self.vector()?),
+                // An orthographic camera's angle may stand alone.
+                "angle" if c.orthographic && !self.starts_number()? => c.angle = Some(0.0),
                 "angle" => {
                     let angle = self.float()?;
                     // A spherical camera's second, vertical angle.
@@ -167,11 +208,13 @@ impl Parser {
                         c.angle = Some(angle);
                     }
                 }
-                "perspective" => {}
-                "orthographic" | "fisheye" | "ultra_wide_angle" | "omnimax" | "panoramic"
-                | "cylinder" | "spherical" => {
+                "perspective" => c.orthographic = false,
+                "orthographic" => c.orthographic = true,
+                "fisheye" | "ultra_wide_angle" | "omnimax" | "panoramic" | "cylinder"
+                | "spherical" => {
                     self.skip_warning(loc, &word, "the camera is read as a perspective one");
                     other_kind = true;
+                    c.orthographic = false;
                     if word == "cylinder" {
                         self.float()?;
                     }

@@ -1536,3 +1536,56 @@ fn a_light_group_is_a_union_of_its_objects_without_its_own_lights() {
     );
     assert_centres(&scene, &[[2.0, 0.0, 0.0], [-2.0, 0.0, 0.0]]);
 }
+
+/// POV-Ray's orthographic camera: parallel rays along the view, each from
+/// its point of the plane of right and up through the location. Given
+/// neither up nor right, the view is what the perspective camera sees at
+/// the look_at distance: right 1.33 and up 1 times that distance over the
+/// direction's length (POV-Ray's rule; `make povray-compare`'s idioms
+/// check the pixels against POV-Ray itself).
+#[test]
+fn an_orthographic_camera_sends_parallel_rays_over_its_view() {
+    let sized = load(
+        "camera { orthographic location <0, 0, -10> up 4*y right 4*x look_at 0 }\nsphere { 0, 1 }",
+    )
+    .unwrap();
+    let plane = sized.camera.plane.unwrap();
+    assert!(plane.orthographic);
+    assert_eq!(
+        (plane.right, plane.up),
+        (DVec3::new(4.0, 0.0, 0.0), DVec3::new(0.0, 4.0, 0.0))
+    );
+    let frame = sized.camera.frame();
+    let (corner, centre) = (frame.ray64(0.0, 0.0), frame.ray64(400.0, 300.0));
+    assert_eq!(corner.dir, DVec3::Z);
+    assert_eq!(centre.dir, DVec3::Z);
+    assert!(
+        (corner.origin - DVec3::new(-2.0, 2.0, -10.0)).length() < 1e-12,
+        "{}",
+        corner.origin
+    );
+    assert!(
+        (centre.origin - DVec3::new(0.0, 0.0, -10.0)).length() < 1e-12,
+        "{}",
+        centre.origin
+    );
+    // Neither up nor right: sized at look_at, 5 away with a direction of 1.
+    let at_look_at =
+        load("camera { orthographic location <0, 0, -5> look_at 0 }\nsphere { 0, 1 }").unwrap();
+    let plane = at_look_at.camera.plane.unwrap();
+    assert!(
+        (plane.right.length() - 1.33 * 5.0).abs() < 1e-12,
+        "{}",
+        plane.right
+    );
+    assert!((plane.up.length() - 5.0).abs() < 1e-12, "{}", plane.up);
+    // Another kind of camera is still read as a perspective one.
+    let other = load("camera { fisheye location <0, 0, -5> look_at 0 }\nsphere { 0, 1 }").unwrap();
+    assert!(!other.camera.plane.unwrap().orthographic);
+    assert!(
+        other
+            .warnings
+            .iter()
+            .any(|w| w.contains("`fisheye` is not supported"))
+    );
+}
