@@ -451,7 +451,9 @@ background { color rgb 0 }
 # unbounded as a whole; a bounded union's triangles; a flat box; checkers
 # of textures and of `rgb a rgb b`; a camera looking straight down;
 # orthographic cameras sized by right and up, and by an angle; spheres
-# scattered by `rand`; objects taken from an array.
+# scattered by `rand`; objects taken from an array; colour-mapped patterns
+# (gradient, radial, onion, spherical, boxed, cylindrical, planar, leopard,
+# marble, wood) with their waves, frequency, phase and a declared map.
 IDIOMS = {
     "open_cylinder": "difference { box { -2, 2 } cylinder { -3*x, 3*x, 1 open } texture { T } rotate 40*y }",
     "open_cone": "difference { box { -2, 2 } cone { <-1.5, 0, 0>, 0.2, <3, 0, 0>, 1.2 open } texture { T } rotate 40*y }",
@@ -473,6 +475,18 @@ IDIOMS = {
     "#for (I, 1, 12) sphere { <rand(S) * 6 - 3, rand(S) * 3 - 1, rand(S) * 4>, 0.2 + 0.3 * rand(S) texture { T } } #end",
     "array_of_objects": "#declare Things = array[3] { sphere { 0, 1 }, box { -0.8, 0.8 }, torus { 0.8, 0.3 rotate 90*x } }\n"
     "#for (I, 0, 2) object { Things[I] texture { T } translate (I - 1) * 2.5 * x } #end",
+    "patterns": "plane { y, -1 pigment { gradient x color_map { [0 rgb <1, 0, 0>] [0.5 rgb <0, 1, 0>] [1 rgb <0, 0, 1>] } scale 2 } }\n"
+    "sphere { <-2.2, 0, 0>, 1 pigment { onion color_map { [0 rgb <1, 0.5, 0>] [1 rgb <0, 0.3, 1>] } scale 0.4 } }\n"
+    "sphere { 0, 1 pigment { radial frequency 6 color_map { [0 rgb <1, 0, 0>] [0.5 rgb 1] [1 rgb <1, 0, 0>] } rotate 30*x } }\n"
+    "box { <1.2, -1, -1>, <3.2, 1, 1> pigment { boxed color_map { [0 rgb <0, 0, 1>] [1 rgb <1, 1, 0>] } translate 2.2*x } }\n"
+    "sphere { <0, 2, 1>, 0.8 pigment { leopard scale 0.1 } } sphere { <2, 2, 1>, 0.8 pigment { spherical translate <2, 2, 1> } }\n"
+    "sphere { <-2, 2, 1>, 0.8 pigment { cylindrical color_map { [0 rgb 0.2] [1 rgb <1, 0.8, 0.2>] } translate -2*x } }",
+    "pattern_waves": "#declare M = color_map { [0.0 0.5 color rgb <1, 0, 0> color rgb <1, 1, 0>] [0.5 1.0 color rgb <0, 1, 0> color rgb <0, 0, 1>] }\n"
+    "plane { y, -1 pigment { marble scale 0.5 } }\n"
+    "sphere { <-2.2, 0, 0>, 1 pigment { wood scale 0.3 rotate 90*x } }\n"
+    "sphere { 0, 1 pigment { gradient y sine_wave frequency 3 phase 0.3 color_map { M } } }\n"
+    "sphere { <2.2, 0, 0>, 1 pigment { planar triangle_wave frequency -2 color_map { M } } }\n"
+    "box { <-3, 1.2, 1>, <3, 1.8, 2> pigment { gradient x poly_wave 2 color_map { M } scale 1.5 } }",
 }
 
 

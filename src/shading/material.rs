@@ -3,7 +3,7 @@
 use std::f32::consts::PI;
 
 use crate::math::{Vec2, Vec3};
-use crate::shading::{Checker, Finish, Surface, Texture};
+use crate::shading::{Checker, Finish, Mapped, Surface, Texture};
 
 /// What a surface does with light. The local shading of the foundation
 /// renderer uses albedo, specular and emission; the specular kinds gain their
@@ -68,6 +68,11 @@ pub struct Material {
     /// without one hash as before.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub checker: Option<Checker>,
+    /// A colour-mapped pattern the albedo follows instead of `albedo`
+    /// (POV-Ray's `pigment { gradient y color_map { … } }`); left out of
+    /// the scene hash when absent.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mapped: Option<Mapped>,
     /// An image the albedo follows where the surface has texture
     /// coordinates (MTL's `map_Kd`, a scene file's `albedo = { texture }`),
     /// instead of `albedo`; left out of the scene hash when absent.
@@ -199,6 +204,7 @@ impl Material {
             emission: Vec3::ZERO,
             finish: Finish::default(),
             checker: None,
+            mapped: None,
             albedo_map: None,
             maps: Maps::default(),
         }
@@ -263,6 +269,7 @@ impl Material {
             emission,
             finish: Finish::default(),
             checker: None,
+            mapped: None,
             albedo_map: None,
             maps: Maps::default(),
         }
@@ -276,17 +283,20 @@ impl Material {
 
     /// The albedo at world point `p` with texture coordinates `uv` (a mesh's
     /// that has them): the image's colour at `uv` if the material has one
-    /// and the surface has uv, else the checker's colour, in uv where there
-    /// is uv and at `p` in space elsewhere, else `albedo`. Every use of the
+    /// and the surface has uv, else the checker's or the mapped pattern's
+    /// colour, in uv where there is uv and at `p` in space elsewhere, else
+    /// `albedo`. Every use of the
     /// albedo at a hit goes through here; without a pattern it costs two
     /// branches.
     pub fn albedo_at(&self, p: Vec3, uv: Option<Vec2>) -> Vec3 {
         if let (Some(map), Some(uv)) = (&self.albedo_map, uv) {
             return map.rgb(uv);
         }
-        match &self.checker {
-            Some(checker) => checker.colour_at(uv.map_or(p, |uv| uv.extend(0.0))),
-            None => self.albedo,
+        let at = uv.map_or(p, |uv| uv.extend(0.0));
+        match (&self.checker, &self.mapped) {
+            (Some(checker), _) => checker.colour_at(at),
+            (None, Some(mapped)) => mapped.colour_at(at),
+            (None, None) => self.albedo,
         }
     }
 

@@ -3,6 +3,7 @@
 mod bsdf;
 mod finish;
 pub mod fresnel;
+mod mapped;
 mod material;
 mod pattern;
 mod surface;
@@ -13,6 +14,7 @@ pub use bsdf::{
     Mirror, Plastic, Transport, shininess_to_alpha,
 };
 pub use finish::Finish;
+pub use mapped::{Mapped, PatternKind, Wave};
 pub(crate) use material::metalness;
 pub use material::{Bump, Maps, Material, MaterialKind, Metallic};
 pub use pattern::Checker;

@@ -70,7 +70,7 @@ BACKGROUND_THRESHOLD = 0.5
 # uses: their hit masks are still held to the limit; only the colour check is
 # waived.
 COLOUR_EXEMPT = {
-    "cliptst2": ("gradient", "leopard", "onion"),
+    "cliptst2": ("onion", "turbulence"),
     "granite": ("granite",),
     "intee1": ("bozo", "granite"),
     "witch": ("normal",),

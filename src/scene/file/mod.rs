@@ -452,6 +452,7 @@ fn material(check: &Check, name: &str, m: &MaterialFile) -> Result<Material> {
         kind,
         albedo,
         checker,
+        mapped: None,
         specular,
         shininess,
         roughness,

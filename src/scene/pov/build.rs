@@ -25,7 +25,7 @@ use crate::lights::{Beam, Light, PovBeam};
 use crate::math::Vec3;
 use crate::poly::solve::Solver;
 use crate::scene::{Camera, ImagePlane, Integrator, PhotonSettings, RenderSettings, Scene};
-use crate::shading::{Checker, Material, MaterialKind};
+use crate::shading::{Checker, Mapped, Material, MaterialKind};
 
 /// Half the side of the world box that cuts what is unbounded.
 pub const WORLD: f64 = 1e7;
@@ -376,8 +376,23 @@ impl Builder<'_> {
             let v = DVec3::new(c[0], c[1], c[2]).as_vec3();
             v.clamp(Vec3::ZERO, Vec3::splat(crate::scene::MAX_COLOUR))
         };
+        let mut mapped = None;
         let (c, checker) = match &texture.pigment {
             Pigment::Colour(c) => (*c, None),
+            // The albedo where the pattern is not drawn (a mesh's uv) and
+            // filter and transmit are the map's mean (POV-Ray's vary with
+            // the pattern).
+            Pigment::Mapped { spec, to_owner } => {
+                mapped = Some(Mapped {
+                    kind: spec.kind,
+                    wave: spec.wave,
+                    frequency: spec.frequency,
+                    phase: spec.phase,
+                    map: spec.map.iter().map(|(v, c)| (*v, rgb(c))).collect(),
+                    to_pattern: (to_world * *to_owner).inverse(),
+                });
+                (texture.pigment.mean_colour(), None)
+            }
             // Filter and transmit are the first colour's (POV-Ray's are per
             // cube; the subset's checkered floors are opaque).
             Pigment::Checker { colours, to_owner } => (
@@ -415,6 +430,7 @@ impl Builder<'_> {
             emission: Vec3::ZERO,
             finish,
             checker,
+            mapped,
             albedo_map: None,
             maps: Default::default(),
         };

@@ -23,6 +23,7 @@ mod macros;
 mod object;
 mod parse;
 mod parts;
+mod patterns;
 mod texture;
 mod value;
 

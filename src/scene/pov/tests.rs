@@ -1589,3 +1589,34 @@ fn an_orthographic_camera_sends_parallel_rays_over_its_view() {
             .any(|w| w.contains("`fisheye` is not supported"))
     );
 }
+
+/// A colour-mapped pattern is read into the material (its rendered colours
+/// match POV-Ray's: `make povray-compare`'s pattern idioms); one with
+/// turbulence, which POV-Ray draws from its noise, stays its map's mean
+/// colour with a warning.
+#[test]
+fn a_mapped_pattern_is_drawn_and_turbulence_keeps_the_mean_colour() {
+    let scene = load(&format!(
+        "{VIEW}#declare M = color_map {{ [0 rgb <1, 0, 0>] [1 rgb <0, 0, 1>] }}\n\
+         sphere {{ 0, 1 pigment {{ gradient 2*y color_map {{ M }} scale 2 }} }}\n\
+         sphere {{ <3, 0, 0>, 1 pigment {{ marble turbulence 0.5 color_map {{ M }} }} }}"
+    ))
+    .unwrap();
+    let material = |i: usize| &scene.materials[scene.shapes[i].material as usize];
+    let mapped = material(0).mapped.as_ref().expect("a mapped pattern");
+    // The direction is normalised, as POV-Ray reads it; the scale moves the
+    // pattern: at y = 1 the value is 0.5, halfway between red and blue.
+    assert_eq!(mapped.kind, crate::shading::PatternKind::Gradient(DVec3::Y));
+    let half = material(0).albedo_at(glam::Vec3::new(0.0, 1.0, 0.0), None);
+    assert!(
+        (half - glam::Vec3::new(0.5, 0.0, 0.5)).length() < 1e-5,
+        "{half}"
+    );
+    assert!(material(1).mapped.is_none());
+    assert_eq!(material(1).albedo.to_array(), [0.5, 0.0, 0.5]);
+    let warnings = scene.warnings.join("\n");
+    assert!(
+        warnings.contains("`turbulence` is not reproduced"),
+        "{warnings}"
+    );
+}

@@ -22,6 +22,12 @@ pub enum Pigment {
         colours: [[f64; 5]; 2],
         to_owner: DAffine3,
     },
+    /// A colour-mapped pattern (see `patterns`); the transform as a
+    /// checker's.
+    Mapped {
+        spec: Box<super::patterns::MappedSpec>,
+        to_owner: DAffine3,
+    },
 }
 
 impl Pigment {
@@ -32,8 +38,18 @@ impl Pigment {
 
     /// Applies a transform given after the pigment.
     pub fn transform(&mut self, t: DAffine3) {
-        if let Pigment::Checker { to_owner, .. } = self {
+        if let Pigment::Checker { to_owner, .. } | Pigment::Mapped { to_owner, .. } = self {
             *to_owner = t * *to_owner;
+        }
+    }
+
+    /// One colour for the pigment where one must stand for it (a sky, an
+    /// entry of a map): a pattern's mean colour.
+    pub fn mean_colour(&self) -> [f64; 5] {
+        match self {
+            Pigment::Colour(c) => *c,
+            Pigment::Checker { colours, .. } => mean(colours),
+            Pigment::Mapped { spec, .. } => mean(&spec.map.iter().map(|e| e.1).collect::<Vec<_>>()),
         }
     }
 }
@@ -121,13 +137,11 @@ impl Parser {
             }
             match word.as_str() {
                 "pigment" => {
-                    let c = match self.pigment_block()? {
-                        Pigment::Colour(c) => c,
-                        Pigment::Checker { colours, .. } => {
-                            self.warn(loc, "a checkered sky is drawn as its mean colour");
-                            mean(&colours)
-                        }
-                    };
+                    let pigment = self.pigment_block()?;
+                    if !matches!(pigment, Pigment::Colour(_)) {
+                        self.warn(loc, "a patterned sky is drawn as its mean colour");
+                    }
+                    let c = pigment.mean_colour();
                     sky = Some(DVec3::new(c[0], c[1], c[2]));
                 }
                 w => {
@@ -279,6 +293,10 @@ impl Parser {
                     let v = self.colour_rest(None)?;
                     p = Pigment::Colour(self.as_colour(&v, loc)?);
                 }
+                w if super::patterns::is_mapped(w) => {
+                    self.next()?;
+                    p = self.mapped_pigment(loc, &word)?;
+                }
                 _ => {
                     self.next()?;
                     p = Pigment::Colour(self.pattern(loc, &word)?);
@@ -289,7 +307,7 @@ impl Parser {
     }
 
     /// Whether the word `w` begins a colour.
-    fn starts_colour(&self, w: &str) -> bool {
+    pub(super) fn starts_colour(&self, w: &str) -> bool {
         matches!(
             w,
             "color"
@@ -351,10 +369,7 @@ impl Parser {
                         if let Some(Value::Pigment(p)) = &declared {
                             // A declared pigment as an entry (a pigment_map's):
                             // its colour, a checker's mean.
-                            colours.push(match p {
-                                Pigment::Colour(c) => *c,
-                                Pigment::Checker { colours, .. } => mean(colours),
-                            });
+                            colours.push(p.mean_colour());
                             self.next()?;
                         } else if let Some(name) = w.as_deref()
                             && self.starts_colour(name)
@@ -382,12 +397,14 @@ impl Parser {
                     self.next()?;
                     // A declared colour (a colour map declared earlier is
                     // kept as its mean colour).
-                    if let Some(Value::Vector(c)) = self.symbol(&w)
-                        && c.len() == 5
-                    {
-                        let mut colour = [0.0; 5];
-                        colour.copy_from_slice(c);
-                        colours.push(colour);
+                    match self.symbol(&w) {
+                        Some(Value::Vector(c)) if c.len() == 5 => {
+                            let mut colour = [0.0; 5];
+                            colour.copy_from_slice(c);
+                            colours.push(colour);
+                        }
+                        Some(Value::ColourMap(map)) => colours.extend(map.iter().map(|e| e.1)),
+                        _ => {}
                     }
                 }
                 Some(_) => {

@@ -33,6 +33,8 @@ pub enum Value {
     /// A declared `sky_sphere`'s colour, which `sky_sphere { NAME … }`
     /// starts from.
     Sky(glam::DVec3),
+    /// A declared colour map.
+    ColourMap(super::patterns::ColourMap),
     /// An array, shared: a macro's parameter is the caller's array.
     Array(super::arrays::SharedArray),
     /// A `#macro`: its body and parameters.
@@ -173,10 +175,7 @@ impl Parser {
             }
             if matches!(w, "color_map" | "colour_map") {
                 self.next()?;
-                self.expect('{')?;
-                let colours = self.map_colours()?;
-                self.expect('}')?;
-                return Ok(Value::Vector(super::texture::mean(&colours).to_vec()));
+                return Ok(Value::ColourMap(self.colour_map_block()?));
             }
             if UNSUPPORTED.contains(&w) || STRING_FUNCTIONS.contains(&w) {
                 self.next()?;
