@@ -29,23 +29,47 @@ pub struct Array {
     items: Vec<Option<Value>>,
 }
 
+/// The elements all arrays of one scene may make or copy in all
+/// (16,777,216): a loop that makes or copies a large array on every pass
+/// stops with an error instead of running for hours (a million passes of
+/// a 4-million-element array). Far above what a scene builds:
+/// benchmark.pov's lathe mesh makes about 40,000.
+const MAX_ARRAY_WORK: usize = 1 << 24;
+
 /// An array as a value: shared, so that a macro's parameter is the
-/// caller's array (see [`Parser::declare`], which copies it).
+/// caller's array (see [`Parser::copied`], which a declaration applies).
 pub type SharedArray = Rc<RefCell<Array>>;
 
-/// A separate copy of `value` if it is an array, for a declaration: POV-Ray
-/// copies an array that `#declare B = A` names.
-pub fn copied(value: Value) -> Value {
-    match value {
-        Value::Array(a) => {
-            let copy = a.borrow().clone();
-            Value::Array(Rc::new(RefCell::new(copy)))
-        }
-        other => other,
-    }
-}
-
 impl Parser {
+    /// A separate copy of `value` if it is an array, for a declaration:
+    /// POV-Ray copies an array that `#declare B = A` names.
+    pub(super) fn copied(&mut self, value: Value, loc: Loc) -> Result<Value> {
+        Ok(match value {
+            Value::Array(a) => {
+                self.array_work(a.borrow().items.len(), loc)?;
+                let copy = a.borrow().clone();
+                Value::Array(Rc::new(RefCell::new(copy)))
+            }
+            other => other,
+        })
+    }
+
+    /// Counts `items` more elements made or copied, against
+    /// [`MAX_ARRAY_WORK`].
+    fn array_work(&mut self, items: usize, loc: Loc) -> Result<()> {
+        self.array_items += items;
+        if self.array_items > MAX_ARRAY_WORK {
+            return Err(self.error_at(
+                loc,
+                format!(
+                    "arrays have made or copied {MAX_ARRAY_WORK} elements in all: \
+                     does a loop make or copy a large array on every pass?"
+                ),
+            ));
+        }
+        Ok(())
+    }
+
     /// An array after its keyword `array`: its sizes, then an initializer
     /// if one follows.
     pub(super) fn array_value(&mut self, loc: Loc) -> Result<Value> {
@@ -78,6 +102,7 @@ impl Parser {
                 ),
             ));
         };
+        self.array_work(total, loc)?;
         let mut items = Vec::with_capacity(total);
         if self.raw_is('{') {
             self.advance();
@@ -214,7 +239,8 @@ impl Parser {
         };
         let (flat, _) = self.index(name, &array)?;
         self.expect('=')?;
-        let value = copied(self.value()?);
+        let value = self.value()?;
+        let value = self.copied(value, loc)?;
         array.borrow_mut().items[flat] = Some(value);
         self.eat(';')?;
         Ok(())

@@ -109,6 +109,8 @@ pub struct Parser {
     /// The states of the random streams `seed` has made, by number (see
     /// `functions.rs`).
     pub(super) streams: Vec<u32>,
+    /// The array elements made or copied so far (see `arrays`).
+    pub(super) array_items: usize,
 }
 
 /// Expressions and objects nest at most this deep: far beyond any scene a
@@ -138,6 +140,7 @@ impl Parser {
             nesting: 0,
             passes: 0,
             streams: Vec::new(),
+            array_items: 0,
         };
         parser.open(path)?;
         Ok(parser)
@@ -695,7 +698,8 @@ impl Parser {
         }
         self.expect('=')?;
         let marks = (self.warnings.len(), self.skipped.clone(), self.read.clone());
-        let value = super::arrays::copied(self.value()?);
+        let value = self.value()?;
+        let value = self.copied(value, loc)?;
         // What ran while the value was read (directives, macro calls) is
         // counted once, here; what it made is counted where it is used.
         let (ran, made): (Tally, Tally) = since(&self.read, &marks.2)

@@ -1395,6 +1395,12 @@ fn arrays_hold_values_as_povray_s_do() {
         ("#declare C = array[1e12]", "an array's size must be 1 to"),
         ("#declare C = array[3000][3000]", "at most 4194304 elements"),
         ("#declare X = 1;\n#declare X[0] = 2;", "`X` is not an array"),
+        // A loop that makes a large array on every pass: stopped, not run
+        // for minutes.
+        (
+            "#for (I, 1, 1000) #declare C = array[1000000] #end",
+            "arrays have made or copied 16777216 elements in all",
+        ),
     ] {
         let e = load(&format!("{VIEW}{text}")).unwrap_err().to_string();
         assert!(e.contains(message), "{message} not in {e}");
