@@ -226,6 +226,7 @@ impl Parser {
             end: 1,
             blocks: Vec::new(),
             locals: Vec::new(),
+            refs: Vec::new(),
         })
     }
 

@@ -115,8 +115,21 @@ impl Parser {
         };
         self.expect('(')?;
         let mut args = Vec::new();
+        let mut refs = Vec::new();
         if !self.eat(')')? {
             loop {
+                // A bare declared name is passed by reference, as POV-Ray
+                // passes it: what the body declares its parameter to be
+                // becomes the name's value when the body ends.
+                if let Some(Token {
+                    tok: Tok::Word(w), ..
+                }) = self.raw()
+                    && matches!(self.raw_after(), Some(Tok::Punct(',' | ')')))
+                    && self.symbol(&w).is_some()
+                    && let Some(param) = m.params.get(args.len())
+                {
+                    refs.push((param.clone(), w));
+                }
                 args.push(self.value()?);
                 if self.eat(')')? {
                     break;
@@ -143,6 +156,7 @@ impl Parser {
             end: m.end,
             blocks: Vec::new(),
             locals: Vec::new(),
+            refs,
         })?;
         let scope = Some(self.frames_open());
         for (param, arg) in m.params.iter().zip(args) {

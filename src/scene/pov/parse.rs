@@ -75,6 +75,10 @@ pub(super) struct Frame {
     /// and parameters), each with the value it had before (None:
     /// undeclared), given back where the frame ends.
     pub(super) locals: Vec<(String, Option<Value>)>,
+    /// A macro's parameters given as a bare identifier, each with that
+    /// identifier: POV-Ray passes such an argument by reference, so the
+    /// parameter's value when the body ends is given back to it.
+    pub(super) refs: Vec<(String, String)>,
 }
 
 /// The reader's state: the token stream and what the directives declared.
@@ -163,6 +167,7 @@ impl Parser {
             pos: 0,
             blocks: Vec::new(),
             locals: Vec::new(),
+            refs: Vec::new(),
         })
     }
 
@@ -244,11 +249,21 @@ impl Parser {
                 return None;
             }
             let ended = self.frames.pop().expect("a frame was at the top");
+            let given_back: Vec<(String, Option<Value>)> = ended
+                .refs
+                .iter()
+                .map(|(param, caller)| (caller.clone(), self.symbols.get(param).cloned()))
+                .collect();
             for (name, before) in ended.locals.into_iter().rev() {
                 match before {
                     Some(value) => self.symbols.insert(name, value),
                     None => self.symbols.remove(&name),
                 };
+            }
+            for (caller, value) in given_back {
+                if let Some(value) = value {
+                    self.symbols.insert(caller, value);
+                }
             }
         }
     }

@@ -1626,3 +1626,32 @@ fn a_mapped_pattern_is_drawn_and_turbulence_keeps_the_mean_colour() {
         "{warnings}"
     );
 }
+
+/// A macro's argument that is a bare declared name is passed by reference,
+/// as POV-Ray passes it: what the body declares its parameter to be (by
+/// `#declare` or `#local`) is the name's value after the call, through a
+/// macro that passes it on too; an expression is passed by value. The
+/// values are what POV-Ray 3.7's `#debug` printed for the same calls.
+#[test]
+fn a_bare_name_is_passed_to_a_macro_by_reference() {
+    let scene = load(&format!(
+        "{VIEW}#macro Inc(V) #declare V = V + 1; #end\n\
+         #macro IncLocal(V) #local V = V + 10; #end\n\
+         #macro Set2(P, Q) #declare P = 5; #declare Q = P * 2; #end\n\
+         #macro Outer(W) Inc(W) #end\n\
+         #declare A = 1;\nInc(A)\nsphere {{ <A, 0, 0>, 1 }}\n\
+         IncLocal(A)\nInc(A + 0)\nsphere {{ <A, 0, 0>, 1 }}\n\
+         #declare X = 0; #declare Y = 0;\nSet2(X, Y)\nsphere {{ <X, Y, 0>, 1 }}\n\
+         Outer(X)\nsphere {{ <X, 0, 0>, 1 }}\n"
+    ))
+    .unwrap();
+    assert_centres(
+        &scene,
+        &[
+            [2.0, 0.0, 0.0],
+            [12.0, 0.0, 0.0],
+            [5.0, 10.0, 0.0],
+            [6.0, 0.0, 0.0],
+        ],
+    );
+}
