@@ -1655,3 +1655,23 @@ fn a_bare_name_is_passed_to_a_macro_by_reference() {
         ],
     );
 }
+
+/// A colour map after a declared pattern pigment replaces the pattern's
+/// map, as woods.inc's textures use theirs; after a pigment drawn as one
+/// colour (turbulence), that colour is the new map's mean.
+#[test]
+fn a_colour_map_after_a_declared_pattern_replaces_its_map() {
+    let scene = load(&format!(
+        "{VIEW}#declare P = pigment {{ gradient x }}\n\
+         #declare Q = pigment {{ wood turbulence 0.1 }}\n\
+         sphere {{ 0, 1 pigment {{ P color_map {{ [0 rgb <1, 0, 0>] [1 rgb <0, 0, 1>] }} }} }}\n\
+         sphere {{ <3, 0, 0>, 1 pigment {{ Q color_map {{ [0 rgb <1, 1, 0>] [1 rgb <0, 1, 1>] }} }} }}"
+    ))
+    .unwrap();
+    let material = |i: usize| &scene.materials[scene.shapes[i].material as usize];
+    let mapped = material(0).mapped.as_ref().expect("the pattern");
+    assert_eq!(mapped.map.len(), 2);
+    assert_eq!(mapped.map[1].1.to_array(), [0.0, 0.0, 1.0]);
+    assert!(material(1).mapped.is_none());
+    assert_eq!(material(1).albedo.to_array(), [0.5, 1.0, 0.5]);
+}

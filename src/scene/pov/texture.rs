@@ -297,6 +297,20 @@ impl Parser {
                     self.next()?;
                     p = self.mapped_pigment(loc, &word)?;
                 }
+                // A map after a declared pattern pigment replaces its map
+                // (woods.inc's `pigment { P_WoodGrain1A color_map { M_Wood1A } }`);
+                // after a pigment drawn as one colour, its mean is that colour.
+                "color_map" | "colour_map" => {
+                    self.next()?;
+                    let map = self.colour_map_block()?;
+                    match &mut p {
+                        Pigment::Mapped { spec, .. } if !map.is_empty() => spec.map = map,
+                        _ => {
+                            let colours: Vec<[f64; 5]> = map.iter().map(|e| e.1).collect();
+                            p = Pigment::Colour(mean(&colours));
+                        }
+                    }
+                }
                 _ => {
                     self.next()?;
                     p = Pigment::Colour(self.pattern(loc, &word)?);
