@@ -125,7 +125,10 @@ impl Mapped {
         if v < 0.0 {
             v -= v.floor();
         }
-        lookup(&self.map, self.wave.shape(v))
+        // A value with no meaning (a pattern scaled to nothing, a frequency
+        // past f64's range) takes the map's first colour, not a NaN albedo.
+        let v = self.wave.shape(v);
+        lookup(&self.map, if v.is_nan() { 0.0 } else { v })
     }
 }
 
@@ -208,6 +211,16 @@ mod tests {
         // A frequency of 0 leaves the value alone, phase and all.
         let still = gradient_x(Wave::Ramp, 0.0, 0.5, ramp.map.clone());
         assert!((at(&still, 0.3) - Vec3::splat(0.3)).length() < 1e-5);
+    }
+
+    #[test]
+    fn a_value_with_no_meaning_takes_the_first_colour() {
+        let map = vec![(0.0, RED), (1.0, BLUE)];
+        let wild = gradient_x(Wave::Ramp, f64::INFINITY, 0.0, map.clone());
+        assert_eq!(at(&wild, 0.5), RED);
+        let mut flat = gradient_x(Wave::Ramp, 1.0, 0.0, map);
+        flat.to_pattern = DAffine3::from_scale(DVec3::ZERO).inverse();
+        assert!(at(&flat, 0.5).is_finite());
     }
 
     #[test]
