@@ -3,8 +3,10 @@
 //! `wood`, with `color_map` (entries `[v colour]` or the old `[a b c1 c2]`,
 //! or a declared map), `frequency`, `phase`, the wave types and transforms.
 //! What POV-Ray computes from its noise (`turbulence`, `warp`) is not
-//! reproduced: such a pigment is drawn as its colour map's mean colour,
-//! with a warning, as every pattern was before these were read.
+//! reproduced, nor a map whose entries vary in how much light they let
+//! through (the renderer lets one fraction through a whole surface): such
+//! a pigment is drawn as its colour map's mean colour, with a warning, as
+//! every pattern was before these were read.
 
 use glam::DAffine3;
 
@@ -57,6 +59,11 @@ fn default_wave(kind: PatternKind) -> Wave {
         PatternKind::Marble | PatternKind::Wood => Wave::Triangle,
         _ => Wave::Ramp,
     }
+}
+
+/// Whether some entry of `map` lets light through (filter or transmit).
+pub fn see_through(map: &ColourMap) -> bool {
+    map.iter().any(|e| e.1[3] + e.1[4] > 0.0)
 }
 
 /// POV-Ray's colour map for a pattern given none (rgb; filter and
@@ -143,6 +150,12 @@ impl Parser {
                 _ => unread = Some(w),
             }
         }
+        // The renderer lets one fraction through a whole surface: a map
+        // with clear entries is drawn as its mean, as before patterns were
+        // read, not as a pattern whose clear parts would show opaque.
+        if unread.is_none() && see_through(&spec.map) {
+            unread = Some("filter or transmit in the colour map".to_owned());
+        }
         if unread.is_none() {
             if spec.map.is_empty() {
                 spec.map = default_map(kind);
@@ -156,10 +169,15 @@ impl Parser {
         let mut colours: Vec<[f64; 5]> = spec.map.iter().map(|e| e.1).collect();
         colours.extend(self.map_colours()?);
         let item = unread.unwrap_or_default();
+        let item = if item.contains(' ') {
+            item
+        } else {
+            format!("`{item}`")
+        };
         self.skip_warning(
             loc,
             word,
-            &format!("`{item}` is not reproduced: the pattern is drawn as the mean colour of its colour map"),
+            &format!("{item} is not reproduced: the pattern is drawn as the mean colour of its colour map"),
         );
         Ok(Pigment::Colour(mean(&colours)))
     }

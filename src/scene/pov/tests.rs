@@ -1598,14 +1598,15 @@ fn an_orthographic_camera_sends_parallel_rays_over_its_view() {
 
 /// A colour-mapped pattern is read into the material (its rendered colours
 /// match POV-Ray's: `make povray-compare`'s pattern idioms); one with
-/// turbulence, which POV-Ray draws from its noise, stays its map's mean
-/// colour with a warning.
+/// turbulence, which POV-Ray draws from its noise, or with clear entries
+/// in its map, stays its map's mean colour with a warning.
 #[test]
 fn a_mapped_pattern_is_drawn_and_turbulence_keeps_the_mean_colour() {
     let scene = load(&format!(
         "{VIEW}#declare M = color_map {{ [0 rgb <1, 0, 0>] [1 rgb <0, 0, 1>] }}\n\
          sphere {{ 0, 1 pigment {{ gradient 2*y color_map {{ M }} scale 2 }} }}\n\
-         sphere {{ <3, 0, 0>, 1 pigment {{ marble turbulence 0.5 color_map {{ M }} }} }}"
+         sphere {{ <3, 0, 0>, 1 pigment {{ marble turbulence 0.5 color_map {{ M }} }} }}\n\
+         sphere {{ <6, 0, 0>, 1 pigment {{ gradient y color_map {{ [0 rgbt <1, 1, 1, 1>] [1 rgb 0] }} }} }}"
     ))
     .unwrap();
     let material = |i: usize| &scene.materials[scene.shapes[i].material as usize];
@@ -1620,9 +1621,17 @@ fn a_mapped_pattern_is_drawn_and_turbulence_keeps_the_mean_colour() {
     );
     assert!(material(1).mapped.is_none());
     assert_eq!(material(1).albedo.to_array(), [0.5, 0.0, 0.5]);
+    // Clear entries: the renderer lets one fraction through the whole
+    // surface, so the map's mean stands for the pattern (half clear).
+    assert!(material(2).mapped.is_none());
+    assert_eq!(material(2).finish.transmit, 0.5);
     let warnings = scene.warnings.join("\n");
     assert!(
         warnings.contains("`turbulence` is not reproduced"),
+        "{warnings}"
+    );
+    assert!(
+        warnings.contains("filter or transmit in the colour map is not reproduced"),
         "{warnings}"
     );
 }

@@ -304,7 +304,11 @@ impl Parser {
                     self.next()?;
                     let map = self.colour_map_block()?;
                     match &mut p {
-                        Pigment::Mapped { spec, .. } if !map.is_empty() => spec.map = map,
+                        Pigment::Mapped { spec, .. }
+                            if !map.is_empty() && !super::patterns::see_through(&map) =>
+                        {
+                            spec.map = map
+                        }
                         _ => {
                             let colours: Vec<[f64; 5]> = map.iter().map(|e| e.1).collect();
                             p = Pigment::Colour(mean(&colours));
