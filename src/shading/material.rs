@@ -292,11 +292,11 @@ impl Material {
         if let (Some(map), Some(uv)) = (&self.albedo_map, uv) {
             return map.rgb(uv);
         }
-        let at = uv.map_or(p, |uv| uv.extend(0.0));
+        let at = || uv.map_or(p, |uv| uv.extend(0.0));
         match (&self.checker, &self.mapped) {
-            (Some(checker), _) => checker.colour_at(at),
-            (None, Some(mapped)) => mapped.colour_at(at),
             (None, None) => self.albedo,
+            (Some(checker), _) => checker.colour_at(at()),
+            (None, Some(mapped)) => mapped.colour_at(at()),
         }
     }
 

@@ -393,9 +393,13 @@ impl Parser {
         self.symbols.get(name)
     }
 
-    /// Every declared name, for suggestions.
+    /// Every declared name, for suggestions: not the names `A[2]` that
+    /// stand for array elements read (see `arrays`).
     pub fn symbol_names(&self) -> impl Iterator<Item = &str> {
-        self.symbols.keys().map(String::as_str)
+        self.symbols
+            .keys()
+            .map(String::as_str)
+            .filter(|name| !name.contains('['))
     }
 
     /// Skips a balanced `{ … }` (the next token must be `{`), running no

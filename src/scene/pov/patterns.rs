@@ -61,6 +61,11 @@ fn default_wave(kind: PatternKind) -> Wave {
     }
 }
 
+/// The mean of `map`'s colours: what stands for a pattern drawn as one colour.
+pub fn map_mean(map: &ColourMap) -> [f64; 5] {
+    mean(&map.iter().map(|e| e.1).collect::<Vec<_>>())
+}
+
 /// Whether some entry of `map` lets light through (filter or transmit).
 pub fn see_through(map: &ColourMap) -> bool {
     map.iter().any(|e| e.1[3] + e.1[4] > 0.0)
@@ -107,12 +112,13 @@ impl Parser {
             map: Vec::new(),
         };
         let mut to_owner = DAffine3::IDENTITY;
-        // What this reader cannot draw as POV-Ray does, if anything.
-        let mut unread = None;
+        // What this reader cannot draw as POV-Ray does, if anything, as the
+        // warning names it.
+        let mut unread: Option<String> = None;
         while unread.is_none() {
             let Some(w) = self.peek_word()? else {
                 if self.peek()? != Some(Tok::Punct('}')) {
-                    unread = Some("an item of this pigment".to_owned());
+                    unread = Some("an item of this pigment".into());
                 }
                 break;
             };
@@ -144,17 +150,17 @@ impl Parser {
                 }
                 "turbulence" => {
                     if self.vector()? != glam::DVec3::ZERO {
-                        unread = Some(w);
+                        unread = Some(format!("`{w}`"));
                     }
                 }
-                _ => unread = Some(w),
+                _ => unread = Some(format!("`{w}`")),
             }
         }
         // The renderer lets one fraction through a whole surface: a map
         // with clear entries is drawn as its mean, as before patterns were
         // read, not as a pattern whose clear parts would show opaque.
         if unread.is_none() && see_through(&spec.map) {
-            unread = Some("filter or transmit in the colour map".to_owned());
+            unread = Some("filter or transmit in the colour map".into());
         }
         if unread.is_none() {
             if spec.map.is_empty() {
@@ -169,11 +175,6 @@ impl Parser {
         let mut colours: Vec<[f64; 5]> = spec.map.iter().map(|e| e.1).collect();
         colours.extend(self.map_colours()?);
         let item = unread.unwrap_or_default();
-        let item = if item.contains(' ') {
-            item
-        } else {
-            format!("`{item}`")
-        };
         self.skip_warning(
             loc,
             word,

@@ -49,7 +49,7 @@ impl Pigment {
         match self {
             Pigment::Colour(c) => *c,
             Pigment::Checker { colours, .. } => mean(colours),
-            Pigment::Mapped { spec, .. } => mean(&spec.map.iter().map(|e| e.1).collect::<Vec<_>>()),
+            Pigment::Mapped { spec, .. } => super::patterns::map_mean(&spec.map),
         }
     }
 }
@@ -309,10 +309,7 @@ impl Parser {
                         {
                             spec.map = map
                         }
-                        _ => {
-                            let colours: Vec<[f64; 5]> = map.iter().map(|e| e.1).collect();
-                            p = Pigment::Colour(mean(&colours));
-                        }
+                        _ => p = Pigment::Colour(super::patterns::map_mean(&map)),
                     }
                 }
                 _ => {
