@@ -58,8 +58,16 @@ impl Shape {
     /// crossings of a surface given its box so start near the ray, not where
     /// the line enters the box (see `crossings_from`).
     pub fn clip_to(&mut self, world: &Box3) -> Result<(), String> {
-        let cut = world_box(world, &self.to_object).intersection(&self.object_box);
-        if cut.is_empty() || !world.min.is_finite() || !world.max.is_finite() {
+        self.clip_within(world, DAffine3::IDENTITY)
+    }
+
+    /// `clip_to` a box `b` given in the space that `frame` places in the
+    /// world: for a box known in the frame of an object the surface belongs
+    /// to (a POV-Ray object's own clip), which maps onto the surface's
+    /// object box without the widening a rotation gives a world box.
+    pub fn clip_within(&mut self, b: &Box3, frame: DAffine3) -> Result<(), String> {
+        let cut = world_box(b, &(self.to_object * frame)).intersection(&self.object_box);
+        if cut.is_empty() || !b.min.is_finite() || !b.max.is_finite() {
             return Err("the box around the surface leaves nothing of it, or is not finite".into());
         }
         self.context_box |= !self.is_bounded();

@@ -13,7 +13,18 @@ use crate::geometry::Box3;
 /// of one axis, a quadric cylinder the axes across it), so that the
 /// intersections of unbounded parts can still be finite.
 pub(super) fn world_box(obj: &Obj, parent: DAffine3) -> Box3 {
-    let to_world = parent * obj.transform;
+    transform_box(&own_box(obj), parent * obj.transform)
+}
+
+/// The object's box in its own space (before its transform), padded as
+/// `world_box` pads: where a surface of its own is cut to this, a rotation
+/// above it widens nothing, as it widens a world box mapped back through it.
+pub(super) fn framed_box(obj: &Obj) -> Box3 {
+    transform_box(&own_box(obj), DAffine3::IDENTITY)
+}
+
+/// `world_box` in the object's own space, unpadded.
+fn own_box(obj: &Obj) -> Box3 {
     let everywhere = Box3 {
         min: DVec3::NEG_INFINITY,
         max: DVec3::INFINITY,
@@ -80,12 +91,10 @@ pub(super) fn world_box(obj: &Obj, parent: DAffine3) -> Box3 {
             }
         }
     };
-    let clipped = obj
-        .clipped_by
+    obj.clipped_by
         .iter()
         .map(|c| world_box(c, DAffine3::IDENTITY))
-        .fold(local, |b, c| b.intersection(&c));
-    transform_box(&clipped, to_world)
+        .fold(local, |b, c| b.intersection(&c))
 }
 
 /// The half-space n·p < d bounds one side of an axis when n is along it.

@@ -4,7 +4,7 @@
 
 use glam::{DAffine3, DVec3};
 
-use super::boxes::world_box;
+use super::boxes::{framed_box, world_box};
 use super::build::{Builder, Built, MAX_NESTING, own_texture};
 use super::object::{CsgOp, Kind, Obj, clear};
 use super::texture::Texture;
@@ -12,13 +12,34 @@ use crate::error::{Error, Result};
 use crate::geometry::{Box3, Leaf, Node, Op, Part, Shape, Surface};
 use crate::scene::solids::{axis_frame, linear, round};
 
+/// Where a node can show: a world box, and the box of the nearest object
+/// above it (or itself) whose own box is finite, in that object's space.
+/// An unbounded surface is cut to both: mapped into the surface's space, a
+/// world box widens under every rotation on the way (helix.pov's clipped
+/// quartics, turned twice, got boxes three times as wide as their clips),
+/// while a box in the frame the surface shares with its clip does not.
+#[derive(Clone, Copy)]
+pub(super) struct Context {
+    world: Box3,
+    framed: Option<(Box3, DAffine3)>,
+}
+
+impl Context {
+    pub(super) fn world(world: Box3) -> Context {
+        Context {
+            world,
+            framed: None,
+        }
+    }
+}
+
 impl Builder<'_> {
     pub(super) fn node(
         &mut self,
         obj: &Obj,
         parent: DAffine3,
         inherited: Option<&Texture>,
-        context: Box3,
+        context: Context,
         depth: usize,
     ) -> Result<Option<Built>> {
         if depth > MAX_NESTING {
@@ -27,13 +48,21 @@ impl Builder<'_> {
                 format!("CSG nests deeper than {MAX_NESTING} levels"),
             ));
         }
+        let to_world = parent * obj.transform;
         // Nothing of it shows outside its own box either.
-        let context = context.intersection(&world_box(obj, parent));
-        if context.is_empty() {
+        let own = framed_box(obj);
+        let context = Context {
+            world: context.world.intersection(&world_box(obj, parent)),
+            framed: if own.min.is_finite() && own.max.is_finite() {
+                Some((own, to_world))
+            } else {
+                context.framed
+            },
+        };
+        if context.world.is_empty() {
             // Cut away by what it is intersected with: nothing of it shows.
             return Ok(None);
         }
-        let to_world = parent * obj.transform;
         let own = own_texture(obj, inherited);
         let texture = own.as_ref();
         // A clipped object: as a solid, the object and its clips; seen, only the object.
@@ -76,7 +105,11 @@ impl Builder<'_> {
         let unbounded = |this: &Self, surface: Surface| {
             let mut s = Shape::unclipped(surface, to_world, material, solver)
                 .map_err(|e| this.parser.error_at(obj.loc, e))?;
-            s.clip_to(&context)
+            if let Some((b, frame)) = context.framed {
+                s.clip_within(&b, frame)
+                    .map_err(|e| this.parser.error_at(obj.loc, e))?;
+            }
+            s.clip_to(&context.world)
                 .map_err(|e| this.parser.error_at(obj.loc, e))?;
             Ok::<Shape, Error>(s)
         };
@@ -265,7 +298,7 @@ impl Builder<'_> {
         children: &[Obj],
         to_world: DAffine3,
         texture: Option<&Texture>,
-        context: Box3,
+        context: Context,
         depth: usize,
     ) -> Result<Option<Built>> {
         let is_clear = |c: &Obj| {
@@ -282,14 +315,15 @@ impl Builder<'_> {
             return Ok(None);
         }
         // What bounds the operation: where its children can show.
-        let inner = match op {
+        let world = match op {
             CsgOp::Intersection => solids
                 .iter()
                 .map(|c| world_box(c, to_world))
-                .fold(context, |b, c| b.intersection(&c)),
-            CsgOp::Difference => world_box(solids[0], to_world).intersection(&context),
-            CsgOp::Union | CsgOp::Merge => context,
+                .fold(context.world, |b, c| b.intersection(&c)),
+            CsgOp::Difference => world_box(solids[0], to_world).intersection(&context.world),
+            CsgOp::Union | CsgOp::Merge => context.world,
         };
+        let inner = Context { world, ..context };
         let mut shown = Vec::new();
         let mut cuts = Vec::new();
         for (i, child) in solids.iter().enumerate() {

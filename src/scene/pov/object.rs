@@ -123,6 +123,10 @@ pub struct Obj {
     pub no_shadow: bool,
     pub bounded_by: Vec<Obj>,
     pub clipped_by: Vec<Obj>,
+    /// One list was read as a copy of the other (`bounded_by { clipped_by }`
+    /// or the reverse): the bound then holds the clipped object, and a gate
+    /// would only repeat the clip's own test.
+    pub bound_is_clip: bool,
     pub loc: Loc,
 }
 
@@ -137,6 +141,7 @@ impl Obj {
             no_shadow: false,
             bounded_by: Vec::new(),
             clipped_by: Vec::new(),
+            bound_is_clip: false,
             loc,
         }
     }
@@ -521,13 +526,16 @@ impl Parser {
                 "bounded_by" | "clipped_by" => {
                     self.expect('{')?;
                     let mut list = Vec::new();
+                    let mut copied = None;
                     if self.eat_word("clipped_by")? {
+                        copied = Some("clipped_by");
                         list = obj
                             .clipped_by
                             .iter()
                             .map(|c| placed(c, obj.transform))
                             .collect();
                     } else if self.eat_word("bounded_by")? {
+                        copied = Some("bounded_by");
                         list = obj
                             .bounded_by
                             .iter()
@@ -549,6 +557,12 @@ impl Parser {
                             o
                         })
                         .collect();
+                    // A list copied onto itself changes nothing; one copied
+                    // from the other (when that is not empty) makes the two
+                    // the same objects; any other list ends that.
+                    if copied != Some(word.as_str()) {
+                        obj.bound_is_clip = copied.is_some() && !list.is_empty();
+                    }
                     if word == "bounded_by" {
                         obj.bounded_by = list;
                     } else {
