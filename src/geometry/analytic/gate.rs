@@ -26,11 +26,19 @@ impl Shape {
     /// Whether this shape, as another's gate, lets the ray from o + tmin·d on
     /// through (see `set_gate`).
     pub(super) fn lets_through(&self, o: DVec3, d: DVec3, tmin: f64) -> bool {
-        if let Surface::Csg(tree) = &self.surface {
-            return tree.inside_or_crossed(o, d, tmin);
-        }
-        if self.quadratic() {
-            return self.comes_near(o, d, tmin);
+        // A box or capped cylinder gate is a tree of one closed solid of a
+        // quadric: its inside (F < 0 within its box) in closed form. The
+        // tree's walk of its events took 1,070 instructions a ray on
+        // trough.pov's box gate (`valgrind --tool=callgrind`).
+        let gate = match &self.surface {
+            Surface::Csg(tree) => match tree.lone_solid().filter(|s| s.quadratic()) {
+                Some(solid) => solid,
+                None => return tree.inside_or_crossed(o, d, tmin),
+            },
+            _ => self,
+        };
+        if gate.quadratic() {
+            return gate.comes_near(o, d, tmin);
         }
         let p = self.to_object.transform_point3(o + tmin * d);
         let in_box = p.cmpge(self.object_box.min).all() && p.cmple(self.object_box.max).all();
@@ -330,6 +338,111 @@ mod tests {
             assert!(
                 open > 3_000 && closed > 3_000,
                 "{open} open, {closed} closed, {tangent} near a tangent"
+            );
+        }
+    }
+
+    /// A gate that is a tree of one closed quadric solid (a box, a capped
+    /// cylinder) decides as the tree's walk of its events does, on every
+    /// ray that does not pass within 1e-9 of touching the solid: under a
+    /// rotation, a non-uniform scale and a translation, from outside and
+    /// inside, with tmin past the origin on some.
+    #[test]
+    fn a_box_or_capped_cylinder_gate_decides_as_its_tree() {
+        use super::super::csg::{Csg, Leaf, Node, Part};
+        let to_world = DAffine3::from_scale_rotation_translation(
+            DVec3::new(1.5, 0.75, 2.0),
+            DQuat::from_euler(glam::EulerRot::XYZ, 0.7, -0.3, 0.5),
+            DVec3::new(1.0, -2.0, 4.0),
+        );
+        let solids = [
+            // A box: F = −1 everywhere, cut by its box.
+            (
+                Quadric {
+                    a: DMat3::ZERO,
+                    b: DVec3::ZERO,
+                    c: -1.0,
+                },
+                Box3 {
+                    min: DVec3::new(-1.0, -0.5, -1.5),
+                    max: DVec3::new(1.0, 1.5, 0.5),
+                },
+            ),
+            // A capped cylinder: x² + y² < 1 between z = −1 and z = 1.
+            (
+                Quadric {
+                    a: DMat3::from_diagonal(DVec3::new(1.0, 1.0, 0.0)),
+                    b: DVec3::ZERO,
+                    c: -1.0,
+                },
+                Box3 {
+                    min: DVec3::new(-1.0, -1.0, -1.0),
+                    max: DVec3::ONE,
+                },
+            ),
+        ];
+        for (quadric, clip) in solids {
+            let solid = Shape::new(
+                Surface::Quadric(quadric),
+                to_world,
+                Some(clip),
+                0,
+                Solver::default(),
+            )
+            .unwrap();
+            let (to_object, object_box) = (solid.to_object, solid.object_box);
+            let Surface::Quadric(object) = solid.surface.clone() else {
+                unreachable!()
+            };
+            let leaf = Leaf {
+                part: Part::Solid(solid),
+                inverse: false,
+                material: 0,
+            };
+            let tree = Csg::new(Node::Leaf(0), vec![leaf]).unwrap();
+            let gate = Shape::new(
+                Surface::Csg(Box::new(tree.clone())),
+                DAffine3::IDENTITY,
+                None,
+                0,
+                Solver::default(),
+            )
+            .unwrap();
+            let (mut open, mut closed, mut touching) = (0, 0, 0);
+            for i in 0..20_000 {
+                let (o, d, tmin) = test_ray(&to_world, i, 1.6, (0.3, 5.0));
+                let (po, pd) = (
+                    to_object.transform_point3(o),
+                    to_object.transform_vector3(d),
+                );
+                // F's least over the ray's interval in the box, and how
+                // near the ray comes to the box's faces from outside it.
+                if let Some((t0, t1)) = object_box.clip_ray(po, pd, tmin, f64::INFINITY) {
+                    let q = |t: f64| object.eval(po + t * pd);
+                    let ad = object.a * pd;
+                    let curve = pd.dot(ad);
+                    let vertex = if curve > 0.0 {
+                        (-(2.0 * po.dot(ad) + object.b.dot(pd)) / (2.0 * curve)).clamp(t0, t1)
+                    } else {
+                        t0
+                    };
+                    let least = q(t0).min(q(t1)).min(q(vertex));
+                    if least.abs() < 1e-9 || (t1 - t0) * pd.length() < 1e-9 {
+                        touching += 1;
+                        continue;
+                    }
+                }
+                let fast = gate.lets_through(o, d, tmin);
+                assert_eq!(fast, tree.inside_or_crossed(o, d, tmin), "ray {i}");
+                if fast {
+                    open += 1;
+                } else {
+                    closed += 1;
+                }
+            }
+            assert!(
+                open > 3_000 && closed > 3_000,
+                "{open} open, {closed} closed, {touching} touching"
             );
         }
     }

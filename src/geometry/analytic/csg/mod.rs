@@ -274,6 +274,23 @@ impl Csg {
             .copied()
     }
 
+    /// The shape of a tree that is one solid leaf, not inverted (a box, a
+    /// capped cylinder, a sphere as POV-Ray's reader builds them): its
+    /// inside is the shape's F < 0 within the shape's box.
+    pub(in crate::geometry::analytic) fn lone_solid(&self) -> Option<&Shape> {
+        let Node::Leaf(i) = self.root else {
+            return None;
+        };
+        match &self.leaves[i as usize] {
+            Leaf {
+                part: Part::Solid(s),
+                inverse: false,
+                ..
+            } => Some(s),
+            _ => None,
+        }
+    }
+
     /// Whether the line o + t·d is inside the tree at t = tmin or crosses its
     /// seen surface beyond it: what a gate asks (see `Shape::set_gate`).
     pub fn inside_or_crossed(&self, o: DVec3, d: DVec3, tmin: f64) -> bool {
