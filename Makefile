@@ -240,7 +240,8 @@ FUZZ_CASES ?= 1000000
 FUZZ_SECONDS ?= 60
 FUZZ_TARGETS := fuzz_input:fuzz_scene_parser fuzz_input:fuzz_obj_loader \
 	fuzz_poly:fuzz_poly_parser fuzz_poly:fuzz_root_finder fuzz_cli:fuzz_cli_end_to_end \
-	hostile_poly:fuzz_roots_at_extreme_scales fuzz_poly:fuzz_certified_roots
+	hostile_poly:fuzz_roots_at_extreme_scales fuzz_poly:fuzz_certified_roots \
+	fuzz_input:fuzz_pov_examples
 
 fuzz:
 	cargo test --no-run --test fuzz_input --test fuzz_poly --test fuzz_cli --test hostile_poly

@@ -273,7 +273,9 @@ impl Shape {
             closed[..found].partition_point(|&u| u <= 0.0),
             closed[..found].partition_point(|&u| u < hi),
         );
-        let roots = &closed[from..to];
+        // A line that touches the box at one point (hi = 0) and the
+        // surface there has a root at 0 = hi: none lies strictly between.
+        let roots = &closed[from..to.max(from)];
         for (k, &u) in roots.iter().enumerate() {
             // The root's error, and t0 + u's rounding.
             let error = noise(u) / (2.0 * c2 * u + c1).abs() + 4.0 * f64::EPSILON * (t0 + u).abs();
@@ -441,6 +443,41 @@ mod tests {
     use super::super::{Box3, Quadric, Shape, Surface};
     use super::Crossings;
     use crate::poly::solve::Solver;
+
+    /// A line that touches a capped cylinder's box only at a point of its
+    /// rim, where the cylinder's surface meets the box's edge, is answered
+    /// with finite crossings, whichever way it goes and from either side
+    /// (the closed form panicked on it, a root at the box's one point: POV-Ray's
+    /// qtvrpanorama.pov with its box of cylinders unturned).
+    #[test]
+    fn a_line_touching_the_rim_at_one_point_is_answered() {
+        let cylinder = Shape::new(
+            Surface::Quadric(Quadric {
+                a: DMat3::from_diagonal(DVec3::new(1.0, 1.0, 0.0)),
+                b: DVec3::ZERO,
+                c: -1.0,
+            }),
+            DAffine3::IDENTITY,
+            Some(Box3::cube(1.0)),
+            0,
+            Solver::default(),
+        )
+        .unwrap();
+        let rim = DVec3::new(1.0, 0.0, 1.0);
+        for d in [DVec3::new(1.0, 0.0, -1.0), DVec3::new(-1.0, 0.0, 1.0)] {
+            for (o, tmin) in [(rim, 0.0), (rim - 2.0 * d, 0.0), (rim - 2.0 * d, 1.0)] {
+                for solid in [true, false] {
+                    let mut out = Crossings::default();
+                    cylinder.crossings(o, d, tmin, f64::INFINITY, solid, &mut out);
+                    assert!(
+                        out.as_slice().iter().all(|c| c.t.is_finite()),
+                        "{o} {d} {tmin}: {:?}",
+                        out.as_slice()
+                    );
+                }
+            }
+        }
+    }
 
     /// Shapes a CSG tree clips with: a ball, an ellipsoid (a scaled ball),
     /// a capped cylinder (cut by its box), a hyperboloid of one sheet and

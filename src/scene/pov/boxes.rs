@@ -63,7 +63,7 @@ fn own_box(obj: &Obj) -> Box3 {
                 min: DVec3::INFINITY,
                 max: DVec3::NEG_INFINITY,
             };
-            for triangle in triangles {
+            for triangle in triangles.iter() {
                 for p in &triangle.corners {
                     b.min = b.min.min(*p);
                     b.max = b.max.max(*p);

@@ -131,7 +131,7 @@ fn statements(p: &mut Parser) -> Result<Statements> {
                 p.next()?;
                 globals(p, &mut s.globals)?;
             }
-            w if OBJECT_KEYWORDS.contains(&w) || UNSUPPORTED.contains(&w) => {
+            w if OBJECT_KEYWORDS.contains(&w) || UNSUPPORTED.contains(&w) || p.names_object(w) => {
                 if let Some(mut obj) = p.object_statement()? {
                     // POV-Ray gives an object with no texture the `#default`
                     // in force where its statement ends, so a shape declared

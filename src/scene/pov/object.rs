@@ -8,12 +8,14 @@
 //! them, so that the object's final transform places it as POV-Ray does
 //! (later transforms move all of it, earlier ones only the shape).
 
+use std::rc::Rc;
+
 use glam::{DAffine3, DMat3, DVec3};
 
 use super::lex::Tok;
 use super::parse::{Loc, Parser};
 use super::texture::{Pigment, Texture};
-use super::value::{UNSUPPORTED, Value};
+use super::value::{OBJECT_KEYWORDS, UNSUPPORTED, Value};
 use crate::error::Result;
 use crate::poly::trivariate::Trivariate;
 
@@ -102,14 +104,60 @@ pub enum Kind {
     },
     /// `cubic`, `quartic`, `poly`.
     Poly(Trivariate),
-    /// Triangles (a mesh's, or one alone).
-    Mesh(Vec<Triangle>),
+    /// Triangles (a mesh's, or one alone), shared by the copies of a
+    /// declared mesh, as POV-Ray shares them.
+    Mesh(Rc<Vec<Triangle>>),
     Csg {
         op: CsgOp,
         children: Vec<Obj>,
     },
     Light(LightSource),
 }
+
+/// How deep objects may nest (CSG in CSG, bounds and clips), as read. The
+/// parser's own limit counts braces; this one also counts the nesting that
+/// declared objects placed in new ones make, as a loop that wraps an object
+/// in itself on every pass makes: sundial.pov with its counter broken
+/// nested so until the stack overflowed.
+const MAX_OBJECT_DEPTH: usize = 256;
+
+/// The parts (objects, and a mesh's triangles) copied from declared objects
+/// over one scene: past it, a loop that copies a growing object on every
+/// pass (`#declare U = union { object { U } object { U } }`) stops with an
+/// error instead of filling the memory. An object takes 576 bytes as read
+/// (a mesh's triangles are shared), so 2^21 parts are some 1.2 GB of
+/// copies, far beyond what POV-Ray's own samples copy.
+const MAX_OBJECT_PARTS: usize = 1 << 21;
+
+/// The words that modify an object (see `Parser::modifiers_until`).
+const OBJECT_MODIFIERS: &[&str] = &[
+    "translate",
+    "rotate",
+    "scale",
+    "matrix",
+    "transform",
+    "texture",
+    "pigment",
+    "finish",
+    "interior",
+    "material",
+    "inverse",
+    "open",
+    "no_shadow",
+    "sturm",
+    "hollow",
+    "double_illuminate",
+    "no_reflection",
+    "no_image",
+    "no_radiosity",
+    "global_lights",
+    "bounded_by",
+    "clipped_by",
+    "photons",
+    "radiosity",
+    "normal",
+    "inside_vector",
+];
 
 /// An object as read.
 #[derive(Clone, Debug)]
@@ -151,6 +199,24 @@ impl Obj {
         self.transform = t * self.transform;
     }
 
+    /// How deep the object nests (1 alone) and how many parts it has: each
+    /// object in it, and in its bounds and clips. A mesh is one part: its
+    /// copies share its triangles.
+    fn extent(&self) -> (usize, usize) {
+        let children = match &self.kind {
+            Kind::Csg { children, .. } => children.as_slice(),
+            _ => &[],
+        };
+        children
+            .iter()
+            .chain(&self.bounded_by)
+            .chain(&self.clipped_by)
+            .map(Obj::extent)
+            .fold((1, 1), |(depth, parts), (d, p)| {
+                (depth.max(d + 1), parts + p)
+            })
+    }
+
     /// `m`, given in the object's parent space now, in its own space.
     fn local(&self) -> DAffine3 {
         self.transform.inverse()
@@ -173,6 +239,26 @@ impl Parser {
     fn object_inner(&mut self) -> Result<Option<Obj>> {
         let loc = self.here();
         let keyword = self.word()?;
+        if !OBJECT_KEYWORDS.contains(&keyword.as_str()) && !UNSUPPORTED.contains(&keyword.as_str())
+        {
+            // A declared object's name alone is that object, as in POV-Ray
+            // (`union { Thing }`); any other word is an error at its place.
+            return match self.symbol(&keyword) {
+                Some(Value::Object(o)) => {
+                    // Modifiers may follow, as after `object { Name`.
+                    let o = o.clone();
+                    let mut obj = self.copy_object(&o, loc)?;
+                    self.modifiers_until(&mut obj, false)?;
+                    Ok(Some(obj))
+                }
+                Some(Value::Unsupported(k)) => {
+                    let k = k.clone();
+                    self.skip_warning(loc, &k, "the object is left out");
+                    Ok(None)
+                }
+                _ => Err(self.error_at(loc, format!("expected an object, found `{keyword}`"))),
+            };
+        }
         if UNSUPPORTED.contains(&keyword.as_str()) {
             self.skip_warning(loc, &keyword, "the object is left out");
             self.skip_block()?;
@@ -184,7 +270,7 @@ impl Parser {
                 let inner_loc = self.here();
                 match self.peek()? {
                     Some(Tok::Word(w))
-                        if super::value::OBJECT_KEYWORDS.contains(&w.as_str())
+                        if OBJECT_KEYWORDS.contains(&w.as_str())
                             || UNSUPPORTED.contains(&w.as_str()) =>
                     {
                         match self.object_statement()? {
@@ -198,7 +284,10 @@ impl Parser {
                     Some(Tok::Word(w)) => {
                         self.next()?;
                         match self.symbol(&w) {
-                            Some(Value::Object(o)) => (**o).clone(),
+                            Some(Value::Object(o)) => {
+                                let o = o.clone();
+                                self.copy_object(&o, inner_loc)?
+                            }
                             Some(Value::Unsupported(k)) => {
                                 let k = k.clone();
                                 self.skip_warning(inner_loc, &k, "the object is left out");
@@ -238,7 +327,41 @@ impl Parser {
             }
         };
         self.modifiers(&mut obj)?;
+        if obj.extent().0 > MAX_OBJECT_DEPTH {
+            return Err(self.error_at(
+                loc,
+                format!(
+                    "objects nest deeper than {MAX_OBJECT_DEPTH} levels here: does a loop \
+                     wrap an object in itself on every pass?"
+                ),
+            ));
+        }
         Ok(Some(obj))
+    }
+
+    /// A copy of the declared object `o`, counted against
+    /// [`MAX_OBJECT_PARTS`].
+    fn copy_object(&mut self, o: &Obj, loc: Loc) -> Result<Obj> {
+        self.object_parts += o.extent().1;
+        if self.object_parts > MAX_OBJECT_PARTS {
+            return Err(self.error_at(
+                loc,
+                format!(
+                    "declared objects have been copied {MAX_OBJECT_PARTS} objects in all: does \
+                     a loop copy a growing object on every pass?"
+                ),
+            ));
+        }
+        Ok(o.clone())
+    }
+
+    /// Whether `w` is the name of a declared object (or of one outside the
+    /// subset), which stands for that object where one may stand.
+    pub(super) fn names_object(&self, w: &str) -> bool {
+        matches!(
+            self.symbol(w),
+            Some(Value::Object(_) | Value::Unsupported(_))
+        )
     }
 
     /// Skips the rest of an object block after its start.
@@ -388,12 +511,13 @@ impl Parser {
                 };
                 let mut children = Vec::new();
                 while let Some(w) = self.peek_word()? {
-                    if !(super::value::OBJECT_KEYWORDS.contains(&w.as_str())
+                    if !(OBJECT_KEYWORDS.contains(&w.as_str())
                         || UNSUPPORTED.contains(&w.as_str())
                             && !matches!(
                                 w.as_str(),
                                 "normal" | "material" | "photons" | "radiosity"
-                            ))
+                            )
+                        || self.names_object(&w))
                     {
                         break;
                     }
@@ -423,7 +547,7 @@ impl Parser {
             // A triangle alone is a mesh of one: textured and placed as
             // any object, by the modifiers after its corners.
             "triangle" | "smooth_triangle" => {
-                Kind::Mesh(vec![self.triangle(keyword == "smooth_triangle")?])
+                Kind::Mesh(Rc::new(vec![self.triangle(keyword == "smooth_triangle")?]))
             }
             _ => unreachable!("object keywords are matched before"),
         })
@@ -447,10 +571,23 @@ impl Parser {
 
     /// An object's modifiers, up to and including its `}`.
     fn modifiers(&mut self, obj: &mut Obj) -> Result<()> {
-        while !self.eat('}')? {
+        self.modifiers_until(obj, true)
+    }
+
+    /// The modifiers of an object up to its `}` (`closed`), or, after a
+    /// declared object's name alone, as many as follow it.
+    fn modifiers_until(&mut self, obj: &mut Obj, closed: bool) -> Result<()> {
+        loop {
+            if closed && self.eat('}')? {
+                return Ok(());
+            }
             let loc = self.here();
             let word = match self.peek()? {
+                Some(Tok::Word(w)) if !closed && !OBJECT_MODIFIERS.contains(&w.as_str()) => {
+                    return Ok(());
+                }
                 Some(Tok::Word(w)) => w,
+                _ if !closed => return Ok(()),
                 Some(other) => {
                     return Err(self.error(format!(
                         "expected a modifier of this object or `}}`, found {}",
@@ -579,7 +716,6 @@ impl Parser {
                 other => self.unknown_item(loc, other, "object")?,
             }
         }
-        Ok(())
     }
 }
 

@@ -115,6 +115,8 @@ pub struct Parser {
     pub(super) streams: Vec<u32>,
     /// The array elements made or copied so far (see `arrays`).
     pub(super) array_items: usize,
+    /// The parts of declared objects copied so far (see `Parser::copy_object`).
+    pub(super) object_parts: usize,
 }
 
 /// Expressions and objects nest at most this deep: far beyond any scene a
@@ -145,6 +147,7 @@ impl Parser {
             passes: 0,
             streams: Vec::new(),
             array_items: 0,
+            object_parts: 0,
         };
         parser.open(path)?;
         Ok(parser)
@@ -510,8 +513,16 @@ impl Parser {
         }
     }
 
-    /// Runs the directive `#name` found at `loc`.
+    /// Runs the directive `#name` found at `loc`. A directive may stand
+    /// inside another's value (`#declare I = #end`, a loop's end in the
+    /// middle of a declaration of the loop's body): each is one level of
+    /// nesting, so a loop that so declares on every pass stops with an error
+    /// instead of overflowing the stack.
     fn directive(&mut self, name: &str, loc: Loc) -> Result<()> {
+        self.nested(|p| p.run_directive(name, loc))
+    }
+
+    fn run_directive(&mut self, name: &str, loc: Loc) -> Result<()> {
         match name {
             "declare" | "local" => self.declare(loc, name == "local"),
             "undef" => {
@@ -743,7 +754,14 @@ impl Parser {
         // Declared before the `;` is looked for: looking ahead runs the
         // directives after it, which may use the name.
         self.bind(name, value, scope);
-        self.eat(';')?;
+        // A directive next means no `;`, and is left to run after this
+        // declaration: run while looking for the `;`, a loop's `#end`
+        // would run the loop's next pass inside this declaration, one level
+        // deeper on every pass of a loop whose body ends in a declaration
+        // without `;` (an object's), until the stack ran out.
+        if !matches!(self.raw().map(|t| t.tok), Some(Tok::Directive(_))) {
+            self.eat(';')?;
+        }
         Ok(())
     }
 

@@ -2,6 +2,8 @@
 //! or an `area_light` grid), `mesh` (`triangle`, `smooth_triangle`) and
 //! `mesh2` (vertex and face lists), as the object reader's parts.
 
+use std::rc::Rc;
+
 use glam::{DAffine3, DVec3};
 
 use super::lex::Tok;
@@ -194,7 +196,7 @@ impl Parser {
         if triangles.is_empty() {
             return Err(self.error_at(loc, "a mesh needs at least one triangle"));
         }
-        Ok(Kind::Mesh(triangles))
+        Ok(Kind::Mesh(Rc::new(triangles)))
     }
 
     /// The corners of a `triangle`, or of a `smooth_triangle` with each
@@ -346,6 +348,6 @@ impl Parser {
         if triangles.is_empty() {
             return Err(self.error_at(loc, "a mesh2 needs at least one face"));
         }
-        Ok(Kind::Mesh(triangles))
+        Ok(Kind::Mesh(Rc::new(triangles)))
     }
 }

@@ -1742,3 +1742,91 @@ fn a_turned_clipped_surface_keeps_its_clips_box() {
     }
     assert!(hits > 400, "{hits} hits");
 }
+
+/// A declared object's name alone stands for the object, at the top, in
+/// CSG and in a bound, with the modifiers that follow it, as in POV-Ray
+/// (which renders `union { Thing }`, warning that `object` is wanted).
+/// Any other word where an object must stand is an error at its place.
+#[test]
+fn a_declared_objects_name_alone_is_the_object() {
+    let scene = load(&format!(
+        "{VIEW}#declare Ball = sphere {{ 0, 1 }}\n\
+         Ball\n\
+         union {{ Ball sphere {{ <0, 3, 0>, 1 }} translate 3*x }}\n\
+         sphere {{ <0, -3, 0>, 1 bounded_by {{ Ball scale 9 }} }}\n"
+    ))
+    .unwrap();
+    let centres: Vec<[f32; 3]> = scene
+        .shapes
+        .iter()
+        .map(|s| {
+            let b = s.bounds();
+            ((b.min + b.max) * 0.5).to_array().map(|c| c.round())
+        })
+        .collect();
+    assert_eq!(
+        centres,
+        [
+            [0.0, 0.0, 0.0],
+            [3.0, 0.0, 0.0],
+            [3.0, 3.0, 0.0],
+            [0.0, -3.0, 0.0]
+        ]
+    );
+    // A bound left open takes the next words as objects: they are not.
+    let err = load(&format!(
+        "{VIEW}sphere {{ 0, 1\n  bounded_by {{ sphere {{ 0, 2 }}\n  rotate x }}\n"
+    ))
+    .unwrap_err();
+    assert!(err.is_bad_input());
+    assert!(
+        err.to_string()
+            .contains("t.pov:4:3: expected an object, found `rotate`"),
+        "{err}"
+    );
+}
+
+/// A loop that wraps an object in itself on every pass, and never ends,
+/// stops at the nesting limit with an error at the object (it overflowed
+/// the stack), and one that doubles an object on every pass stops when the
+/// copies pass their limit (it filled the memory).
+#[test]
+fn objects_grown_by_a_loop_stop_at_their_limits() {
+    let err = load(&format!(
+        "{VIEW}#declare U = sphere {{ 0, 1 }}\n\
+         #while (1)\n  #declare U = union {{ object {{ U }} sphere {{ x, 1 }} }}\n#end\n"
+    ))
+    .unwrap_err();
+    assert!(err.is_bad_input());
+    assert!(
+        err.to_string()
+            .contains("t.pov:4:16: objects nest deeper than 256"),
+        "{err}"
+    );
+    let err = load(&format!(
+        "{VIEW}#declare U = sphere {{ 0, 1 }}\n\
+         #while (1)\n  #declare U = union {{ U U }}\n#end\n"
+    ))
+    .unwrap_err();
+    assert!(err.is_bad_input());
+    assert!(
+        err.to_string()
+            .contains("declared objects have been copied 2097152 objects"),
+        "{err}"
+    );
+}
+
+/// A loop whose body ends in a declaration with no `;` (an object's) runs
+/// each pass after the last, not inside it: 5,000 passes read, where each
+/// pass had nested one level deeper.
+#[test]
+fn a_loop_ending_in_a_declared_object_runs_pass_after_pass() {
+    let scene = load(&format!(
+        "{VIEW}#declare I = 0;\n\
+         #while (I < 5000)\n  #declare I = I + 1;\n  #declare S = sphere {{ <I, 0, 0>, 1 }}\n#end\n\
+         object {{ S }}\n"
+    ))
+    .unwrap();
+    let b = scene.shapes[0].bounds();
+    assert!((b.min.x - 4999.0).abs() < 1e-2, "{b:?}");
+}
