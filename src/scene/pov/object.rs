@@ -121,12 +121,12 @@ pub enum Kind {
 /// nested so until the stack overflowed.
 const MAX_OBJECT_DEPTH: usize = 256;
 
-/// The parts (objects, and a mesh's triangles) copied from declared objects
-/// over one scene: past it, a loop that copies a growing object on every
-/// pass (`#declare U = union { object { U } object { U } }`) stops with an
-/// error instead of filling the memory. An object takes 576 bytes as read
-/// (a mesh's triangles are shared), so 2^21 parts are some 1.2 GB of
-/// copies, far beyond what POV-Ray's own samples copy.
+/// The objects copied from declared objects over one scene (each object in
+/// a copy counts; a mesh's triangles are shared, not copied): past it, a
+/// loop that copies a growing object on every pass (`#declare U = union {
+/// U U }`) stops with an error instead of filling the memory. An object
+/// takes 576 bytes as read, so 2^21 are some 1.2 GB of copies, far beyond
+/// what POV-Ray's own samples copy.
 const MAX_OBJECT_PARTS: usize = 1 << 21;
 
 /// The words that modify an object (see `Parser::modifiers_until`).
@@ -249,7 +249,7 @@ impl Parser {
                     let o = o.clone();
                     let mut obj = self.copy_object(&o, loc)?;
                     self.modifiers_until(&mut obj, false)?;
-                    Ok(Some(obj))
+                    self.within_depth(obj, loc).map(Some)
                 }
                 Some(Value::Unsupported(k)) => {
                     let k = k.clone();
@@ -327,6 +327,12 @@ impl Parser {
             }
         };
         self.modifiers(&mut obj)?;
+        self.within_depth(obj, loc).map(Some)
+    }
+
+    /// The object read at `loc`, if it nests at most [`MAX_OBJECT_DEPTH`]
+    /// levels deep.
+    fn within_depth(&self, obj: Obj, loc: Loc) -> Result<Obj> {
         if obj.extent().0 > MAX_OBJECT_DEPTH {
             return Err(self.error_at(
                 loc,
@@ -336,7 +342,7 @@ impl Parser {
                 ),
             ));
         }
-        Ok(Some(obj))
+        Ok(obj)
     }
 
     /// A copy of the declared object `o`, counted against
