@@ -198,6 +198,28 @@ mod tests {
         (o, d, if i.is_multiple_of(3) { 0.4 } else { 0.0 })
     }
 
+    /// F's least over the line's interval in the box beyond tmin (at its
+    /// ends, or at Q's vertex between them), with the interval; None where
+    /// the line misses the box.
+    fn least_in_box(
+        object: &Quadric,
+        object_box: &Box3,
+        po: DVec3,
+        pd: DVec3,
+        tmin: f64,
+    ) -> Option<(f64, f64, f64)> {
+        let (t0, t1) = object_box.clip_ray(po, pd, tmin, f64::INFINITY)?;
+        let q = |t: f64| object.eval(po + t * pd);
+        let ad = object.a * pd;
+        let curve = pd.dot(ad);
+        let vertex = if curve > 0.0 {
+            (-(2.0 * po.dot(ad) + object.b.dot(pd)) / (2.0 * curve)).clamp(t0, t1)
+        } else {
+            t0
+        };
+        Some((q(t0).min(q(t1)).min(q(vertex)), t0, t1))
+    }
+
     /// The whole-sphere gate decides as the framed one, box and all, on
     /// every ray that is not within 1e-9 of the tangent: under a rotation,
     /// a non-uniform scale and a translation (an ellipsoid in the world),
@@ -313,13 +335,8 @@ mod tests {
                     to_object.transform_point3(o),
                     to_object.transform_vector3(d),
                 );
-                if let Some((t0, t1)) = gate.object_box.clip_ray(po, pd, tmin, f64::INFINITY) {
-                    let q = |t: f64| object.eval(po + t * pd);
-                    let vertex = {
-                        let ad = object.a * pd;
-                        (-(2.0 * po.dot(ad) + object.b.dot(pd)) / (2.0 * pd.dot(ad))).clamp(t0, t1)
-                    };
-                    let least = q(t0).min(q(t1)).min(q(vertex));
+                if let Some((least, t0, t1)) = least_in_box(object, &gate.object_box, po, pd, tmin)
+                {
                     let scale = object.magnitude(po.abs() + t1.abs().max(t0.abs()) * pd.abs());
                     if (least / scale).abs() < 1e-9 {
                         tangent += 1;
@@ -417,20 +434,11 @@ mod tests {
                 );
                 // F's least over the ray's interval in the box, and how
                 // near the ray comes to the box's faces from outside it.
-                if let Some((t0, t1)) = object_box.clip_ray(po, pd, tmin, f64::INFINITY) {
-                    let q = |t: f64| object.eval(po + t * pd);
-                    let ad = object.a * pd;
-                    let curve = pd.dot(ad);
-                    let vertex = if curve > 0.0 {
-                        (-(2.0 * po.dot(ad) + object.b.dot(pd)) / (2.0 * curve)).clamp(t0, t1)
-                    } else {
-                        t0
-                    };
-                    let least = q(t0).min(q(t1)).min(q(vertex));
-                    if least.abs() < 1e-9 || (t1 - t0) * pd.length() < 1e-9 {
-                        touching += 1;
-                        continue;
-                    }
+                if let Some((least, t0, t1)) = least_in_box(&object, &object_box, po, pd, tmin)
+                    && (least.abs() < 1e-9 || (t1 - t0) * pd.length() < 1e-9)
+                {
+                    touching += 1;
+                    continue;
                 }
                 let fast = gate.lets_through(o, d, tmin);
                 assert_eq!(fast, tree.inside_or_crossed(o, d, tmin), "ray {i}");
