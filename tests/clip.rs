@@ -315,6 +315,7 @@ fn a_clipped_sheet_shows_only_inside_the_clip_objects() {
             to_object: DAffine3::IDENTITY,
             radius: 1.0,
             hole: 0.0,
+            half_space: false,
         },
         inverse: false,
         material: 1,

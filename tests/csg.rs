@@ -268,6 +268,7 @@ fn a_disc_with_a_hole_is_a_ring_and_clipped_by_an_intersection() {
             to_object: DAffine3::IDENTITY,
             radius: 1.0,
             hole: 0.5,
+            half_space: false,
         },
         inverse: false,
         material: 0,

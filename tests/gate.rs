@@ -183,6 +183,7 @@ fn a_sheet_gates_by_its_crossings_alone() {
             to_object: DAffine3::IDENTITY,
             radius: 2.0,
             hole: 0.0,
+            half_space: false,
         })],
     );
     let plain = sphere(1.0, DVec3::new(0.0, 0.0, -3.0));

@@ -106,7 +106,7 @@ fn an_unclipped_quartic_is_unbounded_until_something_bounds_it() {
         ),
     ] {
         let err = Csg::new(pair(op), vec![solid(tube()), other]).unwrap_err();
-        assert!(err.contains("unbounded"), "{op:?}: {err}");
+        assert!(err.to_string().contains("unbounded"), "{op:?}: {err}");
     }
     // A world box bounds a lone tube, and a union holding one.
     let mut lone = tube();

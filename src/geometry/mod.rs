@@ -4,6 +4,6 @@
 mod analytic;
 mod mesh;
 
-pub use analytic::csg::{Csg, Leaf, Node, Op, Part};
+pub use analytic::csg::{Csg, CsgError, Leaf, Node, Op, Part};
 pub use analytic::{Box3, Crossing, Crossings, Quadric, RayPoly, Shape, ShapeHit, Surface};
 pub use mesh::Mesh;

@@ -82,6 +82,7 @@ impl Objects<'_> {
                 to_object: (to_world * frame).inverse(),
                 radius,
                 hole,
+                half_space: false,
             },
             Built::Surface {
                 surface,

@@ -20,7 +20,7 @@ use super::parse::{Loc, Parser};
 use super::texture::{Pigment, Texture, default_texture};
 use super::{Globals, Statements};
 use crate::error::Result;
-use crate::geometry::{Box3, Csg, Mesh, Op, Part, Shape, Surface};
+use crate::geometry::{Box3, Csg, CsgError, Mesh, Op, Part, Shape, Surface};
 use crate::lights::{Beam, Light, PovBeam};
 use crate::math::Vec3;
 use crate::poly::solve::Solver;
@@ -48,6 +48,15 @@ pub(super) enum Built {
         inverse: bool,
         children: Vec<Built>,
     },
+    /// An object with `clipped_by`: a clip whose inverse is the object's
+    /// alone, as POV-Ray inverts an object (by `inverse`, or subtracted)
+    /// and never its clips.
+    Clipped {
+        object: Box<Built>,
+        clips: Vec<Built>,
+    },
+    /// A part of a tree with `bounded_by` (see `Node::Gated`).
+    Gated { gate: Box<Shape>, child: Box<Built> },
 }
 
 /// What building a scene works on: the parser (for errors and warnings at
@@ -249,7 +258,9 @@ impl Builder<'_> {
             },
             op => op,
         };
-        let mut shape = self.shape(built, obj.loc)?;
+        let Some(mut shape) = self.shape(built, obj.loc)? else {
+            return Ok(());
+        };
         // A bound that is the object's own clip holds every point the clip
         // lets show, so every ray with a hit passes it: the clip's span,
         // found first on every ray, already decides what the gate would.
@@ -267,18 +278,19 @@ impl Builder<'_> {
     }
 
     /// The shape of a `bounded_by` object, placed in the world.
-    fn gate(&mut self, bound: &Obj, to_world: DAffine3) -> Result<Option<Shape>> {
+    pub(super) fn gate(&mut self, bound: &Obj, to_world: DAffine3) -> Result<Option<Shape>> {
         let Some(built) = self.node(bound, to_world, None, Context::world(Box3::cube(WORLD)), 0)?
         else {
             return Ok(None);
         };
-        Ok(Some(self.shape(built, bound.loc)?))
+        self.shape(built, bound.loc)
     }
 
     /// The scene shape of a node: a surface alone as it is, anything else
     /// (a closed solid, whose box's faces are surface too, or an operation)
-    /// as a tree.
-    fn shape(&mut self, built: Built, loc: Loc) -> Result<Shape> {
+    /// as a tree; None, with a warning, for a tree that is certainly empty
+    /// (an intersection of objects apart), which POV-Ray draws as nothing.
+    fn shape(&mut self, built: Built, loc: Loc) -> Result<Option<Shape>> {
         let built = match built {
             Built::Leaf {
                 part,
@@ -286,7 +298,7 @@ impl Builder<'_> {
                 inverse: false,
                 material,
             } => match *part {
-                Part::Solid(shape) | Part::Sheet(shape) => return Ok(shape),
+                Part::Solid(shape) | Part::Sheet(shape) => return Ok(Some(shape)),
                 part => Built::Leaf {
                     part: Box::new(part),
                     closed: false,
@@ -299,8 +311,18 @@ impl Builder<'_> {
         let mut leaves = Vec::new();
         let root = tree(built, &mut leaves);
         let material = leaves.first().map_or(0, |l| l.material);
-        let tree = Csg::within(root, leaves, Box3::cube(WORLD))
-            .map_err(|e| self.parser.error_at(loc, e))?;
+        let tree = match Csg::within(root, leaves, Box3::cube(WORLD)) {
+            Ok(tree) => tree,
+            Err(CsgError::Empty) => {
+                self.parser.warn(
+                    loc,
+                    "this object is empty (its parts do not overlap): it is left out, \
+                     as POV-Ray draws nothing of it",
+                );
+                return Ok(None);
+            }
+            Err(e) => return Err(self.parser.error_at(loc, e.to_string())),
+        };
         Shape::new(
             Surface::Csg(Box::new(tree)),
             DAffine3::IDENTITY,
@@ -308,6 +330,7 @@ impl Builder<'_> {
             material,
             self.solver,
         )
+        .map(Some)
         .map_err(|e| self.parser.error_at(loc, e))
     }
 

@@ -18,10 +18,13 @@ use crate::scene::solids::{axis_frame, linear, round};
 /// world box widens under every rotation on the way (helix.pov's clipped
 /// quartics, turned twice, got boxes three times as wide as their clips),
 /// while a box in the frame the surface shares with its clip does not.
+/// `inverted`: whether the node's inside ends up inverted (by `inverse`
+/// or by being subtracted) an odd number of times.
 #[derive(Clone, Copy)]
 pub(super) struct Context {
     world: Box3,
     framed: Option<(Box3, DAffine3)>,
+    inverted: bool,
 }
 
 impl Context {
@@ -29,6 +32,7 @@ impl Context {
         Context {
             world,
             framed: None,
+            inverted: false,
         }
     }
 }
@@ -49,8 +53,25 @@ impl Builder<'_> {
             ));
         }
         let to_world = parent * obj.transform;
+        // A part's bound gates the part (a whole object's gates the shape,
+        // see `Builder::top`); one copied from its clip decides nothing.
+        if depth > 0 && !obj.bounded_by.is_empty() && !obj.bound_is_clip {
+            let mut inner = obj.clone();
+            inner.bounded_by.clear();
+            let Some(child) = self.node(&inner, parent, inherited, context, depth)? else {
+                return Ok(None);
+            };
+            return Ok(Some(match self.gate(&obj.bounded_by[0], to_world)? {
+                Some(gate) => Built::Gated {
+                    gate: Box::new(gate),
+                    child: Box::new(child),
+                },
+                None => child,
+            }));
+        }
         // Nothing of it shows outside its own box either.
         let own = framed_box(obj);
+        let outer = context;
         let context = Context {
             world: context.world.intersection(&world_box(obj, parent)),
             framed: if own.min.is_finite() && own.max.is_finite() {
@@ -58,6 +79,7 @@ impl Builder<'_> {
             } else {
                 context.framed
             },
+            inverted: context.inverted,
         };
         if context.world.is_empty() {
             // Cut away by what it is intersected with: nothing of it shows.
@@ -65,25 +87,37 @@ impl Builder<'_> {
         }
         let own = own_texture(obj, inherited);
         let texture = own.as_ref();
-        // A clipped object: as a solid, the object and its clips; seen, only the object.
+        // A clipped object: as a solid, the object and its clips; seen, only
+        // the object. Inverted, it is the object inverted within its clips
+        // (see `Built::Clipped`).
         if !obj.clipped_by.is_empty() {
             let mut inner = obj.clone();
             inner.clipped_by.clear();
-            inner.inverse = false;
-            let mut children = Vec::new();
-            let Some(first) = self.node(&inner, parent, inherited, context, depth + 1)? else {
+            let Some(object) = self.node(&inner, parent, inherited, context, depth + 1)? else {
                 return Ok(None);
             };
-            children.push(first);
+            // Inverted, the object within its clips reaches past its own
+            // box: the clips are cut only to where its parent can show.
+            let within = if context.inverted != obj.inverse {
+                Context {
+                    inverted: false,
+                    ..outer
+                }
+            } else {
+                Context {
+                    inverted: false,
+                    ..context
+                }
+            };
+            let mut clips = Vec::new();
             for c in &obj.clipped_by {
-                if let Some(n) = self.node(c, to_world, texture, context, depth + 1)? {
-                    children.push(n);
+                if let Some(n) = self.node(c, to_world, texture, within, depth + 1)? {
+                    clips.push(n);
                 }
             }
-            return Ok(Some(Built::Op {
-                op: Op::Clip,
-                inverse: obj.inverse,
-                children,
+            return Ok(Some(Built::Clipped {
+                object: Box::new(object),
+                clips,
             }));
         }
         let material = self.material(texture, obj.ior, to_world);
@@ -101,17 +135,18 @@ impl Builder<'_> {
                 .map_err(|e| this.parser.error_at(obj.loc, e))
         };
         // An unbounded surface, cut to its context: its crossings are then
-        // searched from near the ray, not from a box entry far away.
+        // searched from near the ray, not from a box entry far away. The
+        // context's boxes are finite, so a cut that fails leaves nothing:
+        // none of it can show (an ellipsoid apart from what it is
+        // intersected with).
         let unbounded = |this: &Self, surface: Surface| {
             let mut s = Shape::unclipped(surface, to_world, material, solver)
                 .map_err(|e| this.parser.error_at(obj.loc, e))?;
-            if let Some((b, frame)) = context.framed {
-                s.clip_within(&b, frame)
-                    .map_err(|e| this.parser.error_at(obj.loc, e))?;
-            }
-            s.clip_to(&context.world)
-                .map_err(|e| this.parser.error_at(obj.loc, e))?;
-            Ok::<Shape, Error>(s)
+            let framed = context
+                .framed
+                .is_none_or(|(b, frame)| s.clip_within(&b, frame).is_ok());
+            let kept = framed && s.clip_to(&context.world).is_ok();
+            Ok::<Option<Shape>, Error>(kept.then_some(s))
         };
         Ok(match &obj.kind {
             Kind::Light(_) => None,
@@ -243,6 +278,8 @@ impl Builder<'_> {
                     to_object: (to_world * axis_frame(*center, *normal)).inverse(),
                     radius: *radius,
                     hole: *hole,
+                    // In CSG, POV-Ray's disc is inside behind its plane.
+                    half_space: depth > 0,
                 },
                 true,
             ),
@@ -251,7 +288,9 @@ impl Builder<'_> {
                 if depth > 0 {
                     leaf(half_space(to_world, n, *distance * n), false)
                 } else {
-                    let s = unbounded(self, linear(n, *distance))?;
+                    let Some(s) = unbounded(self, linear(n, *distance))? else {
+                        return Ok(None);
+                    };
                     leaf(Part::Solid(s), false)
                 }
             }
@@ -261,7 +300,9 @@ impl Builder<'_> {
                     b: *b,
                     c: *c,
                 });
-                let s = unbounded(self, surface)?;
+                let Some(s) = unbounded(self, surface)? else {
+                    return Ok(None);
+                };
                 leaf(Part::Solid(s), false)
             }
             Kind::Poly(poly) => {
@@ -271,7 +312,9 @@ impl Builder<'_> {
                         .error_at(obj.loc, "the polynomial's degree is above 35"));
                 }
                 let surface = Surface::Algebraic(Box::new(poly.clone()));
-                let s = unbounded(self, surface)?;
+                let Some(s) = unbounded(self, surface)? else {
+                    return Ok(None);
+                };
                 leaf(Part::Solid(s), false)
             }
             Kind::Mesh(_) => {
@@ -294,7 +337,7 @@ impl Builder<'_> {
     fn operation(
         &mut self,
         obj: &Obj,
-        op: CsgOp,
+        mut op: CsgOp,
         children: &[Obj],
         to_world: DAffine3,
         texture: Option<&Texture>,
@@ -327,6 +370,11 @@ impl Builder<'_> {
         let mut shown = Vec::new();
         let mut cuts = Vec::new();
         for (i, child) in solids.iter().enumerate() {
+            let subtracted = op == CsgOp::Difference && i > 0;
+            let inner = Context {
+                inverted: (context.inverted != obj.inverse) != subtracted,
+                ..inner
+            };
             let Some(node) = self.node(child, to_world, texture, inner, depth + 1)? else {
                 // An empty part empties an intersection, and the first part
                 // of a difference is all there is.
@@ -348,6 +396,16 @@ impl Builder<'_> {
         }
         if shown.is_empty() {
             return Ok(None);
+        }
+        // POV-Ray subtracts by inverting, and inverting a clipped object
+        // keeps its clips (`Built::Clipped`): A minus B clipped by C is A
+        // where B is not and C is. So such a difference is the
+        // intersection of its first child and its others inverted.
+        if op == CsgOp::Difference && shown[1..].iter().any(holds_clipped) {
+            let mut parts = shown.into_iter();
+            let first = parts.next().expect("a first child");
+            shown = std::iter::once(first).chain(parts.map(flip)).collect();
+            op = CsgOp::Intersection;
         }
         let op = match op {
             CsgOp::Union => Op::Union,
@@ -379,7 +437,10 @@ impl Builder<'_> {
     }
 }
 
-/// `node` with its inside flipped.
+/// `node` with its inside flipped, as POV-Ray inverts an object: an
+/// operation by De Morgan's laws, its children inverted, wherever a clipped
+/// object below it must keep its clips (`Built::Clipped`); otherwise, with
+/// the same inside, by the node's own flag.
 fn flip(node: Built) -> Built {
     match node {
         Built::Leaf {
@@ -395,6 +456,29 @@ fn flip(node: Built) -> Built {
         },
         Built::Op {
             op,
+            inverse: false,
+            children,
+        } if op != Op::Clip && children.iter().any(holds_clipped) => {
+            let (op, children) = match op {
+                Op::Union | Op::Merge => {
+                    (Op::Intersection, children.into_iter().map(flip).collect())
+                }
+                Op::Intersection => (Op::Merge, children.into_iter().map(flip).collect()),
+                // A minus the rest, inverted: outside A, or inside any of the rest.
+                _ => {
+                    let mut parts = children.into_iter();
+                    let first = parts.next().map(flip);
+                    (Op::Merge, first.into_iter().chain(parts).collect())
+                }
+            };
+            Built::Op {
+                op,
+                inverse: false,
+                children,
+            }
+        }
+        Built::Op {
+            op,
             inverse,
             children,
         } => Built::Op {
@@ -402,6 +486,25 @@ fn flip(node: Built) -> Built {
             inverse: !inverse,
             children,
         },
+        Built::Clipped { object, clips } => Built::Clipped {
+            object: Box::new(flip(*object)),
+            clips,
+        },
+        Built::Gated { gate, child } => Built::Gated {
+            gate,
+            child: Box::new(flip(*child)),
+        },
+    }
+}
+
+/// Whether a clipped object is among `node`'s parts, outside any clip of
+/// the reader's own (whose inverse is always the whole node's).
+fn holds_clipped(node: &Built) -> bool {
+    match node {
+        Built::Leaf { .. } => false,
+        Built::Op { op, children, .. } => *op != Op::Clip && children.iter().any(holds_clipped),
+        Built::Clipped { .. } => true,
+        Built::Gated { child, .. } => holds_clipped(child),
     }
 }
 
@@ -429,6 +532,18 @@ pub(super) fn tree(built: Built, leaves: &mut Vec<Leaf>) -> Node {
             op,
             inverse,
             children: children.into_iter().map(|c| tree(c, leaves)).collect(),
+        },
+        Built::Clipped { object, clips } => Node::Op {
+            op: Op::Clip,
+            inverse: false,
+            children: std::iter::once(*object)
+                .chain(clips)
+                .map(|c| tree(c, leaves))
+                .collect(),
+        },
+        Built::Gated { gate, child } => Node::Gated {
+            gate,
+            child: Box::new(tree(*child, leaves)),
         },
     }
 }

@@ -1830,3 +1830,51 @@ fn a_loop_ending_in_a_declared_object_runs_pass_after_pass() {
     let b = scene.shapes[0].bounds();
     assert!((b.min.x - 4999.0).abs() < 1e-2, "{b:?}");
 }
+
+#[test]
+fn a_surface_its_context_leaves_nothing_of_is_left_out() {
+    // From a fuzz of random trees against POV-Ray, which draws nothing
+    // here: the ellipsoid lies where the clip and its sibling leave nothing
+    // of it, so cutting it to them left an empty box, which stopped the read.
+    let scene = load(&format!(
+        "{VIEW}intersection {{ intersection {{\n\
+         intersection {{ union {{ sphere {{ <0.483, 0.113, 0.451>, 1.035 rotate <-7.4, 78.4, 34.3> rotate <-8.5, -57.7, -24.2> }} }}\n\
+         intersection {{ torus {{ 0.513, 0.192 scale 0.622 }} }} }}\n\
+         merge {{ merge {{ }}\n\
+         intersection {{ quadric {{ <1.991, 2.043, 2.228>, <0, 0, 0>, <0, 0, 0>, -1 scale 1.148 translate <-0.683, 0.247, -0.549> }}\n\
+         translate <-0.518, 0.393, 0.157> scale 1.317 }}\n\
+         clipped_by {{ quadric {{ <1.192, 0.584, 0.932>, <0, 0, 0>, <0, 0, 0>, -1 }} }} rotate <15.6, 10.3, -3.1> rotate <62.7, -28.7, 49.9> }}\n\
+         }} box {{ -2.2, 2.2 }} }}\n"
+    ))
+    .unwrap();
+    assert!(scene.shapes.is_empty());
+}
+
+#[test]
+fn an_object_whose_parts_do_not_overlap_is_left_out_with_a_warning() {
+    // From the same fuzz (POV-Ray draws the sphere alone): the reader's
+    // boxes of the parts overlap, the tree's own, tighter, do not. The
+    // tree holds nothing, which stopped the read.
+    let scene = load(&format!(
+        "{VIEW}intersection {{ intersection {{ union {{ difference {{ }} union {{ quartic {{ <1, 0, 0, 0, 2, 0, 0, 2, 0, -1.494804, \
+         0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1, 0, 0, 2, 0, 0.855458, 0, 0, 0, 0, 1, 0, -1.494804, 0, 0.182952> \
+         rotate <-31.5, -36.8, -88.2> }} }} }}\n\
+         intersection {{ difference {{ box {{ <-0.883, -1.281, 0.298>, <0.591, -0.156, 0.767> inverse }} }}\n\
+         intersection {{ cone {{ <1.169, -0.983, -0.495>, 0.504, <0.665, -0.486, -0.213>, 0 scale 1.227 scale <1.532, 0.529, 0.745> }} }}\n\
+         scale 0.835 translate <0.512, 0.321, 0.226> }}\n\
+         clipped_by {{ cylinder {{ <-0.023, -0.814, -1.165>, <-0.556, 0.941, 0.678>, 0.843 scale 0.602 }} }} \
+         translate <0.305, 0.081, 0.768> rotate <60.9, 89.6, -55.3> }}\n\
+         box {{ -2.2, 2.2 }} }}\n\
+         sphere {{ 0, 0.5 }}\n"
+    ))
+    .unwrap();
+    assert_eq!(scene.shapes.len(), 1);
+    assert!(
+        scene
+            .warnings
+            .iter()
+            .any(|w| w.contains("t.pov:2:1: this object is empty")),
+        "{:?}",
+        scene.warnings
+    );
+}

@@ -53,6 +53,7 @@ pub(super) fn bound_leaves(
             }
             Ok(())
         }
+        Node::Gated { child, .. } => bound_leaves(child, leaves, context),
     }
 }
 
@@ -81,6 +82,9 @@ pub(super) fn node_bounds(node: &Node, leaves: &[Leaf]) -> Option<Box3> {
                     })
                 }
                 Part::Plane { .. } => None,
+                // Even with a half-space inside (POV-Ray's disc), the box is
+                // the ring's, as POV-Ray bounds a disc: an intersection with
+                // one shows only within its children's boxes' overlap.
                 Part::Disc {
                     to_object, radius, ..
                 } => Some(world_box(
@@ -101,6 +105,16 @@ pub(super) fn node_bounds(node: &Node, leaves: &[Leaf]) -> Option<Box3> {
                 return None;
             }
             op_bounds(*op, children, leaves)
+        }
+        // POV-Ray bounds a part with a `bounded_by` by its bound's box, as
+        // it culls rays by it: what the part's inside shows of its siblings
+        // (a box's faces inside a half-space) shows only there.
+        Node::Gated { gate, .. } => {
+            let b = gate.bounds();
+            Some(Box3 {
+                min: b.min.as_dvec3(),
+                max: b.max.as_dvec3(),
+            })
         }
     }
 }

@@ -17,7 +17,8 @@
 //! inside (a disc, an open cylinder) are sheets: they show where the node's
 //! state would change if the sheet were a solid there — clipped to an
 //! intersection, outside a union's other children; subtracted, a sheet cuts
-//! nothing. `union` keeps every surface of its children, inner ones too, as
+//! nothing. (POV-Ray's disc in CSG has an inside, the half-space behind
+//! it: see `Part::Disc`.) `union` keeps every surface of its children, inner ones too, as
 //! POV-Ray's does; `merge` keeps only the boundary.
 //!
 //! `clip` is POV-Ray's `clipped_by`: as a solid it is the intersection of
@@ -26,7 +27,9 @@
 //! crossing: its parents count it like any other, so the inside of every
 //! node above stays right, but no node turns it into a surface and no ray
 //! stops there. A sphere clipped by a half-space is a bowl open at the cut,
-//! through which its inner wall is seen.
+//! through which its inner wall is seen. A gated part (`Node::Gated`,
+//! POV-Ray's `bounded_by` on a part) reports hidden crossings on the rays
+//! its gate stops.
 
 use std::cell::RefCell;
 
@@ -62,12 +65,35 @@ pub enum Part {
     /// The half-space n·p < offset, in world space.
     Plane { normal: DVec3, offset: f64 },
     /// The ring hole ≤ √(x² + y²) ≤ radius of the plane z = 0 of its own
-    /// space, a sheet.
+    /// space: a sheet, or with `half_space` POV-Ray's disc in CSG, whose
+    /// inside is the half-space z < 0 behind the ring (its `Disc::Inside`).
+    /// The plane then changes the state wherever the line crosses it, and
+    /// is seen only on the ring: elsewhere its crossing is a hidden
+    /// boundary, as a clip object's is.
     Disc {
         to_object: DAffine3,
         radius: f64,
         hole: f64,
+        // Left out of the scene hash when false, so the hashes of scenes
+        // without it stay as they were.
+        #[serde(skip_serializing_if = "std::ops::Not::not")]
+        half_space: bool,
     },
+}
+
+/// Why a tree cannot be built.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum CsgError {
+    #[error(
+        "the CSG tree is unbounded (a half-space or an inverted object in a union, or first in a difference): intersect it with a bounded object"
+    )]
+    Unbounded,
+    /// Certainly empty: what a renderer of POV-Ray's scenes draws as nothing.
+    #[error("the children's boxes do not overlap: nothing is left")]
+    Empty,
+    /// A leaf that cannot be bounded (see `Csg::new`).
+    #[error("{0}")]
+    Leaf(String),
 }
 
 /// A leaf: a part, whether its inside is flipped, and its material.
@@ -86,6 +112,15 @@ pub enum Node {
         op: Op,
         inverse: bool,
         children: Vec<Node>,
+    },
+    /// POV-Ray's `bounded_by` on a part of a tree: on a ray the gate does
+    /// not let through (see `Shape::set_gate`), the part's surface is not
+    /// seen, and its inside still counts: its crossings are hidden
+    /// boundaries, as POV-Ray skips a part's intersections then but still
+    /// asks its `Inside`.
+    Gated {
+        gate: Box<Shape>,
+        child: Box<Node>,
     },
 }
 
@@ -148,7 +183,7 @@ impl Csg {
     /// bounded siblings' boxes; subtracted, its difference's first child's;
     /// slightly padded, so the faces that close it never meet a sibling's
     /// surface. With none to give, it is refused.
-    pub fn new(root: Node, leaves: Vec<Leaf>) -> Result<Csg, String> {
+    pub fn new(root: Node, leaves: Vec<Leaf>) -> Result<Csg, CsgError> {
         Csg::build(root, leaves, None)
     }
 
@@ -156,17 +191,15 @@ impl Csg {
     /// (POV-Ray's lone planes, or a union holding an unbounded quartic) is
     /// bounded by it, and leaves with no box get it where nothing nearer
     /// bounds them (see `new`). POV-Ray traces to 1e7 units at most.
-    pub fn within(root: Node, leaves: Vec<Leaf>, world: Box3) -> Result<Csg, String> {
+    pub fn within(root: Node, leaves: Vec<Leaf>, world: Box3) -> Result<Csg, CsgError> {
         Csg::build(root, leaves, Some(world))
     }
 
-    fn build(root: Node, mut leaves: Vec<Leaf>, world: Option<Box3>) -> Result<Csg, String> {
-        bound_leaves(&root, &mut leaves, world)?;
-        let bounds = narrow(node_bounds(&root, &leaves), world).ok_or(
-            "the CSG tree is unbounded (a half-space or an inverted object in a union, or first in a difference): intersect it with a bounded object",
-        )?;
+    fn build(root: Node, mut leaves: Vec<Leaf>, world: Option<Box3>) -> Result<Csg, CsgError> {
+        bound_leaves(&root, &mut leaves, world).map_err(CsgError::Leaf)?;
+        let bounds = narrow(node_bounds(&root, &leaves), world).ok_or(CsgError::Unbounded)?;
         if bounds.is_empty() {
-            return Err("the children's boxes do not overlap: nothing is left".into());
+            return Err(CsgError::Empty);
         }
         let mut csg = Csg {
             root,
@@ -208,6 +241,7 @@ impl Csg {
                 s.set_solver(solver);
             }
         }
+        set_gate_solver(&mut self.root, solver);
     }
 
     /// The nearest crossing of the tree's surface with t in (tmin, tmax), and
@@ -242,6 +276,11 @@ impl Csg {
         seen_only: bool,
         seen: impl FnOnce(&Event) -> R,
     ) -> Option<R> {
+        // Only a line through the tree's box meets the tree, as a renderer
+        // bounding by boxes (POV-Ray) has it. Every crossing lies in the
+        // box anyway, but for a POV-Ray disc's boundary, which changes the
+        // state of its siblings beyond the ring's box.
+        self.bounds.clip_ray(o, d, tmin, tmax)?;
         EVENTS.with_borrow_mut(|events| {
             let clipped = self
                 .clipped
@@ -368,6 +407,16 @@ impl Csg {
     ) -> bool {
         match node {
             Node::Leaf(i) => self.leaf_events(*i, o, d, tmin, window, out),
+            Node::Gated { gate, child } => {
+                let from = out.len();
+                let inside = self.events(child, o, d, tmin, window, false, out);
+                if !gate.lets_through(o, d, tmin) {
+                    for e in &mut out[from..] {
+                        e.hidden = true;
+                    }
+                }
+                inside
+            }
             Node::Op {
                 op,
                 inverse,
@@ -471,6 +520,7 @@ impl Csg {
                     Cost::Cheap
                 }
             }
+            Node::Gated { child, .. } => self.cost(child),
         }
     }
 
@@ -479,9 +529,15 @@ impl Csg {
         match node {
             Node::Leaf(i) => matches!(
                 self.leaves[*i as usize].part,
-                Part::Solid(_) | Part::Plane { .. }
+                Part::Solid(_)
+                    | Part::Plane { .. }
+                    | Part::Disc {
+                        half_space: true,
+                        ..
+                    }
             ),
             Node::Op { children, .. } => children.iter().all(|c| self.solid(c)),
+            Node::Gated { child, .. } => self.solid(child),
         }
     }
 
@@ -559,6 +615,7 @@ impl Csg {
                 to_object,
                 radius,
                 hole,
+                half_space,
             } => {
                 let (o, d) = (
                     to_object.transform_point3(o),
@@ -567,10 +624,26 @@ impl Csg {
                 let t = -o.z / d.z;
                 let p = o + t * d;
                 let r2 = p.x * p.x + p.y * p.y;
-                if d.z != 0.0 && t < tmax && r2 <= radius * radius && r2 >= hole * hole {
-                    out.push(self.leaf_event(i, &crossing(t), Kind::Sheet { inside: false }));
+                let on_ring = r2 <= radius * radius && r2 >= hole * hole;
+                if !half_space {
+                    if d.z != 0.0 && t < tmax && on_ring {
+                        out.push(self.leaf_event(i, &crossing(t), Kind::Sheet { inside: false }));
+                    }
+                    return false;
                 }
-                false
+                // As a plane's, with the ring's normal +z facing out.
+                if d.z != 0.0 && t < tmax {
+                    let kind = if (d.z < 0.0) != inverse {
+                        Kind::Enter
+                    } else {
+                        Kind::Leave
+                    };
+                    out.push(Event {
+                        hidden: !on_ring,
+                        ..self.leaf_event(i, &crossing(t), kind)
+                    });
+                }
+                (d.z > 0.0 || (d.z == 0.0 && o.z < 0.0)) != inverse
             }
         }
     }
@@ -747,6 +820,22 @@ fn mark_seen(node: &Node, seen: &mut [bool]) {
                 mark_seen(child, seen);
             }
         }
+        Node::Gated { child, .. } => mark_seen(child, seen),
+    }
+}
+
+fn set_gate_solver(node: &mut Node, solver: Solver) {
+    match node {
+        Node::Leaf(_) => {}
+        Node::Op { children, .. } => {
+            for child in children {
+                set_gate_solver(child, solver);
+            }
+        }
+        Node::Gated { gate, child } => {
+            gate.set_solver(solver);
+            set_gate_solver(child, solver);
+        }
     }
 }
 
@@ -762,7 +851,12 @@ fn describe(node: &Node, leaves: &[Leaf]) -> String {
                 Part::Solid(s) => s.describe(),
                 Part::Sheet(s) => format!("open {}", s.describe()),
                 Part::Plane { .. } => "plane".into(),
-                Part::Disc { .. } => "disc".into(),
+                Part::Disc {
+                    half_space: false, ..
+                } => "disc".into(),
+                Part::Disc {
+                    half_space: true, ..
+                } => "disc (inside: the half-space behind it)".into(),
             };
             if leaf.inverse {
                 format!("inverse {what}")
@@ -780,5 +874,6 @@ fn describe(node: &Node, leaves: &[Leaf]) -> String {
             let inv = if *inverse { "inverse " } else { "" };
             format!("{inv}{name}({})", inner.join(", "))
         }
+        Node::Gated { child, .. } => format!("bounded {}", describe(child, leaves)),
     }
 }
