@@ -18,7 +18,7 @@ EMBREE4_DIR := $(CURDIR)/embree4
 EMBREE4_TARGET := target/embree4
 
 .PHONY: setup render test test-rust test-python lint bench scenes clean embree4 test-embree4 \
-	fuzz check-memory wrapper-overhead povray-compare povray-speed photon-radius peers embree-modes \
+	fuzz check-memory wrapper-overhead povray-compare povray-fuzz povray-speed photon-radius peers embree-modes \
 	sampler-study test-farm python-speed python-speed-embree4
 
 # Installs those of the Debian packages $(1) that are missing (none: no apt-get at all).
@@ -137,6 +137,12 @@ wrapper-overhead: setup
 # issue's limits. Not part of `make test`, where tests/test_povray.py runs the
 # same comparison at 160x120.
 POVRAY_OUT := docs/img/povray
+# Random CSG trees of POV-Ray's shapes drawn by both (not in `make test`).
+POVRAY_FUZZ_SEEDS ?= 0:200
+povray-fuzz: setup
+	cargo build --release
+	$(PYTHON) tools/povray/fuzz_csg.py --sturmray $(RELEASE_BIN) --seeds $(POVRAY_FUZZ_SEEDS)
+
 povray-compare: setup
 	cargo build --release
 	$(PYTHON) tools/povray/compare.py --sturmray $(RELEASE_BIN) --out $(POVRAY_OUT) \
