@@ -90,7 +90,7 @@ def leaf(r: random.Random, bounded_around: bool, sheets: bool) -> str:
     elif kind == "box":
         a = [r.uniform(-1.3, 0.3) for _ in range(3)]
         b = [x + r.uniform(0.3, 1.8) for x in a]
-        body = "box { <{:.3f}, {:.3f}, {:.3f}>, <{:.3f}, {:.3f}, {:.3f}>".format(*a, *b)
+        body = "box {{ <{:.3f}, {:.3f}, {:.3f}>, <{:.3f}, {:.3f}, {:.3f}>".format(*a, *b)
     elif kind == "cylinder":
         body = f"cylinder {{ {vector(r, -1.2, 1.2)}, {vector(r, -1.2, 1.2)}, {r.uniform(0.2, 0.9):.3f}{open_}"
     elif kind == "cone":
