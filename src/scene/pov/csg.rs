@@ -91,8 +91,11 @@ impl Builder<'_> {
         // the object. Inverted, it is the object inverted within its clips
         // (see `Built::Clipped`).
         if !obj.clipped_by.is_empty() {
+            // Its bound, if any, gates the whole object: above (see `top`),
+            // or at the top of this function.
             let mut inner = obj.clone();
             inner.clipped_by.clear();
+            inner.bounded_by.clear();
             let Some(object) = self.node(&inner, parent, inherited, context, depth + 1)? else {
                 return Ok(None);
             };
