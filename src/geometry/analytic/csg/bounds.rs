@@ -106,15 +106,21 @@ pub(super) fn node_bounds(node: &Node, leaves: &[Leaf]) -> Option<Box3> {
             }
             op_bounds(*op, children, leaves)
         }
-        // POV-Ray bounds a part with a `bounded_by` by its bound's box, as
-        // it culls rays by it: what the part's inside shows of its siblings
-        // (a box's faces inside a half-space) shows only there.
-        Node::Gated { gate, .. } => {
+        // POV-Ray bounds a part with a `bounded_by` by its bound's box where
+        // that is the smaller, as it culls rays by it: what the part's
+        // inside shows of its siblings (a box's faces inside a half-space)
+        // shows only there.
+        Node::Gated { gate, child } => {
             let b = gate.bounds();
-            Some(Box3 {
+            let bound = Box3 {
                 min: b.min.as_dvec3(),
                 max: b.max.as_dvec3(),
-            })
+            };
+            let volume = |b: &Box3| (b.max - b.min).max(DVec3::ZERO).element_product();
+            match node_bounds(child, leaves) {
+                Some(own) if volume(&own) <= volume(&bound) => Some(own),
+                _ => Some(bound),
+            }
         }
     }
 }
