@@ -137,11 +137,16 @@ wrapper-overhead: setup
 # issue's limits. Not part of `make test`, where tests/test_povray.py runs the
 # same comparison at 160x120.
 POVRAY_OUT := docs/img/povray
-# Random CSG trees of POV-Ray's shapes drawn by both (not in `make test`).
+# Random CSG trees of POV-Ray's shapes drawn by both, then random hard
+# algebraic surfaces with every disagreement settled by an exact root count
+# (not in `make test`, which runs ten of the second's seeds).
 POVRAY_FUZZ_SEEDS ?= 0:200
+POVRAY_POLY_SEEDS ?= 0:200
 povray-fuzz: setup
 	cargo build --release
 	$(PYTHON) tools/povray/fuzz_csg.py --sturmray $(RELEASE_BIN) --seeds $(POVRAY_FUZZ_SEEDS)
+	$(PYTHON) tools/povray/fuzz_poly.py --sturmray $(RELEASE_BIN) --seeds $(POVRAY_POLY_SEEDS) \
+	  --width 160 --height 120
 
 povray-compare: setup
 	cargo build --release
