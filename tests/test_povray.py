@@ -463,8 +463,19 @@ background { color rgb 0 }
 # disc's ring covers the box: where a ring's box cuts what the half-space
 # shows, POV-Ray's box grows with each transform, ours does not); an
 # intersection of parts apart, or with a surface that cannot reach it, is
-# empty, not an error.
+# empty, not an error. A whole CSG object's `bounded_by` of several objects
+# lets a ray through only if it meets every one (POV-Ray's `Ray_In_Bound`)
+# and the box of their boxes; a plane's bound is removed and only that box
+# culls it (POV-Ray's `Link_To_Frame`; both in a scene of two objects and a
+# light, as POV-Ray draws one object and a light without its box test). A plane's
+# bound in an intersection gates the plane but does not bound the
+# intersection, which takes the plane's own box (`CSG::Compute_BBox`).
 IDIOMS = {
+    "bounds_all": "plane { y, 0 texture { T } bounded_by { sphere { <-1, 0, 0>, 2 } sphere { <1, 0, 1>, 2 } } }\n"
+    "intersection { sphere { 0, 1.5 } sphere { <0.6, 0, 0>, 1.5 } texture { T } bounded_by { sphere { <-1, 0, 0>, 1.6 }"
+    " box { <-0.8, -2, -2>, <2, 0.6, 2> } } translate <0, 1.6, 1> }",
+    "bounded_plane_part": "intersection { box { <-4, 0.5, -4>, <4, 3, 4> } plane { z, 0 rotate -50*x"
+    " bounded_by { sphere { <-2, 2, 0>, 2 } } } texture { T } translate 2*x }",
     "disc_inside": "intersection { union { disc { <0, 0.2, 0>, <0.3, 1, -0.2>, 3.5, 0.6 } sphere { <1, 0.5, 0>, 0.8 } }"
     " box { -2, 2 } texture { T } rotate 20*y }",
     "subtracted_clipped": "difference { box { -1.5, 1.5 } sphere { <1, 1, -1>, 1.2 clipped_by { plane { y, 0.5 } } }"

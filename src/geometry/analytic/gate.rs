@@ -19,6 +19,8 @@ impl Shape {
     /// box, or a tree's state); a sheet has none and gates by crossings only.
     /// A tree is gated as a whole: the gate of a shape used as a tree's leaf
     /// is not consulted (a leaf gives its crossings along the whole line).
+    /// A gate may have a gate of its own: a ray then passes only if it passes
+    /// both, as POV-Ray's `bounded_by { A B }` asks of every bound.
     pub fn set_gate(&mut self, gate: Shape) {
         self.gate = Some(Box::new(gate));
     }
@@ -26,6 +28,11 @@ impl Shape {
     /// Whether this shape, as another's gate, lets the ray from o + tmin·d on
     /// through (see `set_gate`).
     pub(super) fn lets_through(&self, o: DVec3, d: DVec3, tmin: f64) -> bool {
+        if let Some(next) = &self.gate
+            && !next.lets_through(o, d, tmin)
+        {
+            return false;
+        }
         // A box or capped cylinder gate is a tree of one closed solid of a
         // quadric: its inside (F < 0 within its box) in closed form. The
         // tree's walk of its events took 1,070 instructions a ray on

@@ -12,8 +12,9 @@
 
 use std::path::Path;
 
-use glam::{DAffine3, DVec3};
+use glam::{DAffine3, DMat3, DVec3};
 
+use super::boxes::world_box;
 use super::csg::{Context, tree};
 use super::object::{BeamKind, CsgOp, Kind, LightSource, Obj, Triangle, clear};
 use super::parse::{Loc, Parser};
@@ -137,6 +138,76 @@ pub(super) fn scene(
 
 /// The texture `obj` is drawn with, in its own space: its own, or the one
 /// it inherits from its parent (given in the parent's space).
+/// Whether POV-Ray keeps a whole object's `bounded_by`: its parser removes
+/// the bound of every object but CSG, `poly` (with `cubic` and `quartic`),
+/// text and a quadric whose box it cannot work out, as unnecessary
+/// (`Link_To_Frame`, with `Remove_Bounds` on by default), and then draws the
+/// object whole. A bound that holds its object changes nothing either way.
+fn keeps_bound(kind: &Kind) -> bool {
+    match kind {
+        Kind::Csg { .. } | Kind::Poly(_) => true,
+        Kind::Quadric { a, b, c } => !quadric_boxed(*a, *b, *c),
+        _ => false,
+    }
+}
+
+/// Whether POV-Ray bounds a quadric by a box of its own (`Quadric::
+/// Compute_BBox` then sets `Automatic_Bounds`): it has no mixed terms and,
+/// once its linear terms are moved into a shift, is an ellipsoid, cylinder,
+/// cone, hyperboloid or paraboloid along an axis. Terms under POV-Ray's
+/// EPSILON count as zero, as there.
+pub(super) fn quadric_boxed(a: DMat3, b: DVec3, c: f64) -> bool {
+    const EPSILON: f64 = 1e-10;
+    let zeroed = |v: f64| if v.abs() < EPSILON { 0.0 } else { v };
+    if [a.y_axis.x, a.z_axis.x, a.z_axis.y]
+        .into_iter()
+        .any(|m| zeroed(m) != 0.0)
+    {
+        return false;
+    }
+    let square = DVec3::new(a.x_axis.x, a.y_axis.y, a.z_axis.z).map(zeroed);
+    let mut linear = (b / 2.0).map(zeroed);
+    let mut j = zeroed(c);
+    if linear != DVec3::ZERO {
+        let shift = DVec3::from_array(std::array::from_fn(|k| {
+            if square[k] != 0.0 {
+                -linear[k] / square[k]
+            } else if linear[k] != 0.0 {
+                j / (2.0 * linear[k])
+            } else {
+                0.0
+            }
+        }));
+        linear += square * shift;
+        j -= (shift * (square * shift + 2.0 * linear)).element_sum();
+    }
+    let (square, linear, j) = if square.x < 0.0 {
+        (-square, -linear, -j)
+    } else {
+        (square, linear, j)
+    };
+    let signs = [square.x, square.y, square.z, j].map(|v| v.partial_cmp(&0.0));
+    use std::cmp::Ordering::{Equal as Z, Greater as P, Less as N};
+    // Ellipsoid, cylinders along x, y, z, cones, hyperboloids.
+    const FORMS: [[std::cmp::Ordering; 4]; 10] = [
+        [P, P, P, N],
+        [Z, P, P, N],
+        [P, Z, P, N],
+        [P, P, Z, N],
+        [P, N, N, Z],
+        [P, N, P, Z],
+        [P, P, N, Z],
+        [P, N, N, P],
+        [P, N, P, N],
+        [P, P, N, N],
+    ];
+    let paraboloid = |k: usize| {
+        let (u, v) = ((k + 1) % 3, (k + 2) % 3);
+        square[k] == 0.0 && linear[k] != 0.0 && square[u] * square[v] > 0.0 && j == 0.0
+    };
+    FORMS.iter().any(|f| f.map(Some) == signs) || (0..3).any(paraboloid)
+}
+
 pub(super) fn own_texture(obj: &Obj, inherited: Option<&Texture>) -> Option<Texture> {
     obj.texture.clone().or_else(|| {
         inherited.map(|t| {
@@ -265,8 +336,8 @@ impl Builder<'_> {
         // lets show, so every ray with a hit passes it: the clip's span,
         // found first on every ray, already decides what the gate would.
         // helix.pov's gates were a fifth of its render-loop instructions.
-        if let Some(bound) = obj.bounded_by.first().filter(|_| !obj.bound_is_clip)
-            && let Some(gate) = self.gate(bound, to_world)?
+        if !obj.bound_is_clip
+            && let Some(gate) = self.whole_gate(obj, parent)?
         {
             shape.set_gate(gate);
         }
@@ -277,13 +348,73 @@ impl Builder<'_> {
         Ok(())
     }
 
-    /// The shape of a `bounded_by` object, placed in the world.
-    pub(super) fn gate(&mut self, bound: &Obj, to_world: DAffine3) -> Result<Option<Shape>> {
-        let Some(built) = self.node(bound, to_world, None, Context::world(Box3::cube(WORLD)), 0)?
-        else {
-            return Ok(None);
+    /// The gate of a whole object's `bounded_by`, as POV-Ray draws it in a
+    /// scene of more than one object: the bounds themselves where it keeps
+    /// them (`keeps_bound`), and the box of their boxes where that is
+    /// smaller than the object's own box, since POV-Ray culls the object by
+    /// it (`Intersect_BBox`). The box adds nothing to one kept bound, which
+    /// every ray that meets it meets. (A scene of one object and a light
+    /// POV-Ray draws without the box test: docs/povray.md, "How it maps".)
+    fn whole_gate(&mut self, obj: &Obj, parent: DAffine3) -> Result<Option<Shape>> {
+        let to_world = parent * obj.transform;
+        let kept = keeps_bound(&obj.kind);
+        let bounds = if kept {
+            self.gates(&obj.bounded_by, to_world)?
+        } else {
+            None
         };
-        self.shape(built, bound.loc)
+        let everywhere = Box3::cube(f64::INFINITY);
+        let boxed = obj
+            .bounded_by
+            .iter()
+            .filter(|b| !b.inverse)
+            .map(|b| world_box(b, to_world))
+            .fold(everywhere, |a, b| a.intersection(&b));
+        let volume = |b: &Box3| (b.max - b.min).max(DVec3::ZERO).element_product();
+        let culls = (!kept || obj.bounded_by.len() > 1)
+            && boxed.min.is_finite()
+            && boxed.max.is_finite()
+            && volume(&boxed) < volume(&world_box(obj, parent));
+        let cull = if culls {
+            let cube = Obj::new(
+                Kind::Box {
+                    a: boxed.min,
+                    b: boxed.max,
+                },
+                obj.loc,
+            );
+            self.gates(&[cube], DAffine3::IDENTITY)?
+        } else {
+            None
+        };
+        Ok(match (cull, bounds) {
+            (Some(mut cull), Some(bounds)) => {
+                cull.set_gate(bounds);
+                Some(cull)
+            }
+            (cull, bounds) => cull.or(bounds),
+        })
+    }
+
+    /// The gate of a `bounded_by` list, placed in the world: each object's
+    /// shape gated by the next's, since POV-Ray lets a ray through only if it
+    /// meets every bound (`Ray_In_Bound`). None for an empty list.
+    pub(super) fn gates(&mut self, bounds: &[Obj], to_world: DAffine3) -> Result<Option<Shape>> {
+        let mut chain = None;
+        for bound in bounds.iter().rev() {
+            let Some(built) =
+                self.node(bound, to_world, None, Context::world(Box3::cube(WORLD)), 0)?
+            else {
+                continue;
+            };
+            if let Some(mut gate) = self.shape(built, bound.loc)? {
+                if let Some(next) = chain.take() {
+                    gate.set_gate(next);
+                }
+                chain = Some(gate);
+            }
+        }
+        Ok(chain)
     }
 
     /// The scene shape of a node: a surface alone as it is, anything else

@@ -61,7 +61,7 @@ impl Builder<'_> {
             let Some(child) = self.node(&inner, parent, inherited, context, depth)? else {
                 return Ok(None);
             };
-            return Ok(Some(match self.gate(&obj.bounded_by[0], to_world)? {
+            return Ok(Some(match self.gates(&obj.bounded_by, to_world)? {
                 Some(gate) => Built::Gated {
                     gate: Box::new(gate),
                     child: Box::new(child),

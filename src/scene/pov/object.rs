@@ -179,7 +179,7 @@ pub struct Obj {
 }
 
 impl Obj {
-    fn new(kind: Kind, loc: Loc) -> Obj {
+    pub(super) fn new(kind: Kind, loc: Loc) -> Obj {
         Obj {
             kind,
             transform: DAffine3::IDENTITY,

@@ -1878,3 +1878,51 @@ fn an_object_whose_parts_do_not_overlap_is_left_out_with_a_warning() {
         scene.warnings
     );
 }
+
+/// POV-Ray removes a whole quadric's `bounded_by` only where it boxes the
+/// quadric itself (`Quadric::Compute_BBox`): the axis-aligned forms, once
+/// linear terms are moved into a shift, and nothing with mixed terms.
+#[test]
+fn quadrics_povray_boxes_itself() {
+    use glam::DMat3;
+
+    use super::build::quadric_boxed;
+    let diag = |x: f64, y: f64, z: f64| DMat3::from_diagonal(DVec3::new(x, y, z));
+    // Ellipsoid, moved off the origin by linear terms.
+    assert!(quadric_boxed(
+        diag(1.0, 2.0, 3.0),
+        DVec3::new(0.4, 0.0, -1.0),
+        -1.0
+    ));
+    // Cylinder along y, cone along z, one-sheet hyperboloid along y.
+    assert!(quadric_boxed(diag(1.0, 0.0, 1.0), DVec3::ZERO, -1.0));
+    assert!(quadric_boxed(diag(1.0, 1.0, -1.0), DVec3::ZERO, 0.0));
+    assert!(quadric_boxed(diag(1.0, -1.0, 1.0), DVec3::ZERO, -0.3));
+    // Paraboloid along y: x² + z² − y, written with A < 0 too.
+    assert!(quadric_boxed(
+        diag(1.0, 0.0, 1.0),
+        DVec3::new(0.0, -1.0, 0.0),
+        0.0
+    ));
+    assert!(quadric_boxed(
+        diag(-1.0, 0.0, -1.0),
+        DVec3::new(0.0, 1.0, 0.0),
+        0.0
+    ));
+    // A saddle, a plane, a sphere's empty inside and any mixed term: no box.
+    assert!(!quadric_boxed(
+        diag(1.0, -1.0, 0.0),
+        DVec3::new(0.0, 0.0, -1.0),
+        0.0
+    ));
+    assert!(!quadric_boxed(
+        diag(0.0, 0.0, 0.0),
+        DVec3::new(0.0, 1.0, 0.0),
+        0.0
+    ));
+    assert!(!quadric_boxed(diag(1.0, 1.0, 1.0), DVec3::ZERO, 1.0));
+    let mut mixed = diag(1.0, 1.0, 1.0);
+    mixed.x_axis.y = 0.25;
+    mixed.y_axis.x = 0.25;
+    assert!(!quadric_boxed(mixed, DVec3::ZERO, -1.0));
+}

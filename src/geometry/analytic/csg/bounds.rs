@@ -111,11 +111,17 @@ pub(super) fn node_bounds(node: &Node, leaves: &[Leaf]) -> Option<Box3> {
         // inside shows of its siblings (a box's faces inside a half-space)
         // shows only there.
         Node::Gated { gate, child } => {
-            let b = gate.bounds();
-            let bound = Box3 {
-                min: b.min.as_dvec3(),
-                max: b.max.as_dvec3(),
-            };
+            // Every gate of a chain must be passed: the boxes intersect.
+            let mut bound = Box3::cube(f64::INFINITY);
+            let mut next = Some(gate.as_ref());
+            while let Some(g) = next {
+                let b = g.bounds();
+                bound = bound.intersection(&Box3 {
+                    min: b.min.as_dvec3(),
+                    max: b.max.as_dvec3(),
+                });
+                next = g.gate.as_deref();
+            }
             let volume = |b: &Box3| (b.max - b.min).max(DVec3::ZERO).element_product();
             match node_bounds(child, leaves) {
                 Some(own) if volume(&own) <= volume(&bound) => Some(own),
@@ -125,9 +131,24 @@ pub(super) fn node_bounds(node: &Node, leaves: &[Leaf]) -> Option<Box3> {
     }
 }
 
+/// A child's box as an intersection or difference bounds by it. POV-Ray's
+/// CSG intersection takes a plane's own box (`Compute_Plane_Min_Max`), not
+/// the one its `bounded_by` gave it, though a union takes that one.
+fn overlapped_bounds(child: &Node, leaves: &[Leaf]) -> Option<Box3> {
+    match child {
+        Node::Gated { child: inner, .. } if matches!(**inner, Node::Leaf(i) if matches!(leaves[i as usize].part, Part::Plane { .. })) => {
+            node_bounds(inner, leaves)
+        }
+        _ => node_bounds(child, leaves),
+    }
+}
+
 /// The box of an operation over `children`, as if it were not inverted.
 fn op_bounds(op: Op, children: &[Node], leaves: &[Leaf]) -> Option<Box3> {
-    let mut boxes = children.iter().map(|c| node_bounds(c, leaves));
+    let mut boxes = children.iter().map(|c| match op {
+        Op::Union | Op::Merge => node_bounds(c, leaves),
+        _ => overlapped_bounds(c, leaves),
+    });
     match op {
         Op::Union | Op::Merge => boxes.try_fold(None, |acc: Option<Box3>, b| {
             let b = b?;
