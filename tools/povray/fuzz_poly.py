@@ -25,19 +25,16 @@ wrong are counted apart, as are those the count leaves open (a root within
 
 from __future__ import annotations
 
-import argparse
 import math
 import random
-import subprocess
 import sys
-import tempfile
 from pathlib import Path
 
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from compare import ExactSurfaces  # noqa: E402
-from pngio import read_png  # noqa: E402
+from fuzz_csg import arguments, draw_both, run_seeds  # noqa: E402
 
 HEADER = """#version 3.7;
 global_settings {{ assumed_gamma 1.0 }}
@@ -202,26 +199,12 @@ def scene(seed: int) -> tuple[str, str, ExactSurfaces]:
     return kind, text, exact
 
 
-def hits(png: Path):
-    return read_png(png)[..., :3].max(axis=2) > 40
-
-
 def compare(seed: int, args, work: Path) -> tuple[str, bool]:
     kind, text, exact = scene(seed)
-    pov = work / f"s{seed}.pov"
-    pov.write_text(text)
-    size = [str(args.width), str(args.height)]
-    runs = [
-        ["povray", f"+I{pov.name}", f"+Op{seed}.png", f"+W{size[0]}", f"+H{size[1]}", "-A", "+WT1", "-D", "-GA"],
-        [str(args.sturmray.resolve()), "render", pov.name, "--width", size[0], "--height", size[1], "--spp", "1",
-         "--threads", "1", "-o", f"s{seed}.exr"],
-    ]
-    for name, command in zip(("POV-Ray", "sturmray"), runs):
-        done = subprocess.run(command, cwd=work, capture_output=True, text=True, timeout=600)
-        if done.returncode != 0:
-            tail = done.stderr.strip().splitlines()[-1:] or ["no message"]
-            return f"{seed} ({kind}): {name} failed (exit {done.returncode}): {tail[0]}", False
-    theirs, ours = hits(work / f"p{seed}.png"), hits(work / f"s{seed}.png")
+    drawn = draw_both(seed, text, args, work)
+    if isinstance(drawn, str):
+        return f"{seed} ({kind}): {drawn}", False
+    theirs, ours = drawn
     disputed = [(int(x), int(y)) for y, x in zip(*np.nonzero(theirs != ours))]
     # The exact count takes up to a second a pixel at degree 8 and up: past
     # --settle pixels, an even sample of them is settled.
@@ -244,27 +227,11 @@ def compare(seed: int, args, work: Path) -> tuple[str, bool]:
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--sturmray", type=Path, required=True, help="the sturmray binary")
-    parser.add_argument("--seeds", default="0:100", help="FIRST:END, the seeds to draw (default 0:100)")
-    parser.add_argument("--width", type=int, default=80)
-    parser.add_argument("--height", type=int, default=60)
+    parser = arguments(__doc__)
     parser.add_argument("--settle", type=int, default=300, help="most disputed pixels a seed settles exactly")
-    parser.add_argument("--keep", type=Path, help="keep the scenes and renders in this folder")
-    args = parser.parse_args(argv)
-    first, end = (int(x) for x in args.seeds.split(":"))
-    with tempfile.TemporaryDirectory() as tmp:
-        work = args.keep or Path(tmp)
-        work.mkdir(parents=True, exist_ok=True)
-        failed = []
-        for seed in range(first, end):
-            line, passed = compare(seed, args, work)
-            print(line if passed else f"{line}  <- sturmray wrong", flush=True)
-            if not passed:
-                failed.append(seed)
-    print(f"{end - first - len(failed)} of {end - first} seeds with sturmray right on every settled pixel; "
-          f"wrong: {failed}")
-    return 1 if failed else 0
+    return run_seeds(
+        parser.parse_args(argv), compare, "sturmray wrong", "with sturmray right on every settled pixel"
+    )
 
 
 if __name__ == "__main__":
