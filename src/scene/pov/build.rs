@@ -136,8 +136,6 @@ pub(super) fn scene(
     Ok(scene)
 }
 
-/// The texture `obj` is drawn with, in its own space: its own, or the one
-/// it inherits from its parent (given in the parent's space).
 /// Whether POV-Ray keeps a whole object's `bounded_by`: its parser removes
 /// the bound of every object but CSG, `poly` (with `cubic` and `quartic`),
 /// text and a quadric whose box it cannot work out, as unnecessary
@@ -208,6 +206,8 @@ pub(super) fn quadric_boxed(a: DMat3, b: DVec3, c: f64) -> bool {
     FORMS.iter().any(|f| f.map(Some) == signs) || (0..3).any(paraboloid)
 }
 
+/// The texture `obj` is drawn with, in its own space: its own, or the one
+/// it inherits from its parent (given in the parent's space).
 pub(super) fn own_texture(obj: &Obj, inherited: Option<&Texture>) -> Option<Texture> {
     obj.texture.clone().or_else(|| {
         inherited.map(|t| {
