@@ -271,13 +271,15 @@ impl Solver {
         };
         let degree = negligible_above(p, lo.abs().max(hi.abs()), f64::EPSILON);
         let counted = p.truncated(degree);
-        // Quartics (tori) first by their curvature pieces, which prove
-        // queries in fewer instructions than the Bernstein pass (issue 17
-        // in docs/accuracy.md); the Bernstein pass takes what they leave.
-        if degree == 4 {
+        // Quartics (tori) and cubics first by their curvature pieces, which
+        // prove queries in fewer instructions than the Bernstein pass
+        // (issue 17 in docs/accuracy.md); the Bernstein pass takes what
+        // they leave. A cubic is padded with a zero quartic term.
+        if degree == 3 || degree == 4 {
             // sturm-newton's nearest walks to the root (Quartic::march);
             // the other methods refine the bracket by their own steps.
             let c = counted.coeffs();
+            let c = [c[0], c[1], c[2], c[3], c.get(4).copied().unwrap_or(0.0)];
             let proven = if question == Question::Nearest && self.method == Method::SturmNewton {
                 monotone::screen::<true>(c, lo, hi, self.tolerance)
             } else {

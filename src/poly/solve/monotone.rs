@@ -79,7 +79,8 @@ enum Extremum {
 }
 
 /// The first pass over (lo, hi) (finite, clipped to the root bound) for
-/// the quartic with coefficients `p` (lowest first, p[4] != 0): `Nearest`
+/// the quartic with coefficients `p` (lowest first, p[4] != 0), or the
+/// cubic with p[4] = 0 and p[3] != 0: `Nearest`
 /// with a bracket of the nearest root and of no other, `Empty`, or
 /// `Unsure`. With `WALK` (for `nearest` by sturm-newton) a piece that may
 /// hold the nearest root is first walked by [`Quartic::march`], whose
@@ -92,12 +93,17 @@ enum Extremum {
 /// times |q'''|, so q departs from the curvature assumed there by less than
 /// the square of that offset times q''''s size: far below the rounding
 /// bound that every proven value of q must clear.
-pub(super) fn screen<const WALK: bool>(p: &[f64], lo: f64, hi: f64, tolerance: f64) -> Screen {
-    let [c0, c1, c2, c3, c4] = [p[0], p[1], p[2], p[3], p[4]];
+///
+/// A cubic's q'' is linear: its one root is the stable formula's c/q, and
+/// the other, s / 0, is infinite and so outside (lo, hi). Its padded zero
+/// adds nothing to Horner's values and only widens their bounds.
+pub(super) fn screen<const WALK: bool>(p: [f64; 5], lo: f64, hi: f64, tolerance: f64) -> Screen {
+    let [c0, c1, c2, c3, c4] = p;
     let quartic = Quartic {
         q: Bounded::new([c0, c1, c2, c3, c4]),
         g: Bounded::new([c1, 2.0 * c2, 3.0 * c3, 4.0 * c4]),
         h: [2.0 * c2, 6.0 * c3, 12.0 * c4],
+        degree: if c4 == 0.0 { 3.0 } else { 4.0 },
     };
     let h = quartic.h;
     let disc = h[1] * h[1] - 4.0 * h[2] * h[0];
@@ -188,11 +194,13 @@ fn nearest(a: (f64, f64), b: (f64, f64), start: Option<f64>) -> Screen {
     }
 }
 
-/// A quartic q with q' and q'' for the pass.
+/// A quartic or cubic q with q' and q'' for the pass, and its degree
+/// (for Laguerre's step).
 struct Quartic {
     q: Bounded<5>,
     g: Bounded<4>,
     h: [f64; 3],
+    degree: f64,
 }
 
 /// q, q' and q'' at x, with the rounding bounds of q and q'.
@@ -247,7 +255,7 @@ impl Quartic {
         let mut past = None;
         if descending(&a) {
             for _ in 0..MAX_STEPS {
-                let y = a.x - laguerre(&a);
+                let y = a.x - laguerre(&a, self.degree);
                 if !inside(y, a.x) {
                     break;
                 }
@@ -295,22 +303,22 @@ struct Stop {
     past: Option<(f64, f64, f64)>,
 }
 
-/// The Laguerre step at a point of a quartic (the root estimate is x less
-/// this): G = q'/q, H = G^2 - q''/q, step 4 / (G ± sqrt(3 (4H - G^2))),
-/// the square root's sign that of G. A negative radicand (complex roots
+/// The Laguerre step at a point of a polynomial of degree n (the root
+/// estimate is x less this): G = q'/q, H = G^2 - q''/q, step
+/// n / (G ± sqrt((n - 1) (nH - G^2))), the square root's sign that of G. A negative radicand (complex roots
 /// nearby) gives twice Newton's step instead: Newton's alone crawls where
 /// four roots lie ahead, and the radicand taken as zero (four times
 /// Newton's) mostly lands past the extremum, where the walk must stop.
 /// On the bench's torus rays (`cargo bench --bench poly`), per `nearest`
 /// call: 1,514 instructions with twice, 1,630 with once, 1,527 with four
 /// times Newton's step.
-fn laguerre(p: &Probe) -> f64 {
+fn laguerre(p: &Probe, n: f64) -> f64 {
     let inv = 1.0 / p.q;
     let big_g = p.g * inv;
     let big_h = big_g * big_g - p.h * inv;
-    let radicand = 3.0 * (4.0 * big_h - big_g * big_g);
+    let radicand = (n - 1.0) * (n * big_h - big_g * big_g);
     if radicand >= 0.0 {
-        4.0 / (big_g + radicand.sqrt().copysign(big_g))
+        n / (big_g + radicand.sqrt().copysign(big_g))
     } else {
         2.0 * p.q / p.g
     }
@@ -396,11 +404,11 @@ mod tests {
     use crate::poly::exact::exact_count;
     use proptest::prelude::*;
 
-    /// A quartic's coefficients (lowest first) from real roots, clusters,
-    /// tangent pairs and complex pairs close to the axis (grazes), with an
-    /// interval (a, b).
+    /// A quartic's or cubic's coefficients (lowest first) from real roots, clusters, tangent pairs and complex pairs close to
+    /// the axis (grazes), with an interval (a, b).
     fn quartic_and_interval() -> impl Strategy<Value = (Vec<f64>, f64, f64)> {
         (
+            3..=4usize,
             prop::collection::vec(root_near(), 4),
             prop::collection::vec(
                 (
@@ -413,20 +421,26 @@ mod tests {
             -1.0..20.0f64,
             prop_oneof![0.01..1.0f64, 1.0..100.0f64],
         )
-            .prop_map(|(real, pairs, lead, a, len)| {
-                let c = product(lead, &real[..4 - 2 * pairs.len()], &pairs);
+            .prop_map(|(degree, real, pairs, lead, a, len)| {
+                let pairs = &pairs[..pairs.len().min(degree / 2)];
+                let c = product(lead, &real[..degree - 2 * pairs.len()], pairs);
                 (c, a, a + len)
             })
+    }
+
+    /// Coefficients (lowest first, degree 3 or 4) as the pass takes them.
+    fn padded(c: &[f64]) -> [f64; 5] {
+        std::array::from_fn(|i| c.get(i).copied().unwrap_or(0.0))
     }
 
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(2000))]
 
         // Every Empty and Nearest answer is checked against the exact Sturm
-        // count of the quartic whose coefficients are the f64 ones.
+        // count of the quartic or cubic whose coefficients are the f64 ones.
         #[test]
         fn what_it_proves_is_true((c, a, b) in quartic_and_interval()) {
-            match screen::<false>(&c, a, b, 0.0) {
+            match screen::<false>(padded(&c), a, b, 0.0) {
                 Screen::Empty => prop_assert_eq!(open_count(&c, a, b), 0, "empty, but roots"),
                 Screen::Nearest { lo, hi, flo, fhi, .. } => {
                     prop_assert!(a <= lo && lo < hi && hi <= b, "[{lo}, {hi}] outside");
@@ -439,7 +453,7 @@ mod tests {
             }
         }
 
-        // The walk (sturm-newton's `nearest`) on the same quartics: its
+        // The walk (sturm-newton's `nearest`) on the same polynomials: its
         // bracket ends in plain signs, so the check allows the tolerance
         // plus what rounding allows where the walk trusted them (Horner's
         // bound over |q'|, as `agrees_with_the_chain` in the solver's
@@ -448,13 +462,14 @@ mod tests {
         #[test]
         fn what_the_walk_proves_is_true((c, a, b) in quartic_and_interval()) {
             let tolerance = 1e-12;
-            match screen::<true>(&c, a, b, tolerance) {
+            match screen::<true>(padded(&c), a, b, tolerance) {
                 Screen::Empty => prop_assert_eq!(open_count(&c, a, b), 0, "empty, but roots"),
                 Screen::Nearest { lo, hi, flo, fhi, .. } => {
                     prop_assert!(a <= lo && lo < hi && hi <= b, "[{lo}, {hi}] outside");
                     prop_assert!(opposite(flo, fhi));
-                    let q = Bounded::new([c[0], c[1], c[2], c[3], c[4]]);
-                    let g = Bounded::new([c[1], 2.0 * c[2], 3.0 * c[3], 4.0 * c[4]]);
+                    let [c0, c1, c2, c3, c4] = padded(&c);
+                    let q = Bounded::new([c0, c1, c2, c3, c4]);
+                    let g = Bounded::new([c1, 2.0 * c2, 3.0 * c3, 4.0 * c4]);
                     let slope = g.eval(lo).0.abs().min(g.eval(hi).0.abs());
                     let allowed = tolerance * lo.abs().max(1.0) + 5.0 * q.eval(lo).1 / slope;
                     let (near, far) = ((lo - allowed).max(a), (hi + allowed).min(b));
@@ -479,7 +494,7 @@ mod tests {
         let a = 4.884799338579024;
         let Screen::Nearest {
             lo, hi, flo, fhi, ..
-        } = screen::<true>(&c, a, a + 55.6, 1e-12)
+        } = screen::<true>(padded(&c), a, a + 55.6, 1e-12)
         else {
             panic!("not bracketed");
         };
@@ -494,17 +509,17 @@ mod tests {
     fn what_it_cannot_prove_is_left_to_the_chain() {
         // A double root at 1 (a tangent ray).
         let c = product(1.0, &[1.0, 1.0, 3.0, 4.0], &[]);
-        assert_eq!(screen::<false>(&c, 0.0, 10.0, 0.0), Screen::Unsure);
+        assert_eq!(screen::<false>(padded(&c), 0.0, 10.0, 0.0), Screen::Unsure);
         // A root at the interval's start.
         let c = product(1.0, &[0.0, 1.5, 3.0, 4.0], &[]);
-        assert_eq!(screen::<false>(&c, 0.0, 10.0, 0.0), Screen::Unsure);
+        assert_eq!(screen::<false>(padded(&c), 0.0, 10.0, 0.0), Screen::Unsure);
         // A complex pair 1e-13 off the axis: no real root there, but the
         // tangent cannot tell it from a double root.
         let c = product(1.0, &[3.0, 4.0], &[(1.0, 1e-13)]);
-        assert_eq!(screen::<false>(&c, 0.0, 10.0, 0.0), Screen::Unsure);
+        assert_eq!(screen::<false>(padded(&c), 0.0, 10.0, 0.0), Screen::Unsure);
         // q'' with a double root: (t - 1)^4 + t has q'' = 12 (t - 1)^2.
         assert_eq!(
-            screen::<false>(&[2.0, -3.0, 6.0, -4.0, 1.0], -5.0, 5.0, 0.0),
+            screen::<false>([2.0, -3.0, 6.0, -4.0, 1.0], -5.0, 5.0, 0.0),
             Screen::Unsure
         );
     }
@@ -514,20 +529,20 @@ mod tests {
         // A complex pair 1e-4 off the axis before two real roots: the
         // extremum is proven above zero, and the root at 3 is the nearest.
         let c = product(1.0, &[3.0, 4.0], &[(1.0, 1e-4)]);
-        let Screen::Nearest { lo, hi, .. } = screen::<false>(&c, 0.0, 10.0, 0.0) else {
+        let Screen::Nearest { lo, hi, .. } = screen::<false>(padded(&c), 0.0, 10.0, 0.0) else {
             panic!("not proven");
         };
         assert!(lo < 3.0 && 3.0 < hi && hi < 4.0, "[{lo}, {hi}]");
         // Two real roots 1e-4 apart: a point between them is proven below
         // zero, and brackets the first.
         let c = product(1.0, &[1.0, 1.0001, 3.0, 4.0], &[]);
-        let Screen::Nearest { lo, hi, .. } = screen::<false>(&c, 0.0, 10.0, 0.0) else {
+        let Screen::Nearest { lo, hi, .. } = screen::<false>(padded(&c), 0.0, 10.0, 0.0) else {
             panic!("not proven");
         };
         assert!(lo < 1.0 && 1.0 < hi && hi < 1.0001, "[{lo}, {hi}]");
         // No real root at all.
         let c = product(1.0, &[], &[(1.0, 1e-3), (3.0, 0.5)]);
-        assert_eq!(screen::<false>(&c, 0.0, 10.0, 0.0), Screen::Empty);
+        assert_eq!(screen::<false>(padded(&c), 0.0, 10.0, 0.0), Screen::Empty);
         // A ray at a torus 30 units away, searched up to Cauchy's bound
         // (1.8e7): Newton towards the minimum starts from the near end,
         // not the far one, and proves the first root within its steps.
@@ -538,7 +553,7 @@ mod tests {
             -0.22902205699660633,
             0.001953125000000001,
         ];
-        let Screen::Nearest { lo, hi, .. } = screen::<false>(&c, 0.0, 1.8e7, 0.0) else {
+        let Screen::Nearest { lo, hi, .. } = screen::<false>(padded(&c), 0.0, 1.8e7, 0.0) else {
             panic!("not proven");
         };
         assert!(lo < 31.503 && 31.504 < hi && hi < 36.44, "[{lo}, {hi}]");
