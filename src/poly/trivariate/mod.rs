@@ -247,7 +247,8 @@ impl Trivariate {
         // MAX_DEGREE + 1 slots cost a quartic more than some of its
         // arithmetic. The operations, and so the bits, are the same.
         match self.degree {
-            0..QUARTIC_SLOTS => self.substitute_quartic(o, d, out),
+            3 => self.substitute_quartic::<4>(o, d, out),
+            0..QUARTIC_SLOTS => self.substitute_quartic::<QUARTIC_SLOTS>(o, d, out),
             QUARTIC_SLOTS..SMALL_SLOTS => self.substitute_in::<SMALL_SLOTS>(o, d, out),
             _ => self.substitute_in::<SIDE>(o, d, out),
         }
@@ -306,23 +307,34 @@ impl Trivariate {
     /// their instructions on loop bookkeeping at this size: torus.pov's
     /// 10-term quartic took about 1,550 instructions a ray that way
     /// (`valgrind --tool=callgrind`). The same algebra, rounded differently.
-    fn substitute_quartic(&self, o: [f64; 3], d: [f64; 3], out: &mut [f64]) -> usize {
+    /// `N` > degree, at most 5. The slots below N take the same operations
+    /// in the same order at any N, so a cubic's four slots give the same
+    /// bits as five for less work: POV-Ray's tcubic, witch, folium and
+    /// monkey took 2.5-2.7% fewer render-loop instructions. (Three slots
+    /// for degree 2 as well put the three instances in one function and
+    /// cost torus.pov's quartics 4% more in `substitute_ray`.)
+    fn substitute_quartic<const N: usize>(
+        &self,
+        o: [f64; 3],
+        d: [f64; 3],
+        out: &mut [f64],
+    ) -> usize {
         let n = self.degree + 1;
         assert!(
             out.len() >= n,
             "substitute_ray needs {n} output coefficients, got {}",
             out.len()
         );
-        let [x, y, z] = std::array::from_fn(|axis| linear_powers(o[axis], d[axis]));
+        let [x, y, z] = std::array::from_fn(|axis| linear_powers::<N>(o[axis], d[axis]));
         let terms = self.terms.as_slice();
-        let mut q = [0.0; QUARTIC_SLOTS];
+        let mut q = [0.0; N];
         let mut i = 0;
         while i < terms.len() {
             let a = terms[i].0[0];
-            let mut t = [0.0; QUARTIC_SLOTS];
+            let mut t = [0.0; N];
             while i < terms.len() && terms[i].0[0] == a {
                 let b = terms[i].0[1];
-                let mut s = [0.0; QUARTIC_SLOTS];
+                let mut s = [0.0; N];
                 while i < terms.len() && terms[i].0[0] == a && terms[i].0[1] == b {
                     let ([_, _, c], f) = terms[i];
                     for (sk, zk) in s.iter_mut().zip(&z[usize::from(c)]) {
@@ -516,20 +528,20 @@ fn powers<const N: usize>(v: f64, n: usize) -> [f64; N] {
     p
 }
 
-/// (o + d t)^e for e = 0..=4, each as its five coefficients in t (zero
-/// above t^e).
+/// (o + d t)^e for e < N, each as its N coefficients in t (zero above
+/// t^e).
 ///
-/// Row e is filled only up to t^e, where the full loop over five slots
+/// Row e is filled only up to t^e, where the full loop over all N slots
 /// added products with the zeros above it: a sum that gains a zero product
 /// is unchanged, so the entries are the same bits (only a zero's sign
 /// could differ), and `substitute_ray` takes 6% fewer instructions on
 /// POV-Ray's bicube.pov (`valgrind --tool=callgrind`). Skipping the zero
 /// products of the convolutions as well, by a branch on each exponent,
 /// cost more than it saved.
-fn linear_powers(o: f64, d: f64) -> [[f64; QUARTIC_SLOTS]; QUARTIC_SLOTS] {
-    let mut p = [[0.0; QUARTIC_SLOTS]; QUARTIC_SLOTS];
+fn linear_powers<const N: usize>(o: f64, d: f64) -> [[f64; N]; N] {
+    let mut p = [[0.0; N]; N];
     p[0][0] = 1.0;
-    for e in 1..QUARTIC_SLOTS {
+    for e in 1..N {
         let previous = p[e - 1];
         p[e][0] = previous[0] * o;
         for k in 1..e {
@@ -541,15 +553,10 @@ fn linear_powers(o: f64, d: f64) -> [[f64; QUARTIC_SLOTS]; QUARTIC_SLOTS] {
 }
 
 /// acc += u·(o + d t)^e, with `powers` the table of (o + d t)^e,
-/// truncated to five coefficients: the callers' products have degree at
-/// most 4, so nothing is lost. The zeroth power is 1: no product.
+/// truncated to N coefficients: the callers' products have degree at
+/// most N - 1, so nothing is lost. The zeroth power is 1: no product.
 #[inline]
-fn add_product(
-    acc: &mut [f64; QUARTIC_SLOTS],
-    u: &[f64; QUARTIC_SLOTS],
-    powers: &[[f64; QUARTIC_SLOTS]; QUARTIC_SLOTS],
-    e: u8,
-) {
+fn add_product<const N: usize>(acc: &mut [f64; N], u: &[f64; N], powers: &[[f64; N]; N], e: u8) {
     if e == 0 {
         for (a, u) in acc.iter_mut().zip(u) {
             *a += u;
@@ -557,7 +564,7 @@ fn add_product(
         return;
     }
     let v = &powers[usize::from(e)];
-    for m in 0..QUARTIC_SLOTS {
+    for m in 0..N {
         for k in 0..=m {
             acc[m] += u[k] * v[m - k];
         }
