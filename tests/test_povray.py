@@ -470,7 +470,14 @@ background { color rgb 0 }
 # light, as POV-Ray draws one object and a light without its box test). A plane's
 # bound in an intersection gates the plane but does not bound the
 # intersection, which takes the plane's own box (`CSG::Compute_BBox`).
+# Transforms after a bound's or clip's objects move them all, and a second
+# block adds its objects to the first's (`Parse_Bound_Clip`).
 IDIOMS = {
+    "bound_clip_blocks": "sphere { 0, 1.5 texture { T } clipped_by { plane { y, 0.3 } rotate 60*z }"
+    " clipped_by { plane { z, 0.4 } } rotate 30*y }\n"
+    "intersection { sphere { 0, 1 } sphere { <0.3, 0, 0>, 1 } texture { T }"
+    " bounded_by { box { -1, 1 } translate <0.8, 0.6, 0> } bounded_by { sphere { 0, 1 } scale <1, 0.6, 1> }"
+    " translate <3, 1, 0> }",
     "bounds_all": "plane { y, 0 texture { T } bounded_by { sphere { <-1, 0, 0>, 2 } sphere { <1, 0, 1>, 2 } } }\n"
     "intersection { sphere { 0, 1.5 } sphere { <0.6, 0, 0>, 1.5 } texture { T } bounded_by { sphere { <-1, 0, 0>, 1.6 }"
     " box { <-0.8, -2, -2>, <2, 0.6, 2> } } translate <0, 1.6, 1> }",

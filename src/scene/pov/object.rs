@@ -666,52 +666,7 @@ impl Parser {
                         self.skip_warning(loc, &word, "ignored: the object is seen everywhere");
                     }
                 }
-                "bounded_by" | "clipped_by" => {
-                    self.expect('{')?;
-                    let mut list = Vec::new();
-                    let mut copied = None;
-                    if self.eat_word("clipped_by")? {
-                        copied = Some("clipped_by");
-                        list = obj
-                            .clipped_by
-                            .iter()
-                            .map(|c| placed(c, obj.transform))
-                            .collect();
-                    } else if self.eat_word("bounded_by")? {
-                        copied = Some("bounded_by");
-                        list = obj
-                            .bounded_by
-                            .iter()
-                            .map(|c| placed(c, obj.transform))
-                            .collect();
-                    } else {
-                        while self.peek()? != Some(Tok::Punct('}')) {
-                            if let Some(o) = self.object_statement()? {
-                                list.push(o);
-                            }
-                        }
-                    }
-                    self.expect('}')?;
-                    let local = obj.local();
-                    let list: Vec<Obj> = list
-                        .into_iter()
-                        .map(|mut o| {
-                            o.apply(local);
-                            o
-                        })
-                        .collect();
-                    // A list copied onto itself changes nothing; one copied
-                    // from the other (when that is not empty) makes the two
-                    // the same objects; any other list ends that.
-                    if copied != Some(word.as_str()) {
-                        obj.bound_is_clip = copied.is_some() && !list.is_empty();
-                    }
-                    if word == "bounded_by" {
-                        obj.bounded_by = list;
-                    } else {
-                        obj.clipped_by = list;
-                    }
-                }
+                "bounded_by" | "clipped_by" => self.bound_or_clip(obj, &word, loc)?,
                 "photons" | "radiosity" | "normal" => {
                     self.skip_warning(loc, &word, "skipped");
                     self.skip_block()?;
@@ -722,6 +677,108 @@ impl Parser {
                 other => self.unknown_item(loc, other, "object")?,
             }
         }
+    }
+}
+
+impl Parser {
+    /// A `bounded_by` or `clipped_by` block (after the keyword), as POV-Ray
+    /// 3.7 reads it (`Parse_Object_Mods`, `Parse_Bound_Clip`): objects, then
+    /// transforms that move all of them; a second block adds its objects
+    /// to the first's; `bounded_by { clipped_by }` (or the reverse) makes
+    /// the two lists the same objects, which POV-Ray refuses where the list
+    /// already has objects, and after which it adds to neither.
+    fn bound_or_clip(&mut self, obj: &mut Obj, word: &str, loc: Loc) -> Result<()> {
+        self.expect('{')?;
+        let bounds = word == "bounded_by";
+        let other = if bounds { "clipped_by" } else { "bounded_by" };
+        let (mine, theirs) = if bounds {
+            (&obj.bounded_by, &obj.clipped_by)
+        } else {
+            (&obj.clipped_by, &obj.bounded_by)
+        };
+        if self.eat_word(word)? {
+            // A list copied onto itself changes nothing.
+            return self.expect('}');
+        }
+        let linked = if self.eat_word(other)? {
+            if !mine.is_empty() {
+                return Err(self.error_at(
+                    loc,
+                    format!(
+                        "`{word} {{ {other} }}` after `{word}` objects: POV-Ray refuses this too"
+                    ),
+                ));
+            }
+            self.expect('}')?;
+            // The other list, given in the object's own space, placed in
+            // its parent's as the statements of a block are.
+            let list: Vec<Obj> = theirs.iter().map(|c| placed(c, obj.transform)).collect();
+            Some(list)
+        } else {
+            if obj.bound_is_clip && !mine.is_empty() {
+                return Err(self.error_at(
+                    loc,
+                    format!(
+                        "`{word}` objects after `bounded_by {{ clipped_by }}` (or the reverse) linked the two: POV-Ray refuses this too"
+                    ),
+                ));
+            }
+            None
+        };
+        let was_linked = linked.is_some();
+        let (list, transform) = match linked {
+            Some(list) => (list, DAffine3::IDENTITY),
+            None => self.bound_clip_objects()?,
+        };
+        let local = obj.local();
+        let list = list.into_iter().map(|mut o| {
+            o.apply(local * transform);
+            o
+        });
+        if was_linked {
+            let list: Vec<Obj> = list.collect();
+            obj.bound_is_clip = !list.is_empty();
+            *(if bounds {
+                &mut obj.bounded_by
+            } else {
+                &mut obj.clipped_by
+            }) = list;
+        } else {
+            obj.bound_is_clip = false;
+            (if bounds {
+                &mut obj.bounded_by
+            } else {
+                &mut obj.clipped_by
+            })
+            .extend(list);
+        }
+        Ok(())
+    }
+
+    /// The objects of a `bounded_by` or `clipped_by` block and the
+    /// transforms after them (which move them all), up to its `}`.
+    fn bound_clip_objects(&mut self) -> Result<(Vec<Obj>, DAffine3)> {
+        let mut list = Vec::new();
+        let mut transform = DAffine3::IDENTITY;
+        let is_transform = |w: Option<&str>| {
+            matches!(
+                w,
+                Some("translate" | "rotate" | "scale" | "matrix" | "transform")
+            )
+        };
+        while self.peek()? != Some(Tok::Punct('}')) && !is_transform(self.peek_word()?.as_deref()) {
+            if let Some(o) = self.object_statement()? {
+                list.push(o);
+            }
+        }
+        while let Some(w) = self.peek_word()? {
+            match self.transform_item(&w)? {
+                Some(t) => transform = t * transform,
+                None => break,
+            }
+        }
+        self.expect('}')?;
+        Ok((list, transform))
     }
 }
 

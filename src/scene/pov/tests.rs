@@ -1773,17 +1773,75 @@ fn a_declared_objects_name_alone_is_the_object() {
             [0.0, -3.0, 0.0]
         ]
     );
-    // A bound left open takes the next words as objects: they are not.
+    // A bound left open takes the next words as objects (or transforms of
+    // its objects): they are not.
     let err = load(&format!(
-        "{VIEW}sphere {{ 0, 1\n  bounded_by {{ sphere {{ 0, 2 }}\n  rotate x }}\n"
+        "{VIEW}sphere {{ 0, 1\n  bounded_by {{ sphere {{ 0, 2 }}\n  pigment {{ rgb 1 }} }}\n"
     ))
     .unwrap_err();
     assert!(err.is_bad_input());
     assert!(
         err.to_string()
-            .contains("t.pov:4:3: expected an object, found `rotate`"),
+            .contains("t.pov:4:3: expected an object, found `pigment`"),
         "{err}"
     );
+}
+
+/// `bounded_by` and `clipped_by` blocks as POV-Ray 3.7 reads them
+/// (`Parse_Bound_Clip`): transforms after a block's objects move them all,
+/// and a second block adds its objects to the first's. Linking the two
+/// lists where one already has objects is an error, as in POV-Ray.
+#[test]
+fn bound_and_clip_blocks_add_up_and_take_transforms() {
+    let along_z = |scene: &Scene, x: f64, y: f64| {
+        first_hit(scene, DVec3::new(x, y, -5.0), DVec3::Z).is_some()
+    };
+    // Kept where y < 0 and x < 0: the first block's plane turned a
+    // quarter to face -x, then y < 0 from the second block.
+    let clipped = load(&format!(
+        "{VIEW}sphere {{ 0, 1 clipped_by {{ plane {{ y, 0 }} rotate 90*z }}\n\
+         clipped_by {{ plane {{ y, 0 }} }} }}"
+    ))
+    .unwrap();
+    let seen: Vec<bool> = [(-0.5, -0.5), (0.5, -0.5), (-0.5, 0.5), (0.5, 0.5)]
+        .iter()
+        .map(|&(x, y)| along_z(&clipped, x, y))
+        .collect();
+    assert_eq!(
+        seen,
+        [false, true, false, false],
+        "rotate 90*z turns y to -x"
+    );
+    // Two bounds of a CSG object: a ray must meet both. The first, moved
+    // by its block, covers x > 0.2; the second y < 0.2.
+    let bounded = load(&format!(
+        "{VIEW}intersection {{ sphere {{ 0, 1 }} sphere {{ 0, 1.2 }}\n\
+         bounded_by {{ box {{ <-1, -2, -2>, <1, 2, 2> }} translate 1.2*x }}\n\
+         bounded_by {{ box {{ <-2, -2, -2>, <2, 0.2, 2> }} }} }}"
+    ))
+    .unwrap();
+    let seen: Vec<bool> = [(0.5, -0.5), (0.5, 0.5), (-0.5, -0.5), (0.0, 0.0)]
+        .iter()
+        .map(|&(x, y)| along_z(&bounded, x, y))
+        .collect();
+    assert_eq!(seen, [true, false, false, false]);
+    // Linked lists cannot grow, and a list with objects cannot be linked.
+    for (mods, message) in [
+        (
+            "clipped_by { plane { y, 0 } } bounded_by { clipped_by } bounded_by { box { -1, 1 } }",
+            "`bounded_by` objects after `bounded_by { clipped_by }`",
+        ),
+        (
+            "bounded_by { box { -2, 2 } } clipped_by { plane { y, 0 } } bounded_by { clipped_by }",
+            "`bounded_by { clipped_by }` after `bounded_by` objects",
+        ),
+    ] {
+        let err = load(&format!("{VIEW}sphere {{ 0, 1 {mods} }}")).unwrap_err();
+        assert!(
+            err.is_bad_input() && err.to_string().contains(message),
+            "{err}"
+        );
+    }
 }
 
 /// A loop that wraps an object in itself on every pass, and never ends,
