@@ -471,8 +471,18 @@ background { color rgb 0 }
 # bound in an intersection gates the plane but does not bound the
 # intersection, which takes the plane's own box (`CSG::Compute_BBox`).
 # Transforms after a bound's or clip's objects move them all, and a second
-# block adds its objects to the first's (`Parse_Bound_Clip`).
+# block adds its objects to the first's (`Parse_Bound_Clip`). A bound no ray
+# can pass (boxes apart, an empty intersection) leaves nothing of the object;
+# but with fewer than three objects in the scene, lights counted (Debian's
+# `Bounding_Threshold = 3`), POV-Ray culls by no box, so a removed bound's
+# box cuts nothing there (the header's light and one sphere).
 IDIOMS = {
+    "bound_boxes_apart": "sphere { 0, 1.5 texture { T } bounded_by { box { <-2, -2, -2>, <-0.5, 2, 2> }"
+    " box { <0.5, -2, -2>, <2, 2, 2> } } }\n"
+    "intersection { sphere { 0, 1 } sphere { 0.5*x, 1 } texture { T } bounded_by { intersection {"
+    " sphere { -2*x, 1 } sphere { 2*x, 1 } } } translate <-2, 1, 0> }\n"
+    "sphere { <2, 1.5, 0>, 0.5 texture { T } }",
+    "bound_box_below_threshold": "sphere { 0, 1.5 texture { T } bounded_by { box { <-2, -2, -2>, <-0.5, 2, 2> } } }",
     "bound_clip_blocks": "sphere { 0, 1.5 texture { T } clipped_by { plane { y, 0.3 } rotate 60*z }"
     " clipped_by { plane { z, 0.4 } } rotate 30*y }\n"
     "intersection { sphere { 0, 1 } sphere { <0.3, 0, 0>, 1 } texture { T }"

@@ -68,6 +68,38 @@ pub(super) struct Builder<'a> {
     pub(super) solver: Solver,
     /// `global_settings { ambient_light }`, as a grey.
     ambient: f32,
+    /// Whether POV-Ray culls objects by their boxes in this scene: only
+    /// with [`BOUNDING_THRESHOLD`] objects or more (see [`frame_objects`]).
+    box_culls: bool,
+}
+
+/// Debian's `povray.ini` sets `Bounding_Threshold = 3`: with fewer objects
+/// in the scene (lights counted), POV-Ray 3.7 builds no bounding slabs
+/// (`BoundingTask::Run`), and its renders show no cull by the box that a
+/// removed `bounded_by` leaves (docs/povray.md, "How it maps").
+const BOUNDING_THRESHOLD: usize = 3;
+
+/// The objects POV-Ray's frame holds (`Parser::Link_To_Frame`): each
+/// top-level object and light, with a union that [`split_union`] splits
+/// counted by its children.
+fn frame_objects(objects: &[Obj]) -> usize {
+    objects
+        .iter()
+        .map(|o| split_union(o).map_or(1, frame_objects))
+        .sum()
+}
+
+/// The children of a top-level union that POV-Ray links to its frame one
+/// by one: one with neither `bounded_by` nor `clipped_by` (a bounded union
+/// stays whole, `Split_Unions` being off by default).
+fn split_union(obj: &Obj) -> Option<&[Obj]> {
+    match &obj.kind {
+        Kind::Csg {
+            op: CsgOp::Union,
+            children,
+        } if obj.bounded_by.is_empty() && obj.clipped_by.is_empty() => Some(children),
+        _ => None,
+    }
 }
 
 /// The scene read from `path`.
@@ -112,6 +144,7 @@ pub(super) fn scene(
         scene: &mut scene,
         solver: Solver::default(),
         ambient,
+        box_culls: frame_objects(&objects) >= BOUNDING_THRESHOLD,
     };
     for obj in &objects {
         builder.top(obj, DAffine3::IDENTITY, None)?;
@@ -134,6 +167,16 @@ pub(super) fn scene(
         skipped: parser.skipped,
     });
     Ok(scene)
+}
+
+/// What a `bounded_by` list lets through.
+pub(super) enum Bounds {
+    /// Every ray (no bound).
+    Open,
+    /// The rays this gate lets through.
+    Gate(Shape),
+    /// No ray: a bound is certainly empty.
+    Shut,
 }
 
 /// Whether POV-Ray keeps a whole object's `bounded_by`: its parser removes
@@ -244,24 +287,21 @@ impl Builder<'_> {
         let to_world = parent * obj.transform;
         let own = own_texture(obj, inherited);
         let texture = own.as_ref();
+        if let Some(children) = split_union(obj) {
+            for child in children {
+                if obj.no_shadow && !child.no_shadow {
+                    let mut child = child.clone();
+                    child.no_shadow = true;
+                    self.top(&child, to_world, texture)?;
+                } else {
+                    self.top(child, to_world, texture)?;
+                }
+            }
+            return Ok(());
+        }
         match &obj.kind {
             Kind::Light(light) => {
                 self.light(light, parent);
-                return Ok(());
-            }
-            Kind::Csg {
-                op: CsgOp::Union,
-                children,
-            } if obj.bounded_by.is_empty() && obj.clipped_by.is_empty() => {
-                for child in children {
-                    if obj.no_shadow && !child.no_shadow {
-                        let mut child = child.clone();
-                        child.no_shadow = true;
-                        self.top(&child, to_world, texture)?;
-                    } else {
-                        self.top(child, to_world, texture)?;
-                    }
-                }
                 return Ok(());
             }
             // A bounded union's meshes and triangles have no inside for a
@@ -336,10 +376,20 @@ impl Builder<'_> {
         // lets show, so every ray with a hit passes it: the clip's span,
         // found first on every ray, already decides what the gate would.
         // helix.pov's gates were a fifth of its render-loop instructions.
-        if !obj.bound_is_clip
-            && let Some(gate) = self.whole_gate(obj, parent)?
-        {
-            shape.set_gate(gate);
+        if !obj.bound_is_clip {
+            match self.whole_gate(obj, parent)? {
+                Bounds::Gate(gate) => shape.set_gate(gate),
+                Bounds::Shut => {
+                    self.parser.warn(
+                        obj.loc,
+                        "no ray can pass this object's bounded_by (a bound is empty, or \
+                         their boxes do not overlap): it is left out, as POV-Ray draws \
+                         nothing of it",
+                    );
+                    return Ok(());
+                }
+                Bounds::Open => {}
+            }
         }
         if obj.no_shadow {
             shape.set_no_shadow();
@@ -355,14 +405,17 @@ impl Builder<'_> {
     /// it (`Intersect_BBox`). The box adds nothing to one kept bound, which
     /// every ray that meets it meets. (A scene of one object and a light
     /// POV-Ray draws without the box test: docs/povray.md, "How it maps".)
-    fn whole_gate(&mut self, obj: &Obj, parent: DAffine3) -> Result<Option<Shape>> {
+    fn whole_gate(&mut self, obj: &Obj, parent: DAffine3) -> Result<Bounds> {
         let to_world = parent * obj.transform;
         let kept = keeps_bound(&obj.kind);
         let bounds = if kept {
             self.gates(&obj.bounded_by, to_world)?
         } else {
-            None
+            Bounds::Open
         };
+        if !self.box_culls {
+            return Ok(bounds);
+        }
         let everywhere = Box3::cube(f64::INFINITY);
         let boxed = obj
             .bounded_by
@@ -370,6 +423,9 @@ impl Builder<'_> {
             .filter(|b| !b.inverse)
             .map(|b| world_box(b, to_world))
             .fold(everywhere, |a, b| a.intersection(&b));
+        if boxed.is_empty() {
+            return Ok(Bounds::Shut);
+        }
         let volume = |b: &Box3| (b.max - b.min).max(DVec3::ZERO).element_product();
         let culls = (!kept || obj.bounded_by.len() > 1)
             && boxed.min.is_finite()
@@ -385,36 +441,43 @@ impl Builder<'_> {
             );
             self.gates(&[cube], DAffine3::IDENTITY)?
         } else {
-            None
+            Bounds::Open
         };
         Ok(match (cull, bounds) {
-            (Some(mut cull), Some(bounds)) => {
+            (Bounds::Shut, _) | (_, Bounds::Shut) => Bounds::Shut,
+            (Bounds::Gate(mut cull), Bounds::Gate(bounds)) => {
                 cull.set_gate(bounds);
-                Some(cull)
+                Bounds::Gate(cull)
             }
-            (cull, bounds) => cull.or(bounds),
+            (Bounds::Gate(gate), Bounds::Open) | (Bounds::Open, Bounds::Gate(gate)) => {
+                Bounds::Gate(gate)
+            }
+            (Bounds::Open, Bounds::Open) => Bounds::Open,
         })
     }
 
     /// The gate of a `bounded_by` list, placed in the world: each object's
     /// shape gated by the next's, since POV-Ray lets a ray through only if it
-    /// meets every bound (`Ray_In_Bound`). None for an empty list.
-    pub(super) fn gates(&mut self, bounds: &[Obj], to_world: DAffine3) -> Result<Option<Shape>> {
+    /// meets every bound (`Ray_In_Bound`). `Open` for an empty list, `Shut`
+    /// where a bound is certainly empty (an intersection of objects apart),
+    /// which no ray meets.
+    pub(super) fn gates(&mut self, bounds: &[Obj], to_world: DAffine3) -> Result<Bounds> {
         let mut chain = None;
         for bound in bounds.iter().rev() {
             let Some(built) =
                 self.node(bound, to_world, None, Context::world(Box3::cube(WORLD)), 0)?
             else {
-                continue;
+                return Ok(Bounds::Shut);
             };
-            if let Some(mut gate) = self.shape(built, bound.loc)? {
-                if let Some(next) = chain.take() {
-                    gate.set_gate(next);
-                }
-                chain = Some(gate);
+            let Some(mut gate) = self.shape(built, bound.loc)? else {
+                return Ok(Bounds::Shut);
+            };
+            if let Some(next) = chain.take() {
+                gate.set_gate(next);
             }
+            chain = Some(gate);
         }
-        Ok(chain)
+        Ok(chain.map_or(Bounds::Open, Bounds::Gate))
     }
 
     /// The scene shape of a node: a surface alone as it is, anything else

@@ -5,7 +5,7 @@
 use glam::{DAffine3, DVec3};
 
 use super::boxes::{framed_box, world_box};
-use super::build::{Builder, Built, MAX_NESTING, own_texture};
+use super::build::{Bounds, Builder, Built, MAX_NESTING, own_texture};
 use super::object::{CsgOp, Kind, Obj, clear};
 use super::texture::Texture;
 use crate::error::{Error, Result};
@@ -62,11 +62,19 @@ impl Builder<'_> {
                 return Ok(None);
             };
             return Ok(Some(match self.gates(&obj.bounded_by, to_world)? {
-                Some(gate) => Built::Gated {
+                Bounds::Gate(gate) => Built::Gated {
                     gate: Box::new(gate),
                     child: Box::new(child),
                 },
-                None => child,
+                Bounds::Open => child,
+                Bounds::Shut => {
+                    self.parser.warn(
+                        obj.loc,
+                        "no ray can pass this part's bounded_by (a bound is empty): \
+                         the part is drawn without it, where POV-Ray shows no surface of it",
+                    );
+                    child
+                }
             }));
         }
         // Nothing of it shows outside its own box either.

@@ -1844,6 +1844,44 @@ fn bound_and_clip_blocks_add_up_and_take_transforms() {
     }
 }
 
+/// POV-Ray culls an object by the box its removed `bounded_by` leaves only
+/// with three objects or more in the scene, lights counted and a union
+/// without bounds or clips counted by its children (Debian's
+/// `Bounding_Threshold = 3`); a bound no ray can pass leaves nothing.
+#[test]
+fn a_removed_bounds_box_culls_from_three_objects_on() {
+    let bounded = "sphere { 0, 1.5 bounded_by { box { <-2, -2, -2>, <-0.5, 2, 2> } } }";
+    let light = "light_source { <5, 5, -5> color rgb 1 }";
+    // A ray at x = 0.5: outside the bound's box, inside the sphere.
+    let seen = |text: &str| {
+        let scene = load(&format!("{VIEW}{text}")).unwrap();
+        first_hit(&scene, DVec3::new(0.5, 0.0, -5.0), DVec3::Z).is_some()
+    };
+    assert!(seen(&format!("{bounded}\n{light}")), "two objects: no cull");
+    assert!(
+        !seen(&format!("{bounded}\n{light}\n{light}")),
+        "three: culled"
+    );
+    assert!(
+        !seen(&format!(
+            "{bounded}\nunion {{ sphere {{ 5*x, 1 }} {light} }}"
+        )),
+        "a union's children count one by one"
+    );
+    assert!(
+        seen(&format!(
+            "{bounded}\nunion {{ sphere {{ 5*x, 1 }} {light} bounded_by {{ box {{ -9, 9 }} }} }}"
+        )),
+        "a bounded union counts as one"
+    );
+    // Bounds whose boxes are apart: no object at all, from three on.
+    let apart = "sphere { 0, 1.5 bounded_by { box { <-2, -2, -2>, <-0.5, 2, 2> } \
+                 box { <0.5, -2, -2>, <2, 2, 2> } } }";
+    let scene = load(&format!("{VIEW}{apart}\n{light}\n{light}")).unwrap();
+    assert!(scene.shapes.is_empty());
+    assert!(scene.warnings.iter().any(|w| w.contains("no ray can pass")));
+}
+
 /// A loop that wraps an object in itself on every pass, and never ends,
 /// stops at the nesting limit with an error at the object (it overflowed
 /// the stack), and one that doubles an object on every pass stops when the
