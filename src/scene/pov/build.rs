@@ -174,7 +174,7 @@ pub(super) enum Bounds {
     /// Every ray (no bound).
     Open,
     /// The rays this gate lets through.
-    Gate(Shape),
+    Gate(Box<Shape>),
     /// No ray: a bound is certainly empty.
     Shut,
 }
@@ -378,7 +378,7 @@ impl Builder<'_> {
         // helix.pov's gates were a fifth of its render-loop instructions.
         if !obj.bound_is_clip {
             match self.whole_gate(obj, parent)? {
-                Bounds::Gate(gate) => shape.set_gate(gate),
+                Bounds::Gate(gate) => shape.set_gate(*gate),
                 Bounds::Shut => {
                     self.parser.warn(
                         obj.loc,
@@ -446,7 +446,7 @@ impl Builder<'_> {
         Ok(match (cull, bounds) {
             (Bounds::Shut, _) | (_, Bounds::Shut) => Bounds::Shut,
             (Bounds::Gate(mut cull), Bounds::Gate(bounds)) => {
-                cull.set_gate(bounds);
+                cull.set_gate(*bounds);
                 Bounds::Gate(cull)
             }
             (Bounds::Gate(gate), Bounds::Open) | (Bounds::Open, Bounds::Gate(gate)) => {
@@ -477,7 +477,7 @@ impl Builder<'_> {
             }
             chain = Some(gate);
         }
-        Ok(chain.map_or(Bounds::Open, Bounds::Gate))
+        Ok(chain.map_or(Bounds::Open, |gate| Bounds::Gate(Box::new(gate))))
     }
 
     /// The scene shape of a node: a surface alone as it is, anything else

@@ -63,7 +63,7 @@ impl Builder<'_> {
             };
             return Ok(Some(match self.gates(&obj.bounded_by, to_world)? {
                 Bounds::Gate(gate) => Built::Gated {
-                    gate: Box::new(gate),
+                    gate,
                     child: Box::new(child),
                 },
                 Bounds::Open => child,
