@@ -475,8 +475,13 @@ background { color rgb 0 }
 # can pass (boxes apart, an empty intersection) leaves nothing of the object;
 # but with fewer than three objects in the scene, lights counted (Debian's
 # `Bounding_Threshold = 3`), POV-Ray culls by no box, so a removed bound's
-# box cuts nothing there (the header's light and one sphere).
+# box cuts nothing there (the header's light and one sphere). A part whose
+# own bound no ray can pass shows no surface, but its inside still counts
+# (POV-Ray's `Inside_Object` ignores bounds): an invisible cut.
 IDIOMS = {
+    "shut_parts": "#declare E = intersection { sphere { -3*x, 0.5 } sphere { 3*x, 0.5 } }\n"
+    "intersection { sphere { 0, 1.5 } sphere { <0.8, 0, 0>, 1.5 bounded_by { E } } texture { T } translate -2*x }\n"
+    "difference { box { -1, 1 } sphere { <1, 1, -1>, 1 bounded_by { E } } texture { T } rotate 20*y translate 2*x }",
     "bound_boxes_apart": "sphere { 0, 1.5 texture { T } bounded_by { box { <-2, -2, -2>, <-0.5, 2, 2> }"
     " box { <0.5, -2, -2>, <2, 2, 2> } } }\n"
     "intersection { sphere { 0, 1 } sphere { 0.5*x, 1 } texture { T } bounded_by { intersection {"

@@ -66,15 +66,9 @@ impl Builder<'_> {
                     gate,
                     child: Box::new(child),
                 },
-                Bounds::Open => child,
-                Bounds::Shut => {
-                    self.parser.warn(
-                        obj.loc,
-                        "no ray can pass this part's bounded_by (a bound is empty): \
-                         the part is drawn without it, where POV-Ray shows no surface of it",
-                    );
-                    child
-                }
+                // A bound no ray passes hides the part's surface, which
+                // `operation` decides (`bound_shut`).
+                Bounds::Open | Bounds::Shut => child,
             }));
         }
         // Nothing of it shows outside its own box either.
@@ -341,9 +335,23 @@ impl Builder<'_> {
         })
     }
 
-    /// A CSG operation's node. Children that let all light through are
-    /// invisible cuts: an intersection with them clips, a difference clips
-    /// by their outside, a union or merge leaves them out.
+    /// Whether a part's own `bounded_by` lets no ray through (a bound that
+    /// is certainly empty). POV-Ray then never intersects the part, but
+    /// still asks whether points are inside it (`Inside_Object` ignores
+    /// bounds), so the part is an invisible cut, as a clear one is.
+    fn bound_shut(&mut self, obj: &Obj, parent: DAffine3) -> Result<bool> {
+        Ok(!obj.bounded_by.is_empty()
+            && !obj.bound_is_clip
+            && matches!(
+                self.gates(&obj.bounded_by, parent * obj.transform)?,
+                Bounds::Shut
+            ))
+    }
+
+    /// A CSG operation's node. Children that let all light through, or
+    /// whose bound no ray passes, are invisible cuts: an intersection with
+    /// them clips, a difference clips by their outside, a union or merge
+    /// leaves them out.
     #[allow(clippy::too_many_arguments)]
     fn operation(
         &mut self,
@@ -386,6 +394,7 @@ impl Builder<'_> {
                 inverted: (context.inverted != obj.inverse) != subtracted,
                 ..inner
             };
+            let hidden = self.bound_shut(child, to_world)?;
             let Some(node) = self.node(child, to_world, texture, inner, depth + 1)? else {
                 // An empty part empties an intersection, and the first part
                 // of a difference is all there is.
@@ -394,7 +403,15 @@ impl Builder<'_> {
                 }
                 continue;
             };
-            if is_clear(child) && (op != CsgOp::Difference || i > 0) {
+            if hidden && op == CsgOp::Difference && i == 0 {
+                self.parser.warn(
+                    child.loc,
+                    "no ray can pass this part's bounded_by (a bound is empty): the first \
+                     part of a difference is drawn without it, where POV-Ray shows no \
+                     surface of it",
+                );
+            }
+            if (is_clear(child) || hidden) && (op != CsgOp::Difference || i > 0) {
                 match op {
                     CsgOp::Intersection => cuts.push(node),
                     CsgOp::Difference => cuts.push(flip(node)),
