@@ -398,13 +398,14 @@ impl Builder<'_> {
         Ok(())
     }
 
-    /// The gate of a whole object's `bounded_by`, as POV-Ray draws it in a
-    /// scene of more than one object: the bounds themselves where it keeps
+    /// The gate of a whole object's `bounded_by`, as POV-Ray draws it: the
+    /// bounds themselves where it keeps
     /// them (`keeps_bound`), and the box of their boxes where that is
     /// smaller than the object's own box, since POV-Ray culls the object by
     /// it (`Intersect_BBox`). The box adds nothing to one kept bound, which
-    /// every ray that meets it meets. (A scene of one object and a light
-    /// POV-Ray draws without the box test: docs/povray.md, "How it maps".)
+    /// every ray that meets it meets. Below POV-Ray's bounding threshold
+    /// there is no box test (`box_culls`). `Shut` where no ray can pass:
+    /// a bound that is certainly empty, or bounds whose boxes are apart.
     fn whole_gate(&mut self, obj: &Obj, parent: DAffine3) -> Result<Bounds> {
         let to_world = parent * obj.transform;
         let kept = keeps_bound(&obj.kind);
