@@ -700,7 +700,8 @@ impl Parser {
             // A list copied onto itself changes nothing.
             return self.expect('}');
         }
-        let linked = if self.eat_word(other)? {
+        let linked = self.eat_word(other)?;
+        let (list, transform) = if linked {
             if !mine.is_empty() {
                 return Err(self.error_at(
                     loc,
@@ -713,9 +714,10 @@ impl Parser {
             // The other list, given in the object's own space, placed in
             // its parent's as the statements of a block are.
             let list: Vec<Obj> = theirs.iter().map(|c| placed(c, obj.transform)).collect();
-            Some(list)
+            (list, DAffine3::IDENTITY)
         } else {
-            if obj.bound_is_clip && !mine.is_empty() {
+            // Linked lists are the same objects, both not empty.
+            if obj.bound_is_clip {
                 return Err(self.error_at(
                     loc,
                     format!(
@@ -723,34 +725,28 @@ impl Parser {
                     ),
                 ));
             }
-            None
-        };
-        let was_linked = linked.is_some();
-        let (list, transform) = match linked {
-            Some(list) => (list, DAffine3::IDENTITY),
-            None => self.bound_clip_objects()?,
+            self.bound_clip_objects()?
         };
         let local = obj.local();
-        let list = list.into_iter().map(|mut o| {
-            o.apply(local * transform);
-            o
-        });
-        if was_linked {
-            let list: Vec<Obj> = list.collect();
-            obj.bound_is_clip = !list.is_empty();
-            *(if bounds {
-                &mut obj.bounded_by
-            } else {
-                &mut obj.clipped_by
-            }) = list;
-        } else {
-            obj.bound_is_clip = false;
-            (if bounds {
-                &mut obj.bounded_by
-            } else {
-                &mut obj.clipped_by
+        let list: Vec<Obj> = list
+            .into_iter()
+            .map(|mut o| {
+                o.apply(local * transform);
+                o
             })
-            .extend(list);
+            .collect();
+        if linked {
+            obj.bound_is_clip = !list.is_empty();
+        }
+        let mine = if bounds {
+            &mut obj.bounded_by
+        } else {
+            &mut obj.clipped_by
+        };
+        if linked {
+            *mine = list;
+        } else {
+            mine.extend(list);
         }
         Ok(())
     }
