@@ -278,8 +278,7 @@ impl Solver {
         if degree == 3 || degree == 4 {
             // sturm-newton's nearest walks to the root (Quartic::march);
             // the other methods refine the bracket by their own steps.
-            let c = counted.coeffs();
-            let c = [c[0], c[1], c[2], c[3], c.get(4).copied().unwrap_or(0.0)];
+            let c = monotone::padded(counted.coeffs());
             let proven = if question == Question::Nearest && self.method == Method::SturmNewton {
                 monotone::screen::<true>(c, lo, hi, self.tolerance)
             } else {

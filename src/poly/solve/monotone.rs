@@ -181,6 +181,12 @@ pub(super) fn screen<const WALK: bool>(p: [f64; 5], lo: f64, hi: f64, tolerance:
     Screen::Empty
 }
 
+/// Coefficients (lowest first) of a cubic or quartic as [`screen`] takes
+/// them: five, a cubic's with a zero quartic term.
+pub(super) fn padded(c: &[f64]) -> [f64; 5] {
+    std::array::from_fn(|i| c.get(i).copied().unwrap_or(0.0))
+}
+
 /// The bracket between two points (x, q(x)) of opposite signs, in either
 /// order.
 fn nearest(a: (f64, f64), b: (f64, f64), start: Option<f64>) -> Screen {
@@ -305,9 +311,9 @@ struct Stop {
 
 /// The Laguerre step at a point of a polynomial of degree n (the root
 /// estimate is x less this): G = q'/q, H = G^2 - q''/q, step
-/// n / (G ± sqrt((n - 1) (nH - G^2))), the square root's sign that of G. A negative radicand (complex roots
-/// nearby) gives twice Newton's step instead: Newton's alone crawls where
-/// four roots lie ahead, and the radicand taken as zero (four times
+/// n / (G ± sqrt((n - 1) (nH - G^2))), the square root's sign that of G.
+/// A negative radicand (complex roots nearby) gives twice Newton's step
+/// instead: Newton's alone crawls where four roots lie ahead, and the radicand taken as zero (four times
 /// Newton's) mostly lands past the extremum, where the walk must stop.
 /// On the bench's torus rays (`cargo bench --bench poly`), per `nearest`
 /// call: 1,514 instructions with twice, 1,630 with once, 1,527 with four
@@ -404,8 +410,9 @@ mod tests {
     use crate::poly::exact::exact_count;
     use proptest::prelude::*;
 
-    /// A quartic's or cubic's coefficients (lowest first) from real roots, clusters, tangent pairs and complex pairs close to
-    /// the axis (grazes), with an interval (a, b).
+    /// A quartic's or cubic's coefficients (lowest first) from real roots,
+    /// clusters, tangent pairs and complex pairs close to the axis
+    /// (grazes), with an interval (a, b).
     fn quartic_and_interval() -> impl Strategy<Value = (Vec<f64>, f64, f64)> {
         (
             3..=4usize,
@@ -426,11 +433,6 @@ mod tests {
                 let c = product(lead, &real[..degree - 2 * pairs.len()], pairs);
                 (c, a, a + len)
             })
-    }
-
-    /// Coefficients (lowest first, degree 3 or 4) as the pass takes them.
-    fn padded(c: &[f64]) -> [f64; 5] {
-        std::array::from_fn(|i| c.get(i).copied().unwrap_or(0.0))
     }
 
     proptest! {
