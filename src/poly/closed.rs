@@ -37,7 +37,25 @@ pub fn quadratic(c0: f64, c1: f64, c2: f64, out: &mut [f64; 4]) -> usize {
     }
     let q = -0.5 * (b + disc.sqrt().copysign(b));
     let (r1, r2) = (q / a, c / q);
-    write_sorted(&[r1, r2], out)
+    write_pair(r1, r2, out)
+}
+
+/// `write_sorted` of two roots, without its insertion loop and move: the
+/// same roots in the same order (a NaN dropped, an equal pair kept once as
+/// the first), for a quadratic's many callers, CSG's clip spheres among
+/// them, where the general loop took a third of `quadratic`'s
+/// instructions (`valgrind --tool=callgrind`, POV-Ray's tcubic.pov).
+fn write_pair(r1: f64, r2: f64, out: &mut [f64; 4]) -> usize {
+    let pair: &[f64] = match (r1.is_nan(), r2.is_nan()) {
+        (true, true) => &[],
+        (false, true) => &[r1],
+        (true, false) => &[r2],
+        _ if r1 == r2 => &[r1],
+        _ if r1 > r2 => &[r2, r1],
+        _ => &[r1, r2],
+    };
+    out[..pair.len()].copy_from_slice(pair);
+    pair.len()
 }
 
 fn linear(c0: f64, c1: f64, out: &mut [f64; 4]) -> usize {
@@ -380,5 +398,19 @@ mod tests {
         assert_eq!(&out[..n], &[-1.0, 0.5, 3.0]);
         let n = write_sorted(&[f64::NAN, 2.0], &mut out);
         assert_eq!(&out[..n], &[2.0]);
+    }
+
+    #[test]
+    fn write_pair_is_write_sorted_of_two() {
+        let values = [f64::NAN, -1.0, -0.0, 0.0, 0.5, 3.0, f64::INFINITY];
+        for &r1 in &values {
+            for &r2 in &values {
+                let (mut pair, mut sorted) = ([9.0; 4], [9.0; 4]);
+                let n = write_pair(r1, r2, &mut pair);
+                assert_eq!(n, write_sorted(&[r1, r2], &mut sorted), "{r1}, {r2}");
+                let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+                assert_eq!(bits(&pair[..n]), bits(&sorted[..n]), "{r1}, {r2}");
+            }
+        }
     }
 }

@@ -20,6 +20,12 @@ pub struct Quadric {
 }
 
 impl Quadric {
+    /// The value c of a quadric that is the constant c ≠ 0 everywhere (A
+    /// and b zero): POV-Ray's `box` is one, inside (c < 0) within its box.
+    pub(super) fn constant(&self) -> Option<f64> {
+        (self.a == DMat3::ZERO && self.b == DVec3::ZERO && self.c != 0.0).then_some(self.c)
+    }
+
     pub(super) fn eval(&self, p: DVec3) -> f64 {
         p.dot(self.a * p) + self.b.dot(p) + self.c
     }
