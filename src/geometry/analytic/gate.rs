@@ -119,6 +119,13 @@ impl Shape {
         let Some((t0, t1)) = self.object_box.clip_ray(o, d, tmin, f64::INFINITY) else {
             return false;
         };
+        // A box gate (F = c < 0 within its box): Q is c all along, below
+        // any noise, so the steps below open it wherever the line meets the
+        // box. They were a third of the box gates of POV-Ray's monkey,
+        // trough and quarpara samples (`valgrind --tool=callgrind`).
+        if quadric.constant().is_some_and(|c| c < 0.0) {
+            return true;
+        }
         let [c0, c1, c2] = quadric.along_line(o, d);
         let q = |t: f64| c0 + t * (c1 + t * c2);
         let mut least = q(t0).min(q(t1));
