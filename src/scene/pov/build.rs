@@ -378,7 +378,11 @@ impl Builder<'_> {
         // helix.pov's gates were a fifth of its render-loop instructions.
         if !obj.bound_is_clip {
             match self.whole_gate(obj, parent)? {
-                Bounds::Gate(gate) => shape.set_gate(*gate),
+                Bounds::Gate(gate) => {
+                    if shape.needs_gate(&gate) {
+                        shape.set_gate(*gate);
+                    }
+                }
                 Bounds::Shut => {
                     self.parser.warn(
                         obj.loc,

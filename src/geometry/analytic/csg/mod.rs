@@ -350,6 +350,30 @@ impl Csg {
         }
     }
 
+    /// The solids every seen point of the tree lies in: the children that
+    /// are plain solid leaves of a root intersection or clip, not inverted.
+    pub(in crate::geometry::analytic) fn cut_by(&self) -> impl Iterator<Item = &Shape> {
+        let children = match &self.root {
+            Node::Op {
+                op: Op::Intersection | Op::Clip,
+                inverse: false,
+                children,
+            } => children.as_slice(),
+            _ => &[],
+        };
+        children.iter().filter_map(|child| match child {
+            Node::Leaf(i) => match &self.leaves[*i as usize] {
+                Leaf {
+                    part: Part::Solid(s),
+                    inverse: false,
+                    ..
+                } => Some(s),
+                _ => None,
+            },
+            _ => None,
+        })
+    }
+
     /// Whether the line o + t·d is inside the tree at t = tmin or crosses its
     /// seen surface beyond it: what a gate asks (see `Shape::set_gate`).
     pub fn inside_or_crossed(&self, o: DVec3, d: DVec3, tmin: f64) -> bool {
