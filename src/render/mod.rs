@@ -118,12 +118,8 @@ pub fn thread_pool(threads: Option<usize>) -> Result<rayon::ThreadPool> {
 }
 
 pub fn render(scene: &Scene, accel: &Accel, options: &RenderOptions) -> Result<RenderOutput> {
-    let (width, height) = (scene.camera.width as usize, scene.camera.height as usize);
-    let mut pre: Vec<Pixel> = vec![Pixel::default(); width * height];
-    if std::env::var_os("PREFAULT").is_none() {
-        pre = Vec::new();
-    }
     let start = Instant::now();
+    let (width, height) = (scene.camera.width as usize, scene.camera.height as usize);
     let spp = options.spp.unwrap_or(scene.render.spp);
     if spp == 0 {
         return Err(Error::Input("--spp must be at least 1".into()));
@@ -213,7 +209,6 @@ pub fn render(scene: &Scene, accel: &Accel, options: &RenderOptions) -> Result<R
         // once; each pixel is overwritten before anything reads it.
         let mut next = spare
             .take()
-            .or_else(|| (!pre.is_empty()).then(|| std::mem::take(&mut pre)))
             .unwrap_or_else(|| bytemuck::zeroed_vec(region.area()));
         let rows = tile_rows(&mut next, region, &tiles);
         let prev = film.as_ref();
