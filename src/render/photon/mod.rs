@@ -88,9 +88,9 @@ impl PhotonMap {
         };
         let chunks: Vec<(Vec<Photon>, RayStats)> = (0..count.div_ceil(CHUNK))
             .into_par_iter()
-            // Any chunk to any idle thread: collected into an Option, the
-            // iterator is unindexed, which rayon splits once per thread and
-            // not again (see the render pass in `render`).
+            // Any chunk to any idle thread, as the render pass's tiles
+            // (see `render`): rayon's adaptive splitting may leave a
+            // thread's share in pieces no idle thread can take.
             .with_max_len(1)
             .map(|c| {
                 if stop() {
