@@ -58,10 +58,10 @@ impl Shape {
             .any(|solid| matches!(solid.region(), Some(Region::Block(_))) && gate.holds(solid))
     }
 
-    /// Whether `inner`, a sphere or a box, lies inside this gate and each
-    /// gate it has, with a margin of `HOLD_MARGIN` of the gate's size (far
-    /// beyond the rounding of the maps and of any ray's test). A gate
-    /// of another form holds nothing here.
+    /// Whether `inner`, a box, lies inside this gate (a sphere or a box) and
+    /// each gate it has, with a margin of `HOLD_MARGIN` of the gate's size
+    /// (far beyond the rounding of the maps and of any ray's test). Any
+    /// other inner shape or gate holds nothing here.
     fn holds(&self, inner: &Shape) -> bool {
         if let Some(next) = &self.gate
             && !next.holds(inner)
