@@ -63,7 +63,9 @@ pub fn check_rays(rays: &[Ray]) -> Result<()> {
 
 /// A scene's BVH, built by one backend.
 pub enum Accel {
-    Embree(embree::CommittedScene),
+    /// Embree's scene and, for a scene of a few shapes alone, the list that
+    /// answers a render's single rays without it (`rust_bvh::ListScene`).
+    Embree(embree::CommittedScene, Option<rust_bvh::ListScene>),
     Obvhs(rust_bvh::CwbvhScene),
     Bvh(rust_bvh::SahScene),
 }
@@ -116,7 +118,10 @@ impl Accel {
                         .collect::<Result<Vec<_>>>()?;
                     builder.add_instances(first, prototypes, &scene.instances)?;
                 }
-                Ok(Accel::Embree(builder.commit()?))
+                Ok(Accel::Embree(
+                    builder.commit()?,
+                    rust_bvh::ListScene::of(scene),
+                ))
             }
             // The pure-Rust builders run on rayon: on a pool of `threads` if given.
             // A panic in a builder crate is an internal error, not a crash.
@@ -148,7 +153,8 @@ impl Accel {
 
     pub fn intersect(&self, ray: &Ray) -> Hit {
         match self {
-            Accel::Embree(s) => s.intersect(ray),
+            Accel::Embree(s, Some(list)) => list.nearest(ray, None, s.panics()),
+            Accel::Embree(s, None) => s.intersect(ray),
             Accel::Obvhs(s) => s.intersect(ray),
             Accel::Bvh(s) => s.intersect(ray),
         }
@@ -159,7 +165,8 @@ impl Accel {
     /// rays, so a graze is decided as POV-Ray's double-precision ray decides it.
     pub fn intersect_exact(&self, exact: &Ray64) -> Hit {
         match self {
-            Accel::Embree(s) => s.intersect_exact(exact),
+            Accel::Embree(s, Some(list)) => list.nearest(&exact.rounded(), Some(exact), s.panics()),
+            Accel::Embree(s, None) => s.intersect_exact(exact),
             Accel::Obvhs(s) => s.intersect_exact(exact),
             Accel::Bvh(s) => s.intersect_exact(exact),
         }
@@ -167,7 +174,8 @@ impl Accel {
 
     pub fn occluded(&self, ray: &Ray) -> bool {
         match self {
-            Accel::Embree(s) => s.occluded(ray),
+            Accel::Embree(s, Some(list)) => list.occluded(ray, s.panics()),
+            Accel::Embree(s, None) => s.occluded(ray),
             Accel::Obvhs(s) => s.occluded(ray),
             Accel::Bvh(s) => s.occluded(ray),
         }
@@ -180,7 +188,7 @@ impl Accel {
     pub fn intersect_all(&self, ray: &Ray, hits: &mut Vec<Hit>) {
         let first = hits.len();
         match self {
-            Accel::Embree(s) => s.intersect_all(ray, hits),
+            Accel::Embree(s, _) => s.intersect_all(ray, hits),
             Accel::Obvhs(s) => s.intersect_all(ray, hits),
             Accel::Bvh(s) => s.intersect_all(ray, hits),
         }
@@ -195,7 +203,7 @@ impl Accel {
     pub fn intersect_batch(&self, rays: &[Ray], hits: &mut [Hit], coherent: bool) -> Result<()> {
         assert_eq!(rays.len(), hits.len(), "one hit record per ray");
         match self {
-            Accel::Embree(s) => s.intersect_batch(rays, hits, coherent),
+            Accel::Embree(s, _) => s.intersect_batch(rays, hits, coherent),
             // No packet traversal in the pure-Rust backends: one ray at a time.
             Accel::Obvhs(_) | Accel::Bvh(_) => {
                 for (hit, ray) in hits.iter_mut().zip(rays) {
@@ -212,7 +220,7 @@ impl Accel {
     /// it): one atomic load, for loops that should stop at once.
     pub fn panicked(&self) -> bool {
         match self {
-            Accel::Embree(s) => s.panics().happened(),
+            Accel::Embree(s, _) => s.panics().happened(),
             Accel::Obvhs(s) => s.panics().happened(),
             Accel::Bvh(s) => s.panics().happened(),
         }
@@ -222,7 +230,7 @@ impl Accel {
     /// check, and panics caught in them.
     pub fn check(&self) -> Result<()> {
         match self {
-            Accel::Embree(s) => s.check(),
+            Accel::Embree(s, _) => s.check(),
             Accel::Obvhs(s) => s.check(),
             Accel::Bvh(s) => s.check(),
         }
@@ -233,19 +241,27 @@ impl Accel {
     /// each of their vectors times its element size.
     pub fn memory_bytes(&self) -> i64 {
         match self {
-            Accel::Embree(s) => s.device().bytes_in_use(),
+            Accel::Embree(s, _) => s.device().bytes_in_use(),
             Accel::Obvhs(s) => s.memory_bytes() as i64,
             Accel::Bvh(s) => s.memory_bytes() as i64,
         }
     }
 
-    /// The backend and its version, e.g. "Embree 3.13.5 (bindings from the 3.13.5 header)".
+    /// The backend and its version, e.g. "Embree 3.13.5 (bindings from the
+    /// 3.13.5 header)", and whether a render's rays skip its BVH.
     pub fn describe(&self) -> String {
         match self {
-            Accel::Embree(s) => format!(
-                "Embree {} (bindings from the {} header)",
+            Accel::Embree(s, list) => format!(
+                "Embree {} (bindings from the {} header){}",
                 s.device().library_version(),
-                embree::HEADER_VERSION
+                embree::HEADER_VERSION,
+                list.as_ref()
+                    .map_or(String::new(), |l| match l.shape_count() {
+                        1 => "; a render's rays go to its one shape directly, without a BVH".into(),
+                        n => format!(
+                            "; a render's rays go to its {n} shapes directly, without a BVH"
+                        ),
+                    })
             ),
             Accel::Obvhs(_) => "obvhs 0.4 CWBVH (pure Rust)".into(),
             Accel::Bvh(_) => "bvh 0.13 binary SAH BVH (pure Rust)".into(),

@@ -43,6 +43,21 @@ pub fn padding(boxes: impl Iterator<Item = Bounds>) -> f32 {
     32.0 * f32::EPSILON * all.min.abs().max(all.max.abs()).max_element()
 }
 
+/// The box Embree holds for a primitive whose bounds are `b`: grown by
+/// `pad` (near f32's limit, where that overflows, as it is); an empty or
+/// infinite box, which Embree's builder would refuse, is the point at the
+/// origin.
+pub fn held(b: Bounds, pad: f32) -> Bounds {
+    let finite = |b: &Bounds| !b.is_empty() && b.min.is_finite() && b.max.is_finite();
+    if !finite(&b) {
+        return Bounds {
+            min: Vec3::ZERO,
+            max: Vec3::ZERO,
+        };
+    }
+    Some(b.grown(pad)).filter(finite).unwrap_or(b)
+}
+
 /// The most crossings of one primitive `crossings` visits along one ray: far
 /// more than any surface of degree `poly::MAX_DEGREE` or CSG tree of them
 /// has, a bound only against a primitive that misreports `tnear`.

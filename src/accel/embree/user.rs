@@ -18,7 +18,7 @@ use super::filter;
 use super::query::Query;
 use super::sys;
 use crate::accel::panics::PanicSlot;
-use crate::accel::primitive::{UserHit, UserPrimitive, crossings};
+use crate::accel::primitive::{UserHit, UserPrimitive, crossings, held};
 use crate::math::{Bounds, Ray, Ray64, Vec3};
 
 /// What Embree's geometry user pointer points at: the primitives (primID
@@ -134,15 +134,8 @@ pub(super) extern "C" fn bounds_callback<T: UserPrimitive>(
     let args = unsafe { &*args };
     // SAFETY: the user pointer is our UserData<T> (set in `add_user`).
     let (data, prim) = unsafe { primitive::<T>(args.geometryUserPtr, args.primID) };
-    let finite = |b: &Bounds| !b.is_empty() && b.min.is_finite() && b.max.is_finite();
-    let bounds = match data.panics.guard(None, || prim.map(T::bounds)) {
-        // Near f32's limit the padding may overflow: the box as it is, then.
-        Some(b) if finite(&b) => Some(b.grown(data.pad)).filter(finite).unwrap_or(b),
-        _ => Bounds {
-            min: Vec3::ZERO,
-            max: Vec3::ZERO,
-        },
-    };
+    let bounds = data.panics.guard(None, || prim.map(T::bounds));
+    let bounds = held(bounds.unwrap_or(Bounds::EMPTY), data.pad);
     // SAFETY: bounds_o points at one writable RTCBounds.
     let out = unsafe { &mut *args.bounds_o };
     (out.lower_x, out.lower_y, out.lower_z) = (bounds.min.x, bounds.min.y, bounds.min.z);

@@ -5,11 +5,13 @@
 //! Embree calls back into.
 
 mod cwbvh;
+mod list;
 mod primitives;
 mod sah;
 mod triangle;
 
 pub use cwbvh::CwbvhScene;
+pub use list::ListScene;
 pub use sah::SahScene;
 
 #[cfg(test)]

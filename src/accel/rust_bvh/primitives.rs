@@ -8,7 +8,7 @@ use crate::accel::primitive::{UserHit, UserPrimitive, crossings, padding};
 use crate::error::{Error, Result};
 use crate::geometry::Mesh;
 use crate::geometry::Shape;
-use crate::math::{Bounds, Hit, INVALID_ID, Ray, Ray64, Vec3};
+use crate::math::{Bounds, Hit, INVALID_ID, Ray, Ray64, Vec3, gamma};
 use crate::scene::{Instance, Scene};
 
 #[derive(Clone, Copy, Debug)]
@@ -343,5 +343,47 @@ impl<'a> Closest<'a> {
 
     pub(super) fn hit(&self) -> Hit {
         self.hit
+    }
+}
+
+/// A ray's slab test against boxes: its origin and its direction's
+/// reciprocal, clamped to finite values, so (box − origin) · inv_dir is
+/// never 0 · ∞ = NaN: a zero component gives ±∞ slab ends (or 0 on the
+/// box's face).
+pub(super) struct Slabs {
+    origin: Vec3,
+    inv_dir: Vec3,
+}
+
+impl Slabs {
+    pub(super) fn new(ray: &Ray) -> Slabs {
+        Slabs {
+            origin: ray.origin,
+            inv_dir: ray
+                .dir
+                .recip()
+                .clamp(Vec3::splat(-f32::MAX), Vec3::splat(f32::MAX)),
+        }
+    }
+
+    /// Whether the ray meets `b` with t in [tnear, tfar]. The far end is rounded up by 1 + 2γ(3)
+    /// (pbrt), so a rounding error never drops a box the ray touches, flat
+    /// ones included.
+    #[inline]
+    pub(super) fn meet(&self, b: &Bounds, tnear: f32, tfar: f32) -> bool {
+        let round_up = 1.0 + 2.0 * gamma(3);
+        let (mut near, mut far) = (tnear, tfar);
+        for axis in 0..3 {
+            let t0 = (b.min[axis] - self.origin[axis]) * self.inv_dir[axis];
+            let t1 = (b.max[axis] - self.origin[axis]) * self.inv_dir[axis];
+            let (t0, t1) = if t0 < t1 { (t0, t1) } else { (t1, t0) };
+            if t0 > near {
+                near = t0;
+            }
+            if t1 * round_up < far {
+                far = t1 * round_up;
+            }
+        }
+        near <= far
     }
 }

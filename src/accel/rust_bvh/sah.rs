@@ -11,10 +11,10 @@ use bvh::aabb::{Aabb, Bounded, IntersectsAabb};
 use bvh::bounding_hierarchy::{BHShape, BoundingHierarchy};
 use bvh::bvh::{Bvh, BvhNode};
 
-use super::primitives::{Closest, Primitives};
+use super::primitives::{Closest, Primitives, Slabs};
 use crate::accel::panics::PanicSlot;
 use crate::error::Result;
-use crate::math::{Hit, Ray, Ray64, Vec3, gamma};
+use crate::math::{Bounds, Hit, Ray, Ray64, Vec3};
 
 /// A leaf of the crate's BVH: the primitive's box and where the builder put it.
 struct Leaf {
@@ -143,23 +143,15 @@ impl SahScene {
 /// because the iterator holds the query by shared reference while the
 /// traversal shortens it.
 struct Segment {
-    origin: Vec3,
-    inv_dir: Vec3,
+    slabs: Slabs,
     tnear: f32,
     tfar: Cell<f32>,
 }
 
 impl Segment {
     fn new(ray: &Ray) -> Segment {
-        // Clamped to finite values, so (box − origin) · inv_dir is never 0 · ∞ = NaN:
-        // a zero component then gives ±∞ slab ends (or 0 on the box's face).
-        let inv_dir = ray
-            .dir
-            .recip()
-            .clamp(Vec3::splat(-f32::MAX), Vec3::splat(f32::MAX));
         Segment {
-            origin: ray.origin,
-            inv_dir,
+            slabs: Slabs::new(ray),
             tnear: ray.tnear,
             tfar: Cell::new(ray.tfar),
         }
@@ -167,17 +159,11 @@ impl Segment {
 }
 
 impl IntersectsAabb<f32, 3> for Segment {
-    /// The slab test. The far end is rounded up by 1 + 2γ(3) (pbrt), so a
-    /// rounding error never drops a box the ray touches, flat ones included.
     fn intersects_aabb(&self, aabb: &Aabb<f32, 3>) -> bool {
-        let round_up = 1.0 + 2.0 * gamma(3);
-        let (mut near, mut far) = (self.tnear, self.tfar.get());
-        for axis in 0..3 {
-            let t0 = (aabb.min[axis] - self.origin[axis]) * self.inv_dir[axis];
-            let t1 = (aabb.max[axis] - self.origin[axis]) * self.inv_dir[axis];
-            near = near.max(t0.min(t1));
-            far = far.min(t0.max(t1) * round_up);
-        }
-        near <= far
+        let bounds = Bounds {
+            min: Vec3::from_array(std::array::from_fn(|axis| aabb.min[axis])),
+            max: Vec3::from_array(std::array::from_fn(|axis| aabb.max[axis])),
+        };
+        self.slabs.meet(&bounds, self.tnear, self.tfar.get())
     }
 }

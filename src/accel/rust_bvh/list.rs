@@ -1,0 +1,275 @@
+//! No hierarchy at all: a scene of a few analytic shapes and nothing else,
+//! each shape asked in turn whose box the ray meets. Embree's traversal
+//! and its user-geometry callback cost some 560 instructions a camera ray
+//! of POV-Ray's tcubic.pov (one shape) beyond the shape's own work, over a
+//! tenth of the ray; this walk costs 270 (`valgrind --tool=callgrind`). The
+//! Embree backend answers a render's single rays through it where the
+//! scene allows (see `Accel::build`): the same hits, since every shape
+//! answers for itself, in the same f64 arithmetic, whoever asks.
+
+use super::primitives::Slabs;
+use crate::accel::panics::PanicSlot;
+use crate::accel::primitive::{UserPrimitive, crossings, held, padding};
+use crate::geometry::Shape;
+use crate::math::{Bounds, Hit, INVALID_ID, Ray, Ray64};
+use crate::scene::Scene;
+
+/// The most shapes a scene traced without a BVH may have. With a BVH the
+/// rays that miss most shapes skip them by a few boxes, not one each:
+/// POV-Ray's helix.pov, nine clipped quartics, took 13% more render-loop
+/// instructions without it, where grafbic.pov (five) and steiner.pov
+/// (four) took 9% fewer.
+const MOST_SHAPES: usize = 5;
+
+pub struct ListScene {
+    /// Each shape with its box as Embree holds it (`primitive::held`): a
+    /// ray that misses the box is not asked of the shape, as in Embree,
+    /// where a shape's gate (a `bounded_by` sphere) may be wider than it.
+    shapes: Box<[(Bounds, Shape)]>,
+    /// The shapes' geometry id (`Scene::shapes_geom_id`).
+    geom_id: u32,
+}
+
+impl ListScene {
+    /// The list, for a scene of one to `MOST_SHAPES` shapes, no
+    /// triangles and no instances; None for any other scene.
+    pub fn of(scene: &Scene) -> Option<ListScene> {
+        if scene.triangle_count() > 0
+            || !scene.instances.is_empty()
+            || !(1..=MOST_SHAPES).contains(&scene.shapes.len())
+        {
+            return None;
+        }
+        // As Embree's scene has them (`SceneBuilder::add_user`).
+        let bounds = || scene.shapes.iter().map(Shape::bounds);
+        let pad = padding(bounds().filter(|b| !b.is_empty()));
+        Some(ListScene {
+            shapes: (scene.shapes.iter())
+                .map(|s| (held(s.bounds(), pad), s.clone()))
+                .collect(),
+            geom_id: scene.shapes_geom_id(),
+        })
+    }
+
+    /// How many shapes it holds.
+    pub fn shape_count(&self) -> usize {
+        self.shapes.len()
+    }
+
+    /// The nearest hit, as Embree's traversal finds it: in [tnear, tfar),
+    /// each shape offered the ray shortened to the nearest hit so far. A
+    /// panic is a miss, recorded in `panics`.
+    pub(crate) fn nearest(&self, ray: &Ray, exact: Option<&Ray64>, panics: &PanicSlot) -> Hit {
+        panics.guard(Hit::MISS, || {
+            let slabs = Slabs::new(ray);
+            let exact = Ray64::for_ray(exact, ray);
+            let (mut rest, mut hit) = (*ray, Hit::MISS);
+            for (i, (b, shape)) in self.shapes.iter().enumerate() {
+                if !slabs.meet(b, rest.tnear, rest.tfar) {
+                    continue;
+                }
+                if let Some(h) = crossings(shape, &rest, &exact, |_| true) {
+                    rest.tfar = h.t;
+                    hit = Hit {
+                        t: h.t,
+                        geom_id: self.geom_id,
+                        prim_id: i as u32,
+                        inst_id: INVALID_ID,
+                        u: h.u,
+                        v: h.v,
+                        ng: h.ng,
+                    };
+                }
+            }
+            hit
+        })
+    }
+
+    /// Whether any shape blocks the ray; a panic counts as no hit.
+    pub(crate) fn occluded(&self, ray: &Ray, panics: &PanicSlot) -> bool {
+        panics.guard(false, || {
+            let slabs = Slabs::new(ray);
+            (self.shapes.iter()).any(|(b, shape)| {
+                slabs.meet(b, ray.tnear, ray.tfar) && UserPrimitive::occluded(shape, ray)
+            })
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::path::Path;
+
+    use crate::accel::{Accel, Backend};
+    use crate::math::{Hit, Ray, Vec3};
+    use crate::scene::{LoadOptions, Scene};
+
+    /// A POV-Ray scene of `objects` under a camera at z = −10.
+    fn pov(objects: &str) -> Scene {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("list.pov");
+        let text = format!(
+            "camera {{ location <0.3, 1.2, -10> look_at <0, 0, 0> angle 40 }}\n\
+             light_source {{ <20, 30, -40> color rgb 1 }}\n{objects}"
+        );
+        std::fs::write(&path, text).unwrap();
+        let options = LoadOptions {
+            size: Some((48, 36)),
+            ..LoadOptions::default()
+        };
+        Scene::load_with(&path, &options).unwrap()
+    }
+
+    /// Scenes the list answers: a torus whose `bounded_by` sphere is wider
+    /// than the box Embree holds for it, over an unbounded plane; a clipped
+    /// cubic (tcubic.pov's); and five solids, some overlapping, some of
+    /// them CSG, two shipped scenes. No two surfaces coincide, where the
+    /// first shape in the list wins a tie that Embree's order decides.
+    fn scenes() -> Vec<(String, Scene)> {
+        let torus = "quartic { < 1,0,0,0,2,0,0,2,0,-104, 0,0,0,0,0,0,0,0,0,0, \
+                     1,0,0,2,0,56,0,0,0,0, 1,0,-104,0,784 > \
+                     bounded_by { sphere { 0, 12 } } scale 0.25 }\n\
+                     plane { y, -3 }";
+        let cubic = "intersection { quartic { < 0,0,0,-0.5,0,0,0,0,0,-0.5, \
+                     0,0,0,0,0,0,0,0,0,0, 0,0,0,0,0,1,0,0,0,0, 0,0,1,0,0 > } \
+                     sphere { 0, 2 } bounded_by { sphere { 0, 2.2 } } rotate <0, -15, 0> }";
+        let five = "sphere { <-1, 0, 0>, 1.5 }\n sphere { <1, 0.2, 0.5>, 1.2 }\n\
+                    difference { box { -1, 1 } sphere { <0.5, 0.5, -0.5>, 0.9 } translate <0, 1.5, 0> }\n\
+                    torus { 2, 0.3 rotate 90*x translate <0, 0, 2> }\n\
+                    cylinder { <-3, -2, 1>, <3, -2, 1>, 0.5 }";
+        let shipped = |relative: &str| {
+            let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(relative);
+            (relative.to_string(), Scene::load(&path).unwrap())
+        };
+        vec![
+            ("torus over a plane".into(), pov(torus)),
+            ("clipped cubic".into(), pov(cubic)),
+            ("five solids".into(), pov(five)),
+            shipped("scenes/gallery/csg.toml"),
+            shipped("scenes/accuracy/thin_tori.toml"),
+        ]
+    }
+
+    /// Whether the list's hit is Embree's, to the bit (0), or ties with it
+    /// (1): a hit at the same t on another shape, where two surfaces meet
+    /// (an object standing on a floor), which each answers by its own order.
+    fn same(list: Hit, embree: Hit, name: &str, ray: &Ray) -> usize {
+        if list == embree {
+            return 0;
+        }
+        let tie = list.is_hit()
+            && list.t.to_bits() == embree.t.to_bits()
+            && list.prim_id != embree.prim_id;
+        assert!(tie, "{name}: {ray:?}: list {list:?}, Embree {embree:?}");
+        1
+    }
+
+    /// Every ray the list answers, it answers as Embree does, to the bit
+    /// (but for a tie, see `same`):
+    /// camera rays (with their f64 rays and without), and from each camera
+    /// hit a reflected ray, a ray on into the surface and a shadow ray
+    /// towards a light point, each also cut short of its hit.
+    #[test]
+    fn the_list_answers_as_embree_does() {
+        for (name, scene) in scenes() {
+            let Accel::Embree(embree, Some(list)) =
+                Accel::build(&scene, Backend::Embree, Some(1)).unwrap()
+            else {
+                panic!("{name}: not traced through the list");
+            };
+            let panics = embree.panics();
+            let (mut hits, mut blocked, mut rays, mut ties) = (0, 0, 0, 0);
+            let frame = scene.camera.frame();
+            let (w, h) = (scene.camera.width as f32, scene.camera.height as f32);
+            for i in 0..48 * 36 {
+                let (x, y) = ((i % 48) as f32 + 0.5, (i / 48) as f32 + 0.5);
+                let exact = frame.ray64(x * w / 48.0, y * h / 36.0);
+                let camera = exact.rounded();
+                let first = list.nearest(&camera, Some(&exact), panics);
+                ties += same(first, embree.intersect_exact(&exact), &name, &camera);
+                ties += same(
+                    list.nearest(&camera, None, panics),
+                    embree.intersect(&camera),
+                    &name,
+                    &camera,
+                );
+                if !first.is_hit() {
+                    continue;
+                }
+                hits += 1;
+                let p = camera.at(first.t);
+                let n = first.ng.normalize();
+                let reflected = camera.dir - 2.0 * camera.dir.dot(n) * n;
+                let light = Vec3::new(20.0, 30.0, -40.0) - p;
+                for (dir, tfar) in [
+                    (reflected, f32::INFINITY),
+                    (camera.dir, f32::INFINITY),
+                    (light, 1.0),
+                    (reflected, 0.5),
+                ] {
+                    let ray = Ray {
+                        origin: p,
+                        dir,
+                        tnear: 1e-4,
+                        tfar,
+                    };
+                    rays += 1;
+                    ties += same(
+                        list.nearest(&ray, None, panics),
+                        embree.intersect(&ray),
+                        &name,
+                        &ray,
+                    );
+                    let occluded = list.occluded(&ray, panics);
+                    assert_eq!(occluded, embree.occluded(&ray), "{name}: shadow {ray:?}");
+                    blocked += usize::from(occluded);
+                }
+            }
+            embree.check().unwrap();
+            // Enough of each kind that a difference would show; ties are
+            // rare, and only csg.toml's objects stand on its floor.
+            assert!(
+                hits >= 30 && blocked >= 20 && rays - blocked >= 20,
+                "{name}: {hits} hits, {blocked} of {rays} blocked"
+            );
+            assert!(ties * 200 <= rays, "{name}: {ties} ties in {rays} rays");
+        }
+    }
+
+    /// Only a scene of a few shapes alone is traced through the list.
+    #[test]
+    fn a_scene_with_triangles_instances_or_many_shapes_keeps_its_bvh() {
+        let list = |relative: &str| {
+            let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(relative);
+            let scene = Scene::load(&path).unwrap();
+            matches!(
+                Accel::build(&scene, Backend::Embree, Some(1)).unwrap(),
+                Accel::Embree(_, Some(_))
+            )
+        };
+        assert!(list("scenes/gallery/tori.toml"), "five tori");
+        assert!(!list("scenes/whitted.toml"), "three shapes and a mesh");
+        assert!(
+            !list("scenes/glass_torus.toml"),
+            "four shapes and two triangles"
+        );
+        let instanced = "[camera]\neye = [0, 0, 5]\nlook_at = [0, 0, 0]\nfov = 30\nwidth = 8\nheight = 8\n\
+                         [[prototypes.ball.objects]]\ntype = \"sphere\"\nradius = 0.5\n\
+                         [[objects]]\ntype = \"instance\"\nprototype = \"ball\"\n";
+        let instanced =
+            Scene::from_toml(Path::new("instanced.toml"), instanced, Vec::new()).unwrap();
+        assert_eq!((instanced.shapes.len(), instanced.instances.len()), (0, 1));
+        assert!(matches!(
+            Accel::build(&instanced, Backend::Embree, Some(1)).unwrap(),
+            Accel::Embree(_, None)
+        ));
+        let many = (0..6)
+            .map(|i| format!("sphere {{ <{i}, 0, 0>, 0.4 }}\n"))
+            .collect::<String>();
+        let many = pov(&many);
+        assert!(matches!(
+            Accel::build(&many, Backend::Embree, Some(1)).unwrap(),
+            Accel::Embree(_, None)
+        ));
+    }
+}
