@@ -3,7 +3,7 @@
 //! shape. Checked first in `Shape::intersect` and `Shape::occluded`; a shape
 //! without a gate pays one branch for it.
 
-use glam::DVec3;
+use glam::{DAffine3, DVec3};
 
 use super::{Box3, Quadric, Shape, Surface};
 use crate::poly::univariate::QUARTIC_SLOTS;
@@ -38,33 +38,50 @@ impl Shape {
     }
 
     /// Whether `gate` could turn away a ray with a hit on this shape: false
-    /// when the shape is a tree cut by a box (an intersection or clip child,
-    /// see `Csg::cut_by`) that lies inside the gate, and inside each gate
-    /// the gate has, with a margin. A ray a gate turns away stays outside
-    /// it, and so outside that box, where the tree has no seen point. The
-    /// tree's walk finds the box's span first on every ray anyway, at about
-    /// a box gate's cost, so the gate only cost time: 6-7% of the
-    /// render-loop instructions of POV-Ray's monkey and trough samples
-    /// (`valgrind --tool=callgrind`). A clip sphere is not: its crossings
-    /// cost several times a sphere gate's test, which saves them on the
-    /// rays it turns away (dropping the gate of folium.pov, whose bound
-    /// holds its clip sphere, cost 1.9% more instructions).
+    /// when the shape's hits all lie in a box inside the gate, and inside
+    /// each gate the gate has, with a margin. A ray a gate turns away stays
+    /// outside it, and so outside that box, where the shape has no hit.
+    ///
+    /// - A plain surface is searched only within its search box (for an
+    ///   algebraic surface, the box around its own points, see `extent`),
+    ///   which the BVH bounds it by too: where the gate holds that box, the
+    ///   box test already turns away what the gate would, and the gate only
+    ///   cost time: 7-11% of the render-loop instructions of POV-Ray's
+    ///   lemnisca, lemnisc2 and piriform samples (`valgrind
+    ///   --tool=callgrind`). An unbounded surface's box reaches out of its
+    ///   gate, which keeps it. A gate that holds the surface but not its
+    ///   box is kept too: a sphere tight around a torus turns away rays
+    ///   through the box's corners, and torus.pov took 2.6% more
+    ///   instructions without it.
+    /// - A tree is cut by a box (an intersection or clip child, see
+    ///   `Csg::cut_by`) that the gate holds. The tree's walk finds the box's
+    ///   span first on every ray anyway, at about a box gate's cost, so the
+    ///   gate only cost time: 6-7% of the render-loop instructions of
+    ///   POV-Ray's monkey and trough samples. A clip sphere is not: its
+    ///   crossings cost several times a sphere gate's test, which saves them
+    ///   on the rays it turns away (dropping the gate of folium.pov, whose
+    ///   bound holds its clip sphere, cost 1.9% more instructions).
     pub fn needs_gate(&self, gate: &Shape) -> bool {
         let Surface::Csg(tree) = &self.surface else {
-            return true;
+            // A surface with no point in its box has no hit to turn away.
+            return self
+                .search_box()
+                .is_some_and(|b| !gate.holds(&self.to_object, b));
         };
-        !tree
-            .cut_by()
-            .any(|solid| matches!(solid.region(), Some(Region::Block(_))) && gate.holds(solid))
+        !tree.cut_by().any(|solid| match solid.region() {
+            Some(Region::Block(b)) => gate.holds(&solid.to_object, &b),
+            _ => false,
+        })
     }
 
-    /// Whether `inner`, a box, lies inside this gate (a sphere or a box) and
-    /// each gate it has, with a margin of `HOLD_MARGIN` of the gate's size
-    /// (far beyond the rounding of the maps and of any ray's test). Any
-    /// other inner shape or gate holds nothing here.
-    fn holds(&self, inner: &Shape) -> bool {
+    /// Whether `inner`, a box in the object space of a shape whose map to it
+    /// from world space is `to_inner`, lies inside this gate (a sphere or a
+    /// box) and each gate it has, with a margin of `HOLD_MARGIN` of the
+    /// gate's size (far beyond the rounding of the maps and of any ray's
+    /// test). Any other gate holds nothing here.
+    fn holds(&self, to_inner: &DAffine3, inner: &Box3) -> bool {
         if let Some(next) = &self.gate
-            && !next.holds(inner)
+            && !next.holds(to_inner, inner)
         {
             return false;
         }
@@ -75,8 +92,7 @@ impl Shape {
             },
             _ => self,
         };
-        let (Some(outer_region), Some(Region::Block(inner_box))) = (outer.region(), inner.region())
-        else {
+        let Some(outer_region) = outer.region() else {
             return false;
         };
         // A gate's box that cuts its sphere makes the gate smaller than the ball.
@@ -87,12 +103,12 @@ impl Shape {
         }
         // Inner's object space mapped into outer's; both regions are
         // convex, so the box is inside if its corners are.
-        let map = outer.to_object * inner.to_object.inverse();
+        let map = outer.to_object * to_inner.inverse();
         (0..8).all(|k| {
             let corner = DVec3::select(
                 glam::BVec3::new(k & 1 != 0, k & 2 != 0, k & 4 != 0),
-                inner_box.max,
-                inner_box.min,
+                inner.max,
+                inner.min,
             );
             let p = map.transform_point3(corner);
             match outer_region {
@@ -657,6 +673,85 @@ mod tests {
             for i in 0..20_000 {
                 let (o, d, tmin) = test_ray(&to_world, i, 2.5, (0.5, 4.0));
                 let key = |h: Option<super::super::ShapeHit>| h.map(|h| (h.t.to_bits(), h.part));
+                let plain = shape.intersect(o, d, tmin, f64::INFINITY);
+                assert_eq!(
+                    key(plain),
+                    key(gated.intersect(o, d, tmin, f64::INFINITY)),
+                    "ray {i}"
+                );
+                assert_eq!(
+                    shape.occluded(o, d, tmin, 1.0),
+                    gated.occluded(o, d, tmin, 1.0),
+                    "ray {i}"
+                );
+                hits += usize::from(plain.is_some());
+                gated_out += usize::from(!gated.gate.as_ref().unwrap().lets_through(o, d, tmin));
+            }
+            assert!(
+                hits > 1_000 && gated_out > 3_000,
+                "{hits} hits, {gated_out} turned away"
+            );
+        }
+    }
+
+    /// A surface whose hits all lie in a box its gate holds needs no gate:
+    /// a quartic torus (R = 1, r = 0.4), rotated and scaled, under a sphere
+    /// and a box that hold the box around its points, each tested against
+    /// the gated torus on rays from all sides. A sphere that holds the
+    /// torus but not that box keeps its gate, as does one over an unbounded
+    /// surface (a quartic cylinder cut only by its shape's box).
+    #[test]
+    fn a_gate_that_holds_a_surfaces_points_is_not_needed() {
+        use crate::poly::trivariate::Trivariate;
+        let to_world = DAffine3::from_scale_rotation_translation(
+            DVec3::splat(1.5),
+            DQuat::from_euler(glam::EulerRot::XYZ, 0.4, -0.8, 0.3),
+            DVec3::new(2.0, -1.0, 3.0),
+        );
+        let placed = |surface: Surface, clip: Option<Box3>| {
+            Shape::new(surface, to_world, clip, 0, Solver::default()).unwrap()
+        };
+        // (x² + y² + z² + a)² − 4(x² + y²), a = R² − r².
+        let a = 1.0 - 0.4 * 0.4;
+        let torus = Trivariate::from_terms([
+            ([4, 0, 0], 1.0),
+            ([0, 4, 0], 1.0),
+            ([0, 0, 4], 1.0),
+            ([2, 2, 0], 2.0),
+            ([2, 0, 2], 2.0),
+            ([0, 2, 2], 2.0),
+            ([2, 0, 0], 2.0 * a - 4.0),
+            ([0, 2, 0], 2.0 * a - 4.0),
+            ([0, 0, 2], 2.0 * a),
+            ([0, 0, 0], a * a),
+        ]);
+        let shape = placed(Surface::Algebraic(Box::new(torus)), Some(Box3::cube(10.0)));
+        let cylinder =
+            Trivariate::from_terms([([4, 0, 0], 1.0), ([0, 4, 0], 1.0), ([0, 0, 0], -1.0)]);
+        let cylinder = placed(
+            Surface::Algebraic(Box::new(cylinder)),
+            Some(Box3::cube(10.0)),
+        );
+        let ball = |radius| placed(Surface::Sphere { radius }, None);
+        let block = |half: f64| {
+            let solid = Quadric {
+                a: DMat3::ZERO,
+                b: DVec3::ZERO,
+                c: -1.0,
+            };
+            placed(Surface::Quadric(solid), Some(Box3::cube(half)))
+        };
+        // The torus reaches 1.4 from its centre, its box's corners 2.02.
+        assert!(shape.needs_gate(&ball(1.8)));
+        assert!(cylinder.needs_gate(&ball(5.0)));
+        for gate in [ball(2.3), block(1.6)] {
+            assert!(!shape.needs_gate(&gate));
+            let mut gated = shape.clone();
+            gated.set_gate(gate);
+            let (mut hits, mut gated_out) = (0, 0);
+            for i in 0..20_000 {
+                let (o, d, tmin) = test_ray(&to_world, i, 3.0, (0.5, 5.0));
+                let key = |h: Option<super::super::ShapeHit>| h.map(|h| h.t.to_bits());
                 let plain = shape.intersect(o, d, tmin, f64::INFINITY);
                 assert_eq!(
                     key(plain),
