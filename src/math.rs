@@ -101,6 +101,23 @@ impl Ray64 {
     }
 }
 
+/// The larger of a and b by one comparison: `f64::max` without its NaN
+/// rule, whose handling costs several instructions a call, which in the
+/// per-ray code added up to some 3% of a POV-Ray sample's render loop
+/// (`valgrind --tool=callgrind`). Equal to `a.max(b)` wherever a is not NaN
+/// (a NaN b gives a, as `max` does); a NaN a gives a.
+#[inline(always)]
+pub fn larger(a: f64, b: f64) -> f64 {
+    if b > a { b } else { a }
+}
+
+/// The smaller of a and b by one comparison: `f64::min` as `larger` is
+/// `f64::max`, equal to it wherever a is not NaN.
+#[inline(always)]
+pub fn smaller(a: f64, b: f64) -> f64 {
+    if b < a { b } else { a }
+}
+
 /// A vector in scientific notation, for messages about very large or small ones.
 pub fn sci<T: std::fmt::LowerExp>(v: impl Into<[T; 3]>) -> String {
     let [x, y, z] = v.into();
@@ -416,5 +433,32 @@ mod tests {
             at(Vec3::ZERO, Vec3::Z, f32::INFINITY, f32::INFINITY).problem(),
             None
         );
+    }
+
+    /// `larger` and `smaller` are `f64::max` and `min` wherever the first
+    /// argument is not NaN, a NaN second one included (signed zeros, which
+    /// `max` may order either way, compare equal).
+    #[test]
+    fn larger_and_smaller_are_max_and_min_but_for_a_nan_first_argument() {
+        let values = [
+            f64::NEG_INFINITY,
+            -1e300,
+            -1.0,
+            -f64::MIN_POSITIVE / 2.0,
+            -0.0,
+            0.0,
+            5e-324,
+            0.5,
+            1.0,
+            1e300,
+            f64::INFINITY,
+        ];
+        for a in values {
+            for b in values.into_iter().chain([f64::NAN]) {
+                assert_eq!(super::larger(a, b), a.max(b), "larger({a}, {b})");
+                assert_eq!(super::smaller(a, b), a.min(b), "smaller({a}, {b})");
+            }
+        }
+        assert!(super::larger(f64::NAN, 1.0).is_nan() && super::smaller(f64::NAN, 1.0).is_nan());
     }
 }

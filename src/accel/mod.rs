@@ -153,7 +153,7 @@ impl Accel {
 
     pub fn intersect(&self, ray: &Ray) -> Hit {
         match self {
-            Accel::Embree(s, Some(list)) => list.nearest(ray, None, s.panics()),
+            Accel::Embree(s, Some(list)) => list.nearest(ray, &Ray64::of(ray), s.panics()),
             Accel::Embree(s, None) => s.intersect(ray),
             Accel::Obvhs(s) => s.intersect(ray),
             Accel::Bvh(s) => s.intersect(ray),
@@ -165,7 +165,7 @@ impl Accel {
     /// rays, so a graze is decided as POV-Ray's double-precision ray decides it.
     pub fn intersect_exact(&self, exact: &Ray64) -> Hit {
         match self {
-            Accel::Embree(s, Some(list)) => list.nearest(&exact.rounded(), Some(exact), s.panics()),
+            Accel::Embree(s, Some(list)) => list.nearest(&exact.rounded(), exact, s.panics()),
             Accel::Embree(s, None) => s.intersect_exact(exact),
             Accel::Obvhs(s) => s.intersect_exact(exact),
             Accel::Bvh(s) => s.intersect_exact(exact),

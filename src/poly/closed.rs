@@ -8,6 +8,7 @@
 //! increasing order and return how many; exactly equal roots are reported
 //! once. An exactly zero leading coefficient drops to the lower degree.
 
+use crate::math::larger;
 use crate::poly::univariate::pow2_reciprocal;
 
 /// Numerically stable quadratic c2 t^2 + c1 t + c0: q = -(b + sign(b)
@@ -20,7 +21,8 @@ pub fn quadratic(c0: f64, c1: f64, c2: f64, out: &mut [f64; 4]) -> usize {
     if c2 == 0.0 {
         return linear(c0, c1, out);
     }
-    let max = c0.abs().max(c1.abs()).max(c2.abs());
+    // A NaN coefficient makes every root NaN, whatever the scale.
+    let max = larger(larger(c0.abs(), c1.abs()), c2.abs());
     let s = if max >= f64::MIN_POSITIVE && max.is_finite() {
         pow2_reciprocal(max)
     } else {

@@ -1,6 +1,7 @@
 //! Univariate polynomials in f64 with fixed storage, so that the per-ray
 //! root finders never allocate.
 
+use crate::math::larger;
 use crate::poly::MAX_DEGREE;
 
 /// Number of coefficient slots of [`Poly`]: a polynomial of degree
@@ -231,7 +232,7 @@ impl<const S: usize> PolyN<S> {
             let mut largest = 0.0f64;
             for c in self.coeffs[..degree].iter().rev() {
                 weight *= shrink;
-                largest = largest.max(c.abs() * weight);
+                largest = larger(largest, c.abs() * weight);
             }
             if self.coeffs[degree].abs() > rel * largest {
                 break;

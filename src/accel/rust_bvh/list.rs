@@ -57,18 +57,18 @@ impl ListScene {
     }
 
     /// The nearest hit, as Embree's traversal finds it: in [tnear, tfar),
-    /// each shape offered the ray shortened to the nearest hit so far. A
+    /// each shape offered the ray shortened to the nearest hit so far, to
+    /// solve for `exact`, the f64 ray that `ray` rounds (see `Ray64`). A
     /// panic is a miss, recorded in `panics`.
-    pub(crate) fn nearest(&self, ray: &Ray, exact: Option<&Ray64>, panics: &PanicSlot) -> Hit {
+    pub(crate) fn nearest(&self, ray: &Ray, exact: &Ray64, panics: &PanicSlot) -> Hit {
         panics.guard(Hit::MISS, || {
             let slabs = Slabs::new(ray);
-            let exact = Ray64::for_ray(exact, ray);
             let (mut rest, mut hit) = (*ray, Hit::MISS);
             for (i, (b, shape)) in self.shapes.iter().enumerate() {
                 if !slabs.meet(b, rest.tnear, rest.tfar) {
                     continue;
                 }
-                if let Some(h) = crossings(shape, &rest, &exact, |_| true) {
+                if let Some(h) = crossings(shape, &rest, exact, |_| true) {
                     rest.tfar = h.t;
                     hit = Hit {
                         t: h.t,
@@ -101,7 +101,7 @@ mod tests {
     use std::path::Path;
 
     use crate::accel::{Accel, Backend};
-    use crate::math::{Hit, Ray, Vec3};
+    use crate::math::{Hit, Ray, Ray64, Vec3};
     use crate::scene::{LoadOptions, Scene};
 
     /// A POV-Ray scene of `objects` under a camera at z = −10.
@@ -185,10 +185,10 @@ mod tests {
                 let (x, y) = ((i % 48) as f32 + 0.5, (i / 48) as f32 + 0.5);
                 let exact = frame.ray64(x * w / 48.0, y * h / 36.0);
                 let camera = exact.rounded();
-                let first = list.nearest(&camera, Some(&exact), panics);
+                let first = list.nearest(&camera, &exact, panics);
                 ties += same(first, embree.intersect_exact(&exact), &name, &camera);
                 ties += same(
-                    list.nearest(&camera, None, panics),
+                    list.nearest(&camera, &Ray64::of(&camera), panics),
                     embree.intersect(&camera),
                     &name,
                     &camera,
@@ -215,7 +215,7 @@ mod tests {
                     };
                     rays += 1;
                     ties += same(
-                        list.nearest(&ray, None, panics),
+                        list.nearest(&ray, &Ray64::of(&ray), panics),
                         embree.intersect(&ray),
                         &name,
                         &ray,

@@ -6,6 +6,7 @@
 use glam::{DAffine3, DVec3};
 
 use super::{Box3, Quadric, Shape, Surface};
+use crate::math::{larger, smaller};
 use crate::poly::univariate::QUARTIC_SLOTS;
 
 /// How far inside a gate a box must lie for the gate to be dropped
@@ -277,17 +278,17 @@ impl Shape {
         };
         // The closest approach at or beyond tmin: Q falls until the vertex.
         let vertex = if c2 > 0.0 {
-            (-c1 / (2.0 * c2)).max(tmin)
+            larger(-c1 / (2.0 * c2), tmin)
         } else {
             tmin
         };
         let q = |t: f64| c0 + t * (c1 + t * c2);
-        let reach = tmin.abs().max(vertex.abs());
+        let reach = larger(tmin.abs(), vertex.abs());
         let noise = 16.0
             * f64::EPSILON
             * (o.length_squared() + radius * radius + reach * (c1.abs() + reach * c2));
-        let least = q(tmin).min(q(vertex));
         // A NaN (a ray at infinity) opens the gate: the shape decides.
+        let least = smaller(q(tmin), q(vertex));
         least.is_nan() || least <= noise
     }
 }

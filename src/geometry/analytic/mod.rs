@@ -11,7 +11,7 @@ use std::sync::OnceLock;
 
 use glam::{DAffine3, DMat3, DVec3};
 
-use crate::math::{Bounds, Vec3};
+use crate::math::{Bounds, Vec3, larger, smaller};
 use crate::poly::closed::quadratic;
 use crate::poly::solve::Solver;
 use crate::poly::univariate::{PolyN, QUARTIC_SLOTS, SLOTS, normalize_pow2};
@@ -83,8 +83,11 @@ impl Box3 {
             }
             let inv = 1.0 / d[axis];
             let (a, b) = ((min[axis] - o[axis]) * inv, (max[axis] - o[axis]) * inv);
-            lo = lo.max(a.min(b));
-            hi = hi.min(a.max(b));
+            // `larger`, not `f64::max` (see `math::larger`): no NaN arises
+            // here (d is finite and not 0, o is finite, a box's infinite
+            // side gives ±∞).
+            lo = larger(lo, smaller(a, b));
+            hi = smaller(hi, larger(a, b));
         }
         (lo <= hi).then_some((lo, hi))
     }

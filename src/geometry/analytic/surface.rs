@@ -8,6 +8,7 @@
 use glam::{DMat3, DVec3};
 
 use super::csg::Csg;
+use crate::math::smaller;
 use crate::poly::trivariate::Trivariate;
 use crate::poly::univariate::{PolyN, QUARTIC_SLOTS, SLOTS};
 
@@ -263,9 +264,9 @@ pub(super) fn root_uncertainty(c: &[f64], noise: f64) -> f64 {
         // bit of the result, is unchanged (a NaN ratio, skipped too, never
         // was the minimum). pow(x, 1) is x exactly.
         if k == 1 {
-            least = least.min(ratio);
+            least = smaller(least, ratio);
         } else if ratio <= least.powi(k as i32) * (1.0 + 1e-9) {
-            least = least.min(ratio.powf(1.0 / k as f64));
+            least = smaller(least, ratio.powf(1.0 / k as f64));
         }
     }
     least

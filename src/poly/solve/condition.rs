@@ -3,6 +3,7 @@
 //! the f64 interval helpers the methods share (midpoints by value and by
 //! bit pattern, nudges strictly inside an interval).
 
+use crate::math::{larger, smaller};
 use crate::poly::sturm::SturmSequence;
 use crate::poly::univariate::PolyN;
 
@@ -110,9 +111,10 @@ pub(super) fn clip_to_root_bound<const S: usize>(
     if rest.is_empty() {
         return None;
     }
-    let max_rest = rest.iter().fold(0.0, |m: f64, c| m.max(c.abs()));
+    let max_rest = rest.iter().fold(0.0, |m: f64, c| larger(m, c.abs()));
     let bound = (2.0 + max_rest / lead.abs() * (1.0 + 1e-9)).min(f64::MAX);
-    let (lo, hi) = (a.max(-bound), b.min(bound));
+    // a and b are never NaN (callers check the interval).
+    let (lo, hi) = (larger(a, -bound), smaller(b, bound));
     (lo < hi).then_some((lo, hi))
 }
 
@@ -134,7 +136,7 @@ pub(super) fn negligible_above<const S: usize>(p: &PolyN<S>, t_max: f64, rel: f6
     // the largest of terms[..i], one pass instead of one per degree.
     let mut below = [0.0f64; S];
     for i in 1..=p.degree() {
-        below[i] = below[i - 1].max(terms[i - 1]);
+        below[i] = larger(below[i - 1], terms[i - 1]);
     }
     let mut degree = p.degree();
     while degree > 0 {

@@ -35,6 +35,7 @@ mod monotone;
 
 pub use method::{Method, Solver};
 
+use crate::math::larger;
 use crate::poly::MAX_DEGREE;
 use crate::poly::exact::{Certificate, Isolation, MAX_EXACT_DEGREE, Relative};
 use crate::poly::univariate::{Poly, PolyN, QUARTIC_SLOTS, SMALL_SLOTS, normalize_pow2};
@@ -269,7 +270,7 @@ impl Solver {
         let Some((lo, hi)) = clip_to_root_bound(p, a, b) else {
             return (Screen::Unsure, *p);
         };
-        let degree = negligible_above(p, lo.abs().max(hi.abs()), f64::EPSILON);
+        let degree = negligible_above(p, larger(lo.abs(), hi.abs()), f64::EPSILON);
         let counted = p.truncated(degree);
         // Quartics (tori) and cubics first by their curvature pieces, which
         // prove queries in fewer instructions than the Bernstein pass

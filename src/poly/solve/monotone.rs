@@ -23,6 +23,7 @@ use std::cmp::Ordering;
 
 use super::bernstein::Screen;
 use super::condition::{midpoint, opposite};
+use crate::math::{larger, smaller};
 
 /// Newton steps towards one extremum before the pass gives up on it: a
 /// graze whose extremum is not proven by then goes to the Sturm chain.
@@ -66,7 +67,8 @@ impl<const N: usize> Bounded<N> {
 /// Whether a value's sign is proven: it exceeds its rounding bound (false
 /// for NaN).
 fn proven(value: f64, bound: f64) -> bool {
-    value.abs().partial_cmp(&bound) == Some(Ordering::Greater)
+    // `>` is false where either is NaN, as `partial_cmp` is not Greater.
+    value.abs() > bound
 }
 
 /// What Newton towards a piece's extremum proved.
@@ -351,8 +353,11 @@ fn extremum(
     // tangent there, less the roundings of q(x) and of q'(x) over the reach.
     let clear = |x: f64, qx: f64, eq: f64, gx: f64, eg: f64| {
         let slope = s * gx;
-        let low = (slope * (x0 - x)).min(slope * (x1 - x));
-        s * qx - eq - eg * (x - x0).max(x1 - x) + low > 0.0
+        // x0, x1 and x are finite, so only an infinite or NaN slope (an
+        // overflowed q') gives a NaN candidate; `smaller` then leaves no
+        // side clear, where `f64::min` could take the other, infinite one.
+        let low = smaller(slope * (x0 - x), slope * (x1 - x));
+        s * qx - eq - eg * larger(x - x0, x1 - x) + low > 0.0
     };
     let (g0, eg0) = g.eval(x0);
     let (g1, eg1) = g.eval(x1);
