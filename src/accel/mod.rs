@@ -98,6 +98,10 @@ impl Accel {
     pub fn build(scene: &Scene, backend: Backend, threads: Option<usize>) -> Result<Accel> {
         match backend {
             Backend::Embree => {
+                // First: the list finds its shapes' boxes (an algebraic
+                // surface's takes milliseconds, `extent`) on the scene's own
+                // shapes, so the copies Embree takes below have them too.
+                let list = rust_bvh::ListScene::of(scene);
                 let config = threads.map_or(String::new(), |n| format!("threads={n}"));
                 let device = embree::Device::with_config(&config)?;
                 let options = embree::SceneOptions::default();
@@ -118,10 +122,7 @@ impl Accel {
                         .collect::<Result<Vec<_>>>()?;
                     builder.add_instances(first, prototypes, &scene.instances)?;
                 }
-                Ok(Accel::Embree(
-                    builder.commit()?,
-                    rust_bvh::ListScene::of(scene),
-                ))
+                Ok(Accel::Embree(builder.commit()?, list))
             }
             // The pure-Rust builders run on rayon: on a pool of `threads` if given.
             // A panic in a builder crate is an internal error, not a crash.

@@ -366,9 +366,11 @@ impl Slabs {
         }
     }
 
-    /// Whether the ray meets `b` with t in [tnear, tfar]. The far end is rounded up by 1 + 2γ(3)
-    /// (pbrt), so a rounding error never drops a box the ray touches, flat
-    /// ones included.
+    /// Whether the ray meets `b` with t in [tnear, tfar]. The far end is
+    /// rounded up by 1 + 2γ(3) (pbrt), so a rounding error never drops a
+    /// box the ray touches, flat ones included. Compared, not `f32::min`
+    /// and `max` (see `math::larger`): with a finite reciprocal and origin,
+    /// no slab end is NaN.
     #[inline]
     pub(super) fn meet(&self, b: &Bounds, tnear: f32, tfar: f32) -> bool {
         let round_up = 1.0 + 2.0 * gamma(3);
