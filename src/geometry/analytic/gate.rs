@@ -668,31 +668,45 @@ mod tests {
         assert!(shape.needs_gate(&chained));
         for gate in [ball(1.9), slab(1.5)] {
             assert!(!shape.needs_gate(&gate));
-            let mut gated = shape.clone();
-            gated.set_gate(gate);
-            let (mut hits, mut gated_out) = (0, 0);
-            for i in 0..20_000 {
-                let (o, d, tmin) = test_ray(&to_world, i, 2.5, (0.5, 4.0));
-                let key = |h: Option<super::super::ShapeHit>| h.map(|h| (h.t.to_bits(), h.part));
-                let plain = shape.intersect(o, d, tmin, f64::INFINITY);
-                assert_eq!(
-                    key(plain),
-                    key(gated.intersect(o, d, tmin, f64::INFINITY)),
-                    "ray {i}"
-                );
-                assert_eq!(
-                    shape.occluded(o, d, tmin, 1.0),
-                    gated.occluded(o, d, tmin, 1.0),
-                    "ray {i}"
-                );
-                hits += usize::from(plain.is_some());
-                gated_out += usize::from(!gated.gate.as_ref().unwrap().lets_through(o, d, tmin));
-            }
-            assert!(
-                hits > 1_000 && gated_out > 3_000,
-                "{hits} hits, {gated_out} turned away"
-            );
+            gate_changes_nothing(&shape, gate, &to_world, 2.5, (0.5, 4.0));
         }
+    }
+
+    /// Asserts that `shape` under `gate` has the hits and shadows it has
+    /// without it on 20,000 rays (`test_ray`'s, aimed within `aim` of the
+    /// centre from `distance`), of which over 1,000 hit and over 3,000
+    /// the gate turns away.
+    fn gate_changes_nothing(
+        shape: &Shape,
+        gate: Shape,
+        to_world: &DAffine3,
+        aim: f64,
+        distance: (f64, f64),
+    ) {
+        let mut gated = shape.clone();
+        gated.set_gate(gate);
+        let (mut hits, mut gated_out) = (0, 0);
+        for i in 0..20_000 {
+            let (o, d, tmin) = test_ray(to_world, i, aim, distance);
+            let key = |h: Option<super::super::ShapeHit>| h.map(|h| (h.t.to_bits(), h.part));
+            let plain = shape.intersect(o, d, tmin, f64::INFINITY);
+            assert_eq!(
+                key(plain),
+                key(gated.intersect(o, d, tmin, f64::INFINITY)),
+                "ray {i}"
+            );
+            assert_eq!(
+                shape.occluded(o, d, tmin, 1.0),
+                gated.occluded(o, d, tmin, 1.0),
+                "ray {i}"
+            );
+            hits += usize::from(plain.is_some());
+            gated_out += usize::from(!gated.gate.as_ref().unwrap().lets_through(o, d, tmin));
+        }
+        assert!(
+            hits > 1_000 && gated_out > 3_000,
+            "{hits} hits, {gated_out} turned away"
+        );
     }
 
     /// A surface whose hits all lie in a box its gate holds needs no gate:
@@ -712,20 +726,7 @@ mod tests {
         let placed = |surface: Surface, clip: Option<Box3>| {
             Shape::new(surface, to_world, clip, 0, Solver::default()).unwrap()
         };
-        // (x² + y² + z² + a)² − 4(x² + y²), a = R² − r².
-        let a = 1.0 - 0.4 * 0.4;
-        let torus = Trivariate::from_terms([
-            ([4, 0, 0], 1.0),
-            ([0, 4, 0], 1.0),
-            ([0, 0, 4], 1.0),
-            ([2, 2, 0], 2.0),
-            ([2, 0, 2], 2.0),
-            ([0, 2, 2], 2.0),
-            ([2, 0, 0], 2.0 * a - 4.0),
-            ([0, 2, 0], 2.0 * a - 4.0),
-            ([0, 0, 2], 2.0 * a),
-            ([0, 0, 0], a * a),
-        ]);
+        let torus = crate::poly::trivariate::tests::torus(1.0, 0.4);
         let shape = placed(Surface::Algebraic(Box::new(torus)), Some(Box3::cube(10.0)));
         let cylinder =
             Trivariate::from_terms([([4, 0, 0], 1.0), ([0, 4, 0], 1.0), ([0, 0, 0], -1.0)]);
@@ -747,30 +748,7 @@ mod tests {
         assert!(cylinder.needs_gate(&ball(5.0)));
         for gate in [ball(2.3), block(1.6)] {
             assert!(!shape.needs_gate(&gate));
-            let mut gated = shape.clone();
-            gated.set_gate(gate);
-            let (mut hits, mut gated_out) = (0, 0);
-            for i in 0..20_000 {
-                let (o, d, tmin) = test_ray(&to_world, i, 3.0, (0.5, 5.0));
-                let key = |h: Option<super::super::ShapeHit>| h.map(|h| h.t.to_bits());
-                let plain = shape.intersect(o, d, tmin, f64::INFINITY);
-                assert_eq!(
-                    key(plain),
-                    key(gated.intersect(o, d, tmin, f64::INFINITY)),
-                    "ray {i}"
-                );
-                assert_eq!(
-                    shape.occluded(o, d, tmin, 1.0),
-                    gated.occluded(o, d, tmin, 1.0),
-                    "ray {i}"
-                );
-                hits += usize::from(plain.is_some());
-                gated_out += usize::from(!gated.gate.as_ref().unwrap().lets_through(o, d, tmin));
-            }
-            assert!(
-                hits > 1_000 && gated_out > 3_000,
-                "{hits} hits, {gated_out} turned away"
-            );
+            gate_changes_nothing(&shape, gate, &to_world, 3.0, (0.5, 5.0));
         }
     }
 }

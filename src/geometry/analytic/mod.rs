@@ -913,26 +913,13 @@ fn world_box(b: &Box3, to_world: &DAffine3) -> Box3 {
 mod tests {
     use super::{Box3, Shape, Span, Surface};
     use crate::poly::solve::Solver;
-    use crate::poly::trivariate::Trivariate;
+    use crate::poly::trivariate::tests::torus;
     use crate::poly::univariate::{PolyN, QUARTIC_SLOTS};
     use glam::{DAffine3, DVec3};
 
-    /// The torus (x² + y² + z² + R² − r²)² − 4R²(x² + y²) written out as
-    /// an algebraic surface, R = 2, r = 0.5.
+    /// The torus R = 2, r = 0.5 as an algebraic surface.
     fn algebraic_torus() -> Shape {
-        let (r2, k) = (4.0, 4.0 - 0.25);
-        let f = Trivariate::from_terms([
-            ([4, 0, 0], 1.0),
-            ([0, 4, 0], 1.0),
-            ([0, 0, 4], 1.0),
-            ([2, 2, 0], 2.0),
-            ([2, 0, 2], 2.0),
-            ([0, 2, 2], 2.0),
-            ([2, 0, 0], 2.0 * k - 4.0 * r2),
-            ([0, 2, 0], 2.0 * k - 4.0 * r2),
-            ([0, 0, 2], 2.0 * k),
-            ([0, 0, 0], k * k),
-        ]);
+        let f = torus(2.0, 0.5);
         let clip = Box3 {
             min: DVec3::new(-2.6, -2.6, -0.6),
             max: DVec3::new(2.6, 2.6, 0.6),

@@ -690,4 +690,4 @@ impl fmt::Display for Trivariate {
 }
 
 #[cfg(test)]
-mod tests;
+pub(crate) mod tests;

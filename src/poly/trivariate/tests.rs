@@ -9,7 +9,8 @@ fn torus_direct(p: [f64; 3], big_r: f64, r: f64) -> f64 {
 
 /// The torus, expanded by hand:
 /// (x²+y²+z²)² − 2(R²+r²)(x²+y²) + 2(R²−r²)z² + (R²−r²)².
-fn torus(big_r: f64, r: f64) -> Trivariate {
+/// Also the algebraic torus of `geometry::analytic`'s tests.
+pub(crate) fn torus(big_r: f64, r: f64) -> Trivariate {
     let (r2, s2) = (big_r * big_r, r * r);
     Trivariate::from_terms([
         ([4, 0, 0], 1.0),
