@@ -173,6 +173,30 @@ impl Accel {
         }
     }
 
+    /// Whether `intersect_exact_batch` traces its rays together (Embree's
+    /// stream API), and so is worth gathering them for: elsewhere it asks
+    /// one ray at a time, and gathering only costs.
+    pub fn streams(&self) -> bool {
+        matches!(self, Accel::Embree(_, None))
+    }
+
+    /// `intersect_exact` of each of many neighbouring rays: on Embree 3 as
+    /// one coherent stream (`CommittedScene::intersect_exact_batch`, whose
+    /// hits are the same bits but where two primitives tie); a scene that
+    /// skips the BVH, and the pure-Rust backends, one ray at a time. A panic
+    /// caught in a query leaves a miss, as in `intersect_exact`, for the
+    /// render's `check` to report.
+    pub fn intersect_exact_batch(&self, rays: &[Ray64], hits: &mut [Hit]) {
+        match self {
+            Accel::Embree(s, None) => s.intersect_exact_batch(rays, hits),
+            _ => {
+                for (hit, ray) in hits.iter_mut().zip(rays) {
+                    *hit = self.intersect_exact(ray);
+                }
+            }
+        }
+    }
+
     pub fn occluded(&self, ray: &Ray) -> bool {
         match self {
             Accel::Embree(s, Some(list)) => list.occluded(ray, s.panics()),

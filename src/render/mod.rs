@@ -1,5 +1,6 @@
 //! Rendering: the tile loop over rayon, camera sampling, and statistics.
 
+mod batch;
 pub mod job;
 pub mod merge;
 pub mod order;
@@ -21,6 +22,8 @@ pub use photon::PhotonMap;
 pub use plan::Plan;
 pub use tally::{Node, RayKind, RayStats, Tally};
 pub use whitted::Whitted;
+
+use batch::TileCameras;
 
 use crate::accel::Accel;
 use crate::accel::ftz::enable_flush_to_zero;
@@ -72,19 +75,33 @@ const FIRST_PASS_GRACE: std::time::Duration = std::time::Duration::from_secs(1);
 /// to many threads, large enough that scheduling costs nothing.
 const TILE: usize = 16;
 
-/// The region's tiles, row by row of tiles.
+/// The tiles of the image's grid (squares of `TILE` from its corner) that
+/// meet the region, each cut to the region, row by row of tiles. On the
+/// image's grid, not the region's: a tile's camera rays are traced as one
+/// stream of the whole grid tile's (`TileCameras`), whatever the region.
 fn tiles_of(region: Region) -> Vec<Region> {
-    (region.y0..region.y1)
-        .step_by(TILE)
-        .flat_map(|y0| {
-            (region.x0..region.x1).step_by(TILE).map(move |x0| Region {
-                x0,
-                y0,
-                x1: (x0 + TILE).min(region.x1),
-                y1: (y0 + TILE).min(region.y1),
+    let starts = |from: usize, to: usize| (from / TILE * TILE..to).step_by(TILE);
+    starts(region.y0, region.y1)
+        .flat_map(|y| {
+            starts(region.x0, region.x1).map(move |x| Region {
+                x0: x.max(region.x0),
+                y0: y.max(region.y0),
+                x1: (x + TILE).min(region.x1),
+                y1: (y + TILE).min(region.y1),
             })
         })
         .collect()
+}
+
+/// The whole tile of the grid of a width × height image that holds `tile`.
+fn grid_tile(tile: Region, width: usize, height: usize) -> Region {
+    let (x0, y0) = (tile.x0 / TILE * TILE, tile.y0 / TILE * TILE);
+    Region {
+        x0,
+        y0,
+        x1: (x0 + TILE).min(width),
+        y1: (y0 + TILE).min(height),
+    }
 }
 
 /// Each tile (of `tiles_of(region)`) as its rows of `pixels` (the region's,
@@ -99,10 +116,19 @@ fn tile_rows<'a>(
         .iter()
         .map(|t| Vec::with_capacity(t.height()))
         .collect();
-    let across = region.width().div_ceil(TILE);
-    for (y, row) in pixels.chunks_mut(region.width()).enumerate() {
-        for (i, piece) in row.chunks_mut(TILE).enumerate() {
-            rows[y / TILE * across + i].push(piece);
+    // Tiles per row of tiles; a row's pieces end where the grid's columns do.
+    let across = (region.x1 - 1) / TILE - region.x0 / TILE + 1;
+    for (y, mut row) in (region.y0..).zip(pixels.chunks_mut(region.width())) {
+        let first = (y / TILE - region.y0 / TILE) * across;
+        let mut x = region.x0;
+        for tile in &mut rows[first..] {
+            let end = ((x / TILE + 1) * TILE).min(region.x1);
+            let (piece, rest) = row.split_at_mut(end - x);
+            tile.push(piece);
+            (row, x) = (rest, end);
+            if row.is_empty() {
+                break;
+            }
         }
     }
     rows
@@ -232,25 +258,49 @@ pub fn render(scene: &Scene, accel: &Accel, options: &RenderOptions) -> Result<R
                     let mut bad = 0;
                     for (y, row) in (tile.y0..tile.y1).zip(rows.iter_mut()) {
                         for (x, out) in (tile.x0..tile.x1).zip(row.iter_mut()) {
-                            let mut pixel = prev.map_or_else(Pixel::default, |f| *f.pixel(x, y));
-                            bad += passes::sample_pass(
-                                &mut pixel,
-                                range.clone(),
-                                spp,
-                                adaptive,
-                                |k| {
-                                    if cut(first) {
-                                        return None;
-                                    }
-                                    let (ray, weight, mut sampler) =
-                                        camera_ray(scene, &frame, &filter, (x, y), k, spp);
-                                    let mut sample =
-                                        integrator.sample(&ray, &mut sampler, &mut tally);
-                                    sample.weight = weight;
-                                    Some(sample)
-                                },
-                            )?;
-                            *out = pixel;
+                            *out = prev.map_or_else(Pixel::default, |f| *f.pixel(x, y));
+                        }
+                    }
+                    let camera = |at, k| camera_ray(scene, &frame, &filter, at, k, spp);
+                    // Sample a pixel's next sample, from its camera ray's hit.
+                    let mut sample =
+                        |pixel: &mut Pixel, ray: &Ray64, hit, weight, sampler: &mut Sampler| {
+                            if cut(first) {
+                                return None;
+                            }
+                            let mut sample = integrator.sample(ray, hit, sampler, &mut tally);
+                            sample.weight = weight;
+                            bad += passes::add(pixel, sample);
+                            Some(())
+                        };
+                    if accel.streams() && passes::every_pixel_takes(&range, spp, adaptive) {
+                        // Sample k of the whole grid tile as one stream,
+                        // its hits the same whatever the region or pass.
+                        let grid = grid_tile(*tile, width, height);
+                        let mut cameras = TileCameras::new();
+                        for k in range.clone() {
+                            cameras.trace(accel, grid, |at| camera(at, k));
+                            for (y, row) in (tile.y0..tile.y1).zip(rows.iter_mut()) {
+                                for (x, pixel) in (tile.x0..tile.x1).zip(row.iter_mut()) {
+                                    let (ray, hit, weight, sampler) = cameras.get(grid, (x, y));
+                                    sample(pixel, ray, hit, weight, sampler)?;
+                                }
+                            }
+                        }
+                    } else {
+                        // Adaptive rounds (the pixels that take them) and
+                        // backends without streams: one ray at a time.
+                        for (y, row) in (tile.y0..tile.y1).zip(rows.iter_mut()) {
+                            for (x, pixel) in (tile.x0..tile.x1).zip(row.iter_mut()) {
+                                if !passes::takes(pixel, &range, spp, adaptive) {
+                                    continue;
+                                }
+                                for k in range.clone() {
+                                    let (ray, weight, mut sampler) = camera((x, y), k);
+                                    let hit = accel.intersect_exact(&ray);
+                                    sample(pixel, &ray, hit, weight, &mut sampler)?;
+                                }
+                            }
                         }
                     }
                     let stats = tally.totals();
@@ -367,10 +417,10 @@ impl<'a> Tracer<'a> {
         }
     }
 
-    fn sample(&self, camera: &Ray64, sampler: &mut Sampler, tally: &mut Tally) -> Sample {
+    fn sample(&self, camera: &Ray64, hit: Hit, sampler: &mut Sampler, tally: &mut Tally) -> Sample {
         match self {
-            Tracer::Whitted(w) => w.sample(camera, sampler, tally),
-            Tracer::Path(p) => p.sample(camera, sampler, tally),
+            Tracer::Whitted(w) => w.sample(camera, hit, sampler, tally),
+            Tracer::Path(p) => p.sample(camera, hit, sampler, tally),
         }
     }
 }
@@ -451,13 +501,32 @@ pub fn explain(
     let integrator = Tracer::new(scene, accel, plan, caustics.as_ref());
     let filter = scene.render.filter.sampler()?;
     let frame = scene.camera.frame();
-    let (ray, weight, mut sampler) =
-        camera_ray(scene, &frame, &filter, pixel, sample, scene.render.spp);
+    let spp = scene.render.spp;
+    let camera = |at| camera_ray(scene, &frame, &filter, at, sample, spp);
     let mut tally = Tally {
         tree: Some(Vec::new()),
         ..Tally::default()
     };
-    let mut result = integrator.sample(&ray, &mut sampler, &mut tally);
+    // The camera ray's hit as the render finds it (see `batch`).
+    let adaptive = scene.render.adaptive.as_ref();
+    let mut cameras = TileCameras::new();
+    let (ray, hit, weight, mut sampler) =
+        if accel.streams() && passes::every_pixel_takes(&(sample..sample + 1), spp, adaptive) {
+            let at = Region {
+                x0: pixel.0,
+                y0: pixel.1,
+                x1: pixel.0 + 1,
+                y1: pixel.1 + 1,
+            };
+            let grid = grid_tile(at, w, h);
+            cameras.trace(accel, grid, camera);
+            let (ray, hit, weight, sampler) = cameras.get(grid, pixel);
+            (*ray, hit, weight, sampler.clone())
+        } else {
+            let (ray, weight, sampler) = camera(pixel);
+            (ray, accel.intersect_exact(&ray), weight, sampler)
+        };
+    let mut result = integrator.sample(&ray, hit, &mut sampler, &mut tally);
     result.weight = weight;
     accel.check()?;
     Ok((result, ray.rounded(), tally.tree.unwrap_or_default()))
@@ -599,6 +668,13 @@ mod tests {
         let tiles = tiles_of(region);
         let mut pixels = vec![Pixel::default(); region.area()];
         for (tile, rows) in tiles.iter().zip(tile_rows(&mut pixels, region, &tiles)) {
+            // Each is the part in the region of one tile of the image's grid.
+            let grid = grid_tile(*tile, 100, 100);
+            assert_eq!((grid.x0 % TILE, grid.y0 % TILE), (0, 0));
+            assert_eq!(tile.x0, grid.x0.max(region.x0));
+            assert_eq!(tile.x1, grid.x1.min(region.x1));
+            assert_eq!(tile.y0, grid.y0.max(region.y0));
+            assert_eq!(tile.y1, grid.y1.min(region.y1));
             assert_eq!(rows.len(), tile.height());
             for (y, row) in (tile.y0..tile.y1).zip(rows) {
                 assert_eq!(row.len(), tile.width());

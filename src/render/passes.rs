@@ -55,31 +55,26 @@ pub fn is_first(range: &Range<u32>) -> bool {
     range.start == 0
 }
 
-/// Adds samples `range` to a pixel (`take(k)` traces sample k), unless
-/// adaptive sampling finds it has converged, or it stopped in an earlier pass.
-/// Returns how many samples had non-finite radiance (counted as black), or
-/// `None` as soon as `take` returns `None` (an interrupt: the pixel is then
-/// part-way through the pass, and the caller drops the pass).
-pub fn sample_pass(
-    pixel: &mut Pixel,
-    range: Range<u32>,
-    spp: u32,
-    adaptive: Option<&Adaptive>,
-    mut take: impl FnMut(u32) -> Option<Sample>,
-) -> Option<u64> {
-    if let Some(a) = adaptive
-        && range.start >= spp
-        && (pixel.samples < range.start || converged(pixel, a))
-    {
-        return Some(0);
-    }
-    let mut nonfinite = 0;
-    for k in range {
-        let mut sample = take(k)?;
-        nonfinite += u64::from(sample.sanitize());
-        pixel.add(&sample);
-    }
-    Some(nonfinite)
+/// Whether a pixel takes samples `range`: always, unless adaptive
+/// sampling finds it has converged, or it stopped in an earlier pass. The
+/// pixel's state before the pass decides it.
+pub fn takes(pixel: &Pixel, range: &Range<u32>, spp: u32, adaptive: Option<&Adaptive>) -> bool {
+    every_pixel_takes(range, spp, adaptive)
+        || adaptive.is_some_and(|a| pixel.samples >= range.start && !converged(pixel, a))
+}
+
+/// Whether every pixel takes samples `range`: without adaptive sampling,
+/// and in its base round.
+pub fn every_pixel_takes(range: &Range<u32>, spp: u32, adaptive: Option<&Adaptive>) -> bool {
+    adaptive.is_none() || range.start < spp
+}
+
+/// Adds a sample to its pixel (the pixel's next in index order); returns 1
+/// if its radiance was non-finite (counted as black), else 0.
+pub fn add(pixel: &mut Pixel, mut sample: Sample) -> u64 {
+    let nonfinite = u64::from(sample.sanitize());
+    pixel.add(&sample);
+    nonfinite
 }
 
 /// Whether a pixel's samples agree well enough to stop.
@@ -116,7 +111,11 @@ mod tests {
     fn run(spp: u32, adaptive: Option<&Adaptive>, take: impl Fn(u32) -> Sample) -> Pixel {
         let mut pixel = Pixel::default();
         for range in passes(spp, adaptive, 0) {
-            sample_pass(&mut pixel, range, spp, adaptive, |k| Some(take(k))).unwrap();
+            if takes(&pixel, &range, spp, adaptive) {
+                for k in range {
+                    add(&mut pixel, take(k));
+                }
+            }
         }
         pixel
     }
@@ -167,22 +166,13 @@ mod tests {
     }
 
     #[test]
-    fn a_pass_stops_at_the_first_sample_refused() {
-        let mut pixel = Pixel::default();
-        let stopped = sample_pass(&mut pixel, 0..1_000_000, 4, None, |k| {
-            (k < 3).then(|| sample(1.0))
-        });
-        assert_eq!(stopped, None);
-        assert_eq!(pixel.samples, 3);
-    }
-
-    #[test]
     fn non_finite_radiance_is_counted_and_kept_off_the_film() {
         let mut pixel = Pixel::default();
-        let bad = sample_pass(&mut pixel, 0..4, 4, None, |k| {
-            Some(sample([f32::NAN, f32::INFINITY, 1.0, 2.0][k as usize]))
-        });
-        assert_eq!(bad, Some(2));
+        let bad: u64 = [f32::NAN, f32::INFINITY, 1.0, 2.0]
+            .into_iter()
+            .map(|y| add(&mut pixel, sample(y)))
+            .sum();
+        assert_eq!(bad, 2);
         assert_eq!(pixel.samples, 4);
         assert!(pixel.radiance.iter().all(|c| c.is_finite()));
         assert_eq!(pixel.radiance[0], 3.0);

@@ -18,7 +18,7 @@ use super::tally::{Node, RayKind, Tally};
 use crate::accel::Accel;
 use crate::film::Sample;
 use crate::lights::LightRef;
-use crate::math::{Frame, Ray, Ray64, Vec3, offset};
+use crate::math::{Frame, Hit, Ray, Ray64, Vec3, offset};
 use crate::sampling::mis::power_heuristic;
 use crate::sampling::{Deferred, Sampler};
 use crate::scene::{Interaction, Scene};
@@ -79,9 +79,15 @@ struct Vertex<'v> {
 }
 
 impl PathTracer<'_> {
-    /// The radiance along a camera ray, found in f64 (`Accel::intersect_exact`),
-    /// followed as its f32 rounding.
-    pub fn sample(&self, camera: &Ray64, sampler: &mut Sampler, tally: &mut Tally) -> Sample {
+    /// The radiance along a camera ray whose hit was found in f64
+    /// (`Accel::intersect_exact`), followed as its f32 rounding.
+    pub fn sample(
+        &self,
+        camera: &Ray64,
+        camera_hit: Hit,
+        sampler: &mut Sampler,
+        tally: &mut Tally,
+    ) -> Sample {
         let mut radiance = Vec3::ZERO;
         let mut beta = Vec3::ONE;
         let mut ray = camera.rounded();
@@ -98,7 +104,7 @@ impl PathTracer<'_> {
         for depth in 0..=self.plan.max_depth {
             tally.count(kind, depth);
             let hit = if depth == 0 {
-                self.accel.intersect_exact(camera)
+                camera_hit
             } else {
                 self.accel.intersect(&ray)
             };

@@ -34,11 +34,17 @@ pub struct Whitted<'a> {
 }
 
 impl Whitted<'_> {
-    /// The radiance along a camera ray, with the first hit's AOVs. The ray
-    /// is found in f64, then followed as its f32 rounding.
-    pub fn sample(&self, camera: &Ray64, sampler: &mut Sampler, tally: &mut Tally) -> Sample {
+    /// The radiance along a camera ray, with the first hit's AOVs. The ray's
+    /// `hit` was found in f64 (`Accel::intersect_exact`); it is followed as
+    /// its f32 rounding.
+    pub fn sample(
+        &self,
+        camera: &Ray64,
+        hit: Hit,
+        sampler: &mut Sampler,
+        tally: &mut Tally,
+    ) -> Sample {
         let walk = &mut Walk { tally, sampler };
-        let hit = self.accel.intersect_exact(camera);
         let ray = &camera.rounded();
         // Once for the ray tree and the AOVs: an analytic hit's error bound
         // costs a substitution of the ray into its polynomial.

@@ -14,7 +14,7 @@ use std::sync::Arc;
 
 #[cfg(embree4)]
 use super::query::Context;
-use super::query::{self, Coherence, Query};
+use super::query::{self, Coherence, Exact, Query};
 use super::scene::CommittedScene;
 use super::sys;
 use super::user::{
@@ -245,7 +245,7 @@ impl CommittedScene {
             let mut collector = Collector {
                 query: Query {
                     context,
-                    exact: None,
+                    exact: Exact::None,
                 },
                 hits,
                 panics: self.panics(),
@@ -261,7 +261,7 @@ impl CommittedScene {
             let mut collector = Collector {
                 query: Query {
                     context: query::context(),
-                    exact: None,
+                    exact: Exact::None,
                 },
                 hits,
                 panics: self.panics(),

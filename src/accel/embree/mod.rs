@@ -21,7 +21,7 @@ mod user;
 
 pub use device::{Device, HEADER_VERSION, Version};
 pub use exit::exit_at_once;
-pub use scene::{BuildQuality, CommittedScene, SceneBuilder, SceneOptions};
+pub use scene::{BuildQuality, CommittedScene, STREAM, SceneBuilder, SceneOptions};
 
 #[cfg(test)]
 mod tests;

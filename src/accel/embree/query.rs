@@ -17,15 +17,40 @@ pub(super) type Context = sys::RTCIntersectContext;
 pub(super) type Context = sys::RTCRayQueryContext;
 
 /// The context of every intersect query: Embree's first, then the query's
-/// f64 ray, if it has one (a camera ray, `CommittedScene::intersect_exact`).
-/// Embree hands the intersect callback the context pointer it was given, so
-/// the callback reads the f64 ray from there (`user::intersect_callback`).
-/// Every `rtcIntersect*` call must pass a pointer made from a whole `Query`
-/// (or a struct that starts with one): the callback reads it as one.
+/// f64 rays, if it has them (camera rays, `CommittedScene::intersect_exact`
+/// and `intersect_exact_batch`). Embree hands the intersect callback the
+/// context pointer it was given, so the callback reads the f64 ray from
+/// there (`user::intersect_callback`). Every `rtcIntersect*` call must pass
+/// a pointer made from a whole `Query` (or a struct that starts with one):
+/// the callback reads it as one.
 #[repr(C)]
 pub(super) struct Query<'a> {
     pub(super) context: Context,
-    pub(super) exact: Option<&'a Ray64>,
+    pub(super) exact: Exact<'a>,
+}
+
+/// The f64 rays of a query: none, the one ray's, or one for each record of
+/// a stream, found by the record's `id` (its index in the stream), which
+/// Embree carries unchanged into every packet it forms.
+#[derive(Clone, Copy)]
+pub(super) enum Exact<'a> {
+    None,
+    One(&'a Ray64),
+    Each(&'a [Ray64]),
+}
+
+impl Exact<'_> {
+    /// What a shape is to solve for the lane ray `ray` whose record has
+    /// `id`: its f64 ray where `ray` is that ray's rounding (see
+    /// `Ray64::for_ray`), else `ray` itself widened.
+    pub(super) fn for_lane(self, id: u32, ray: &Ray) -> Ray64 {
+        let exact = match self {
+            Exact::None => None,
+            Exact::One(exact) => Some(exact),
+            Exact::Each(rays) => rays.get(id as usize),
+        };
+        Ray64::for_ray(exact, ray)
+    }
 }
 
 /// A ray record ready for Embree: the whole ray mask set, ids invalid.

@@ -10,7 +10,7 @@ use super::device::Device;
 use super::filter::{self, CutoutData};
 use super::instance::Instances;
 use super::owned::UserPtr;
-use super::query::{self, Coherence, Query};
+use super::query::{self, Coherence, Exact, Query};
 use super::sys;
 use super::user::{self, UserData};
 use crate::accel::cutout::Cutout;
@@ -18,6 +18,10 @@ use crate::accel::panics::PanicSlot;
 use crate::accel::primitive::{UserPrimitive, padding};
 use crate::error::{Error, Result};
 use crate::math::{Bounds, Hit, Ray, Ray64, Vec3};
+
+/// Rays a stream call takes (`rtcIntersect1M`): Embree sorts them into
+/// packets itself, and 256 records are 20 KB on the stack.
+pub const STREAM: usize = 256;
 
 /// Embree's BVH build quality.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -327,7 +331,7 @@ impl CommittedScene {
     /// The nearest hit in (tnear, tfar), or `Hit::MISS`.
     pub fn intersect(&self, ray: &Ray) -> Hit {
         let mut record = query::rayhit_record(ray);
-        self.intersect_record(&mut record, Coherence::Incoherent, None);
+        self.intersect_record(&mut record, Coherence::Incoherent, Exact::None);
         self.instances.to_world(query::hit_from_record(&record))
     }
 
@@ -335,7 +339,7 @@ impl CommittedScene {
     /// primitives solving for `exact` itself (see `Ray64`).
     pub fn intersect_exact(&self, exact: &Ray64) -> Hit {
         let mut record = query::rayhit_record(&exact.rounded());
-        self.intersect_record(&mut record, Coherence::Incoherent, Some(exact));
+        self.intersect_record(&mut record, Coherence::Incoherent, Exact::One(exact));
         self.instances.to_world(query::hit_from_record(&record))
     }
 
@@ -364,31 +368,63 @@ impl CommittedScene {
     /// Reports any error Embree raised during the batch.
     pub fn intersect_batch(&self, rays: &[Ray], hits: &mut [Hit], coherent: bool) -> Result<()> {
         assert_eq!(rays.len(), hits.len(), "one hit record per ray");
-        const CHUNK: usize = 256;
         let coherence = if coherent {
             Coherence::Coherent
         } else {
             Coherence::Incoherent
         };
-        let mut records = [sys::RTCRayHit::default(); CHUNK];
-        for (rays, hits) in rays.chunks(CHUNK).zip(hits.chunks_mut(CHUNK)) {
-            let records = &mut records[..rays.len()];
-            for (record, ray) in records.iter_mut().zip(rays) {
-                *record = query::rayhit_record(ray);
-            }
-            self.intersect_records(records, coherence);
-            for (hit, record) in hits.iter_mut().zip(records.iter()) {
-                *hit = self.instances.to_world(query::hit_from_record(record));
-            }
+        for (rays, hits) in rays.chunks(STREAM).zip(hits.chunks_mut(STREAM)) {
+            self.intersect_stream(rays.iter().copied(), hits, coherence, Exact::None);
         }
         self.check()
     }
 
+    /// `intersect_exact` of many neighbouring rays (a tile's camera rays),
+    /// through the stream API on Embree 3 as one coherent stream: each
+    /// record's `id` is its index in the stream, by which the intersect
+    /// callback finds its f64 ray. The hits are `intersect_exact`'s bits,
+    /// except where two primitives are hit at the same t, which a packet
+    /// may break otherwise than one ray (tests.rs,
+    /// `streams_answer_as_single_rays`): callers that need the same hits
+    /// every time give the same rays in the same order (`render::batch`).
+    pub fn intersect_exact_batch(&self, rays: &[Ray64], hits: &mut [Hit]) {
+        assert_eq!(rays.len(), hits.len(), "one hit record per ray");
+        for (rays, hits) in rays.chunks(STREAM).zip(hits.chunks_mut(STREAM)) {
+            let rounded = rays.iter().map(Ray64::rounded);
+            self.intersect_stream(rounded, hits, Coherence::Coherent, Exact::Each(rays));
+        }
+    }
+
+    /// One stream of at most `STREAM` rays.
+    fn intersect_stream(
+        &self,
+        rays: impl ExactSizeIterator<Item = Ray>,
+        hits: &mut [Hit],
+        coherence: Coherence,
+        exact: Exact<'_>,
+    ) {
+        let mut records = [sys::RTCRayHit::default(); STREAM];
+        let records = &mut records[..rays.len()];
+        for (id, (record, ray)) in records.iter_mut().zip(rays).enumerate() {
+            *record = query::rayhit_record(&ray);
+            record.ray.id = id as u32;
+        }
+        self.intersect_records(records, coherence, exact);
+        for (hit, record) in hits.iter_mut().zip(records.iter()) {
+            *hit = self.instances.to_world(query::hit_from_record(record));
+        }
+    }
+
     #[cfg(embree3)]
-    fn intersect_records(&self, records: &mut [sys::RTCRayHit], coherence: Coherence) {
+    fn intersect_records(
+        &self,
+        records: &mut [sys::RTCRayHit],
+        coherence: Coherence,
+        exact: Exact<'_>,
+    ) {
         let mut query = Query {
             context: query::context(coherence),
-            exact: None,
+            exact,
         };
         let whole: *mut Query = &mut query;
         // SAFETY: scene committed; `records` is a live slice of initialised RTCRayHit with
@@ -406,9 +442,14 @@ impl CommittedScene {
     }
 
     #[cfg(embree4)]
-    fn intersect_records(&self, records: &mut [sys::RTCRayHit], coherence: Coherence) {
+    fn intersect_records(
+        &self,
+        records: &mut [sys::RTCRayHit],
+        coherence: Coherence,
+        exact: Exact<'_>,
+    ) {
         for record in records {
-            self.intersect_record(record, coherence, None);
+            self.intersect_record(record, coherence, exact);
         }
     }
 
@@ -416,7 +457,7 @@ impl CommittedScene {
         &self,
         record: &mut sys::RTCRayHit,
         coherence: Coherence,
-        exact: Option<&Ray64>,
+        exact: Exact<'_>,
     ) {
         #[cfg(embree3)]
         {
@@ -475,6 +516,6 @@ impl CommittedScene {
     /// A raw query on a caller-owned record, for the layout guard tests.
     #[cfg(test)]
     pub(super) fn intersect_raw(&self, record: &mut sys::RTCRayHit) {
-        self.intersect_record(record, Coherence::Incoherent, None);
+        self.intersect_record(record, Coherence::Incoherent, Exact::None);
     }
 }

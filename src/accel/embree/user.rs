@@ -19,7 +19,7 @@ use super::query::Query;
 use super::sys;
 use crate::accel::panics::PanicSlot;
 use crate::accel::primitive::{UserHit, UserPrimitive, crossings, held};
-use crate::math::{Bounds, Ray, Ray64, Vec3};
+use crate::math::{Bounds, Ray, Vec3};
 
 /// What Embree's geometry user pointer points at: the primitives (primID
 /// indexes them), how far their boxes are grown (`primitive::padding`) and
@@ -94,6 +94,8 @@ impl Packet<'_, MaybeUninit<u32>> {
 
 /// Word offsets in RTCRayN and, after the 12 ray words, in RTCHitN.
 pub(super) const TFAR: usize = 8;
+/// The ray's `id`, after its mask.
+const ID: usize = 10;
 const RAY_WORDS: usize = 12;
 pub(super) const NG_X: usize = 0;
 pub(super) const U: usize = 3;
@@ -157,7 +159,7 @@ pub(super) extern "C" fn intersect_callback<T: UserPrimitive>(
     // context first), live for the query; Embree hands it on unchanged. Only the f64
     // ray is read (Embree writes the instance stack before it), and no reference to
     // the context is kept.
-    let f64_ray = unsafe { (*args.context.cast::<Query>()).exact };
+    let exact = unsafe { (*args.context.cast::<Query>()).exact };
     let base = args.rayhit.cast::<u32>();
     for i in 0..n {
         // SAFETY: `valid` has N initialised entries, lent to this call; no reference to
@@ -166,12 +168,14 @@ pub(super) extern "C" fn intersect_callback<T: UserPrimitive>(
         if !active {
             continue;
         }
-        // SAFETY: `rayhit` is a live RTCRayHitN of N lanes that Embree filled with the
-        // rays and lends to this call; the packet lives only for this read.
-        let ray = unsafe { Packet::<u32>::new(base, RAY_FIELDS, n) }.ray(i);
+        // SAFETY: `rayhit` is a live RTCRayHitN of N lanes (12 ray words each, the id
+        // the 11th) that Embree filled with the rays and lends to this call; the packet
+        // lives only for these reads.
+        let lanes = unsafe { Packet::<u32>::new(base, ID + 1, n) };
+        let (ray, id) = (lanes.ray(i), lanes.u32(ID, i));
         // The query's f64 ray, where this lane's ray is its rounding: not in an
         // instance's space, where the lane holds the ray moved there.
-        let exact = Ray64::for_ray(f64_ray, &ray);
+        let exact = exact.for_lane(id, &ray);
         // Each crossing is offered to the filter functions (a query's all-hits
         // collector, a geometry's own), nearest first, until one is accepted.
         let found = data.panics.guard(None, || {

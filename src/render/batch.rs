@@ -1,0 +1,70 @@
+//! A tile's camera rays traced together: sample k through every pixel of a
+//! tile of the image's grid, as one coherent stream (Embree's
+//! `rtcIntersect1M`, which sorts them into packets and traverses them
+//! together). On the Cornell box a camera ray costs 0.35x of one
+//! `rtcIntersect1` call that way (`make embree-modes`); see ARCHITECTURE.md,
+//! "Camera rays as streams", for what renders gained.
+//!
+//! A packet may break a tie (two primitives hit at the same t, as at a
+//! shared edge) otherwise than one ray alone would, so the stream is
+//! always the same: the whole grid tile's rays, in row order, for one
+//! sample index. A pixel's sample k is then the same whatever the region
+//! rendered (a crop's edge tile traces its grid tile's other pixels too,
+//! and drops them), the passes, the threads or a resume.
+
+use crate::accel::Accel;
+use crate::film::Region;
+use crate::math::{Hit, Ray64};
+use crate::sampling::Sampler;
+
+/// The camera rays of one grid tile for one sample index, with their hits,
+/// filter weights and the samplers the integrator goes on drawing from,
+/// pixel by pixel, row by row. Its buffers are made once, for every
+/// sample index and pass of the tile.
+pub(super) struct TileCameras {
+    rays: Vec<Ray64>,
+    hits: Vec<Hit>,
+    samples: Vec<(f32, Sampler)>,
+}
+
+impl TileCameras {
+    pub(super) fn new() -> TileCameras {
+        TileCameras {
+            rays: Vec::new(),
+            hits: Vec::new(),
+            samples: Vec::new(),
+        }
+    }
+
+    /// Traces `camera`'s ray (with its weight and sampler) through every
+    /// pixel of `grid`, a tile of the image's grid.
+    pub(super) fn trace(
+        &mut self,
+        accel: &Accel,
+        grid: Region,
+        camera: impl Fn((usize, usize)) -> (Ray64, f32, Sampler),
+    ) {
+        self.rays.clear();
+        self.samples.clear();
+        for y in grid.y0..grid.y1 {
+            for x in grid.x0..grid.x1 {
+                let (ray, weight, sampler) = camera((x, y));
+                self.rays.push(ray);
+                self.samples.push((weight, sampler));
+            }
+        }
+        self.hits.resize(self.rays.len(), Hit::MISS);
+        accel.intersect_exact_batch(&self.rays, &mut self.hits);
+    }
+
+    /// Pixel (x, y)'s ray, hit, weight and sampler, of `grid` as last traced.
+    pub(super) fn get(
+        &mut self,
+        grid: Region,
+        (x, y): (usize, usize),
+    ) -> (&Ray64, Hit, f32, &mut Sampler) {
+        let i = (y - grid.y0) * grid.width() + (x - grid.x0);
+        let (weight, sampler) = &mut self.samples[i];
+        (&self.rays[i], self.hits[i], *weight, sampler)
+    }
+}
