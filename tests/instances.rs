@@ -7,7 +7,7 @@ mod common;
 
 use common::{scratch, write};
 use sturmray::accel::{Accel, Backend};
-use sturmray::math::{Hit, INVALID_ID, Ray};
+use sturmray::math::{Hit, INVALID_ID, Ray, Vec3};
 use sturmray::render::{RenderOptions, render};
 use sturmray::scene::Scene;
 
@@ -320,8 +320,8 @@ fn each_instances_checker_moves_with_it_on_every_backend() {
                 [[objects]]\ntype = \"instance\"\nprototype = \"ball\"\nmaterial = \"d\"\n\
                 transform = { translate = [0, -7, 0] }\n";
     let scene = Scene::load(&write(&dir, "c.toml", toml)).unwrap();
-    let turn = |v: sturmray::math::Vec3| sturmray::math::Vec3::new(-v.y, v.x, v.z);
-    let shift = |x: f32, y: f32, z: f32| sturmray::math::Vec3::new(x, y, z);
+    let turn = |v: Vec3| Vec3::new(-v.y, v.x, v.z);
+    let shift = |x: f32, y: f32, z: f32| Vec3::new(x, y, z);
     for backend in Backend::ALL {
         let accel = build(&scene, backend);
         let albedo = |ray: &Ray| {
@@ -346,8 +346,8 @@ fn each_instances_checker_moves_with_it_on_every_backend() {
             assert_eq!((a, inst), (b, 1), "{backend:?}: shifted, {ray:?}");
             // The checker unplaced by the instance would lie where the
             // shape alone puts it, whatever the instance.
-            let unplaced =
-                scene.materials[scene.prototypes[0].shapes[0].material as usize].albedo_at(p, None);
+            let unplaced = scene.materials[scene.prototypes[0].shapes[0].material as usize]
+                .albedo_at(p, Vec3::ZERO, None);
             world_differs += usize::from(unplaced != b);
             let turned = Ray::new(turn(ray.origin) + shift(0.0, 7.0, 0.0), turn(ray.dir));
             let (c, _, inst) = albedo(&turned);
@@ -359,7 +359,7 @@ fn each_instances_checker_moves_with_it_on_every_backend() {
             assert_eq!(inst, 3);
             assert_eq!(
                 d,
-                material_d.albedo_at(p + shift(0.0, 7.0, 0.0), None),
+                material_d.albedo_at(p + shift(0.0, 7.0, 0.0), Vec3::ZERO, None),
                 "{backend:?}"
             );
         }

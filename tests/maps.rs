@@ -294,7 +294,8 @@ fn a_checker_on_an_analytic_shape_moves_with_it() {
         let ((a, _), (b, p)) = (albedo(&ray), albedo(&moved));
         assert_eq!(a, b, "{ray:?}");
         // The scene material's checker, unplaced, would lie in world space.
-        differs_in_world_space += usize::from(scene.materials[0].albedo_at(p, None) != b);
+        differs_in_world_space +=
+            usize::from(scene.materials[0].albedo_at(p, Vec3::ZERO, None) != b);
     }
     // So the test can fail: in world space the pattern would not follow.
     assert!(differs_in_world_space > 10, "{differs_in_world_space}");

@@ -8,8 +8,8 @@ use sturmray::io::console::print;
 use sturmray::lights::Light;
 use sturmray::math::Vec3;
 use sturmray::render::Plan;
-use sturmray::scene::Projection;
 use sturmray::scene::Scene;
+use sturmray::scene::{Projection, WorkingGamma};
 
 use super::shared::{BackendArg, IncludeArgs, load};
 
@@ -91,6 +91,18 @@ fn describe(scene: &Scene, accel: &Accel) -> String {
         r.seed,
         r.sampler.name()
     );
+    // Only POV-Ray's gamma rules make colours other than linear.
+    let gamma = match r.working_gamma {
+        WorkingGamma::Linear => None,
+        WorkingGamma::Power(g) => Some(format!("assumed_gamma {g}: radiance v is the light v^{g}")),
+        WorkingGamma::Srgb => Some(
+            "sRGB-encoded (POV-Ray's gamma rules for a scene before 3.7 without assumed_gamma)"
+                .to_string(),
+        ),
+    };
+    if let Some(gamma) = gamma {
+        let _ = writeln!(s, "colours    {gamma}");
+    }
     match &scene.environment {
         Some(e) => {
             let what = match (&e.source.file, e.source.radiance) {

@@ -417,11 +417,15 @@ impl<'a> Tracer<'a> {
         }
     }
 
+    /// A camera sample's radiance as linear light: the integrators work in
+    /// the scene's colour space (`WorkingGamma`), decoded here.
     fn sample(&self, camera: &Ray64, hit: Hit, sampler: &mut Sampler, tally: &mut Tally) -> Sample {
-        match self {
-            Tracer::Whitted(w) => w.sample(camera, hit, sampler, tally),
-            Tracer::Path(p) => p.sample(camera, hit, sampler, tally),
-        }
+        let (mut sample, scene) = match self {
+            Tracer::Whitted(w) => (w.sample(camera, hit, sampler, tally), w.scene),
+            Tracer::Path(p) => (p.sample(camera, hit, sampler, tally), p.scene),
+        };
+        sample.radiance = scene.render.working_gamma.to_linear(sample.radiance);
+        sample
     }
 }
 

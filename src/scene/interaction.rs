@@ -149,7 +149,7 @@ impl Interaction {
     /// Material `m`'s values here ([`Material::surface_at`]): looked up
     /// once a hit, as a texture's lookup is the costliest part of one.
     pub fn surface(&self, m: &Material) -> Surface {
-        m.surface_at(self.p, self.uv, self.colour)
+        m.surface_at(self.p, self.error, self.uv, self.colour)
     }
 
     /// The BSDF's frame: around the shading normal, out of the material

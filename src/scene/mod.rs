@@ -35,6 +35,7 @@ use crate::lights::{Environment, Light, LightPicker};
 use crate::math::{Bounds, INVALID_ID, Vec3};
 use crate::sampling::{Filter, SamplerKind};
 use crate::shading::Material;
+use crate::shading::srgb_to_linear;
 
 /// Which light transport the render computes.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
@@ -73,6 +74,52 @@ pub struct RenderSettings {
     /// Adaptive supersampling, when asked for.
     pub adaptive: Option<Adaptive>,
     pub photons: PhotonSettings,
+    /// How the integrator's radiance becomes linear light (POV-Ray's
+    /// `assumed_gamma`); linear everywhere else, and then not hashed, so
+    /// those scenes' hashes are what they were.
+    #[serde(skip_serializing_if = "WorkingGamma::is_linear")]
+    pub working_gamma: WorkingGamma,
+}
+
+/// The space a scene's colours, and so the radiance computed from them,
+/// are in. POV-Ray 3.7 lights a scene in its working gamma space and only
+/// decodes the result to light for the output file: with `assumed_gamma
+/// 2.2`, a colour of 0.5 lit by a light of 1 shows as 0.5 in the file,
+/// not as 0.5 sRGB-encoded. A sample's radiance is decoded the same way
+/// before it reaches the film (per sample: with one sample a pixel, as
+/// POV-Ray renders without anti-aliasing, the pixel is POV-Ray's).
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
+pub enum WorkingGamma {
+    /// Colours are linear (`assumed_gamma 1`, and every other scene kind).
+    #[default]
+    Linear,
+    /// `assumed_gamma G`: a value v is the light v^G.
+    Power(f32),
+    /// The value is the output file's, sRGB-encoded: POV-Ray 3.7's
+    /// "gamma correction off" for a scene older than 3.7 that sets no
+    /// `assumed_gamma` (its file gamma is then the display's, sRGB), and
+    /// `assumed_gamma srgb`.
+    Srgb,
+}
+
+impl WorkingGamma {
+    pub fn is_linear(&self) -> bool {
+        *self == WorkingGamma::Linear
+    }
+
+    /// The linear light of radiance `v` in this space.
+    pub fn to_linear(self, v: Vec3) -> Vec3 {
+        // max: a power of a negative is NaN; radiance is never below 0
+        // but for rounding.
+        let each = |f: fn(f32, f32) -> f32, g: f32| {
+            Vec3::new(f(v.x.max(0.0), g), f(v.y.max(0.0), g), f(v.z.max(0.0), g))
+        };
+        match self {
+            WorkingGamma::Linear => v,
+            WorkingGamma::Power(g) => each(f32::powf, g),
+            WorkingGamma::Srgb => each(|c, _| srgb_to_linear(c), 0.0),
+        }
+    }
 }
 
 /// The largest value of a colour (albedo, emission, light intensity or
@@ -149,6 +196,7 @@ impl Default for RenderSettings {
             integrator: Integrator::default(),
             adaptive: None,
             photons: PhotonSettings::default(),
+            working_gamma: WorkingGamma::Linear,
         }
     }
 }

@@ -317,6 +317,7 @@ fn toml_scene_settings_and_transforms() {
             integrator: Integrator::Whitted,
             adaptive: None,
             photons: super::PhotonSettings::default(),
+            working_gamma: super::WorkingGamma::Linear,
         }
     );
     let independent = TOML.replace("seed = 9", "seed = 9\nsampler = \"independent\"");

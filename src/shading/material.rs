@@ -281,21 +281,24 @@ impl Material {
         self.kind == MaterialKind::Emissive && self.emission.max_element() > 0.0
     }
 
-    /// The albedo at world point `p` with texture coordinates `uv` (a mesh's
-    /// that has them): the image's colour at `uv` if the material has one
+    /// The albedo at world point `p` (within `error` per axis of the exact
+    /// point) with texture coordinates `uv` (a mesh's that has them): the image's colour at `uv` if the material has one
     /// and the surface has uv, else the checker's or the mapped pattern's
     /// colour, in uv where there is uv and at `p` in space elsewhere, else
     /// `albedo`. Every use of the
     /// albedo at a hit goes through here; without a pattern it costs two
     /// branches.
-    pub fn albedo_at(&self, p: Vec3, uv: Option<Vec2>) -> Vec3 {
+    pub fn albedo_at(&self, p: Vec3, error: Vec3, uv: Option<Vec2>) -> Vec3 {
         if let (Some(map), Some(uv)) = (&self.albedo_map, uv) {
             return map.rgb(uv);
         }
         let at = || uv.map_or(p, |uv| uv.extend(0.0));
         match (&self.checker, &self.mapped) {
             (None, None) => self.albedo,
-            (Some(checker), _) => checker.colour_at(at()),
+            (Some(checker), _) => match uv {
+                Some(_) => checker.colour_at(at(), Vec3::ZERO),
+                None => checker.colour_at(p, error),
+            },
             (None, Some(mapped)) => mapped.colour_at(at()),
         }
     }
@@ -458,30 +461,46 @@ mod tests {
         let (even, odd) = (Vec3::splat(0.5), Vec3::new(1.5, 0.5, 0.5));
         // Without a checker, `albedo` everywhere.
         assert_eq!(
-            (m.albedo_at(even, None), m.albedo_at(odd, None)),
+            (
+                m.albedo_at(even, Vec3::ZERO, None),
+                m.albedo_at(odd, Vec3::ZERO, None)
+            ),
             (m.albedo, m.albedo)
         );
         m.checker = Some(Checker {
             colours: [a, b],
             to_pattern: glam::DAffine3::IDENTITY,
         });
-        assert_eq!((m.albedo_at(even, None), m.albedo_at(odd, None)), (a, b));
         assert_eq!(
-            Bsdf::at(&m, &m.surface_at(odd, None, None)),
+            (
+                m.albedo_at(even, Vec3::ZERO, None),
+                m.albedo_at(odd, Vec3::ZERO, None)
+            ),
+            (a, b)
+        );
+        assert_eq!(
+            Bsdf::at(&m, &m.surface_at(odd, Vec3::ZERO, None, None)),
             Bsdf::Lambert(Lambert { albedo: b })
         );
         // The local model at the point: Lambert's albedo/π.
         assert_eq!(
-            m.local_brdf(&m.surface_at(odd, None, None), Vec3::Z, Vec3::Z, Vec3::Z),
+            m.local_brdf(
+                &m.surface_at(odd, Vec3::ZERO, None, None),
+                Vec3::Z,
+                Vec3::Z,
+                Vec3::Z
+            ),
             b / PI
         );
         m.kind = MaterialKind::Mirror;
         assert_eq!(
-            Bsdf::at(&m, &m.surface_at(even, None, None)),
+            Bsdf::at(&m, &m.surface_at(even, Vec3::ZERO, None, None)),
             Bsdf::Mirror(Mirror { reflectance: a })
         );
         m.kind = MaterialKind::Metal;
-        let Bsdf::Metal(Metal { f0, .. }) = Bsdf::at(&m, &m.surface_at(odd, None, None)) else {
+        let Bsdf::Metal(Metal { f0, .. }) =
+            Bsdf::at(&m, &m.surface_at(odd, Vec3::ZERO, None, None))
+        else {
             panic!("a metal's BSDF");
         };
         assert_eq!(f0, b);

@@ -26,14 +26,20 @@ pub struct Surface {
 }
 
 impl Material {
-    /// The material's values at world point `p` with texture coordinates
-    /// `uv` (see [`Surface`]), its albedo `colour` where the mesh has vertex
+    /// The material's values at world point `p` (within `error` per axis of
+    /// the exact point) with texture coordinates `uv` (see [`Surface`]), its albedo `colour` where the mesh has vertex
     /// colours (as meshlab and trimesh show a coloured PLY; the material
     /// keeps its kind). Without maps beyond the albedo's this is the albedo
     /// lookup and four copies.
-    pub fn surface_at(&self, p: Vec3, uv: Option<Vec2>, colour: Option<Vec3>) -> Surface {
+    pub fn surface_at(
+        &self,
+        p: Vec3,
+        error: Vec3,
+        uv: Option<Vec2>,
+        colour: Option<Vec3>,
+    ) -> Surface {
         let mut surface = Surface {
-            albedo: colour.unwrap_or_else(|| self.albedo_at(p, uv)),
+            albedo: colour.unwrap_or_else(|| self.albedo_at(p, error, uv)),
             ..self.constant_surface()
         };
         let Some(uv) = uv.filter(|_| self.maps.scales()) else {

@@ -205,6 +205,7 @@ fn render(check: &Check, file: &RenderFile) -> Result<RenderSettings> {
             },
             None => defaults.photons,
         },
+        working_gamma: defaults.working_gamma,
     })
 }
 

@@ -25,7 +25,9 @@ use crate::geometry::{Box3, Csg, CsgError, Mesh, Op, Part, Shape, Surface};
 use crate::lights::{Beam, Light, PovBeam};
 use crate::math::Vec3;
 use crate::poly::solve::Solver;
-use crate::scene::{Camera, ImagePlane, Integrator, PhotonSettings, RenderSettings, Scene};
+use crate::scene::{
+    Camera, ImagePlane, Integrator, PhotonSettings, RenderSettings, Scene, WorkingGamma,
+};
 use crate::shading::{Checker, Mapped, Material, MaterialKind};
 
 /// Half the side of the world box that cuts what is unbounded.
@@ -110,12 +112,12 @@ pub(super) fn scene(
     size: (u32, u32),
 ) -> Result<Scene> {
     let Statements {
-        objects,
+        mut objects,
         camera,
         background,
         globals,
     } = statements;
-    let render = settings(&globals);
+    let render = settings(&globals, parser.version);
     let mut scene = Scene::empty(path, render, background.as_vec3());
     let resolved = camera
         .resolve()
@@ -146,7 +148,8 @@ pub(super) fn scene(
         ambient,
         box_culls: frame_objects(&objects) >= BOUNDING_THRESHOLD,
     };
-    for obj in &objects {
+    for obj in &mut objects {
+        obj.promote_interior();
         builder.top(obj, DAffine3::IDENTITY, None)?;
     }
     if scene.lights.is_empty() {
@@ -261,11 +264,24 @@ pub(super) fn own_texture(obj: &Obj, inherited: Option<&Texture>) -> Option<Text
     })
 }
 
+/// The space of a scene's colours: its `assumed_gamma`; without one,
+/// POV-Ray 3.7 turns gamma handling off for a scene of an older language
+/// version (what it computes goes to the file as it is, which the file's
+/// sRGB encoding undoes here) and assumes 1 for a 3.7 scene.
+fn working_gamma(assumed: Option<WorkingGamma>, version: f64) -> WorkingGamma {
+    assumed.unwrap_or(if version < 3.7 {
+        WorkingGamma::Srgb
+    } else {
+        WorkingGamma::Linear
+    })
+}
+
 /// POV-Ray's render settings: one ray per pixel through its centre (no
 /// anti-aliasing), the Whitted ray tree to `max_trace_level` levels (the
-/// camera ray is the first), branches ending below `adc_bailout`, and no
-/// photon pass (POV-Ray traces photons only when a scene asks).
-fn settings(g: &Globals) -> RenderSettings {
+/// camera ray is the first), branches ending below `adc_bailout`, no
+/// photon pass (POV-Ray traces photons only when a scene asks), and
+/// POV-Ray 3.7's gamma rules for a scene of language `version`.
+fn settings(g: &Globals, version: f64) -> RenderSettings {
     let defaults = RenderSettings::default();
     RenderSettings {
         spp: 1,
@@ -276,6 +292,7 @@ fn settings(g: &Globals) -> RenderSettings {
             count: 0,
             ..defaults.photons
         },
+        working_gamma: working_gamma(g.gamma, version),
         ..defaults
     }
 }

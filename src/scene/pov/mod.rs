@@ -34,7 +34,7 @@ use std::path::Path;
 
 use glam::DVec3;
 
-use super::{LoadOptions, Scene};
+use super::{LoadOptions, Scene, WorkingGamma};
 use crate::error::Result;
 use camera::CameraSpec;
 use lex::Tok;
@@ -55,9 +55,9 @@ struct Statements {
 
 /// `global_settings` as far as the subset reads it.
 struct Globals {
-    /// Whether `assumed_gamma` was given (POV-Ray 3.7 changes its colour
-    /// handling without it).
-    gamma: bool,
+    /// `assumed_gamma`, if given (POV-Ray 3.7 changes its colour handling
+    /// without it; see `working_gamma`).
+    gamma: Option<WorkingGamma>,
     max_trace_level: u32,
     adc_bailout: f64,
     ambient_light: DVec3,
@@ -66,7 +66,7 @@ struct Globals {
 impl Default for Globals {
     fn default() -> Globals {
         Globals {
-            gamma: false,
+            gamma: None,
             max_trace_level: 5,
             adc_bailout: 1.0 / 255.0,
             ambient_light: DVec3::ONE,
@@ -164,13 +164,6 @@ fn statements(p: &mut Parser) -> Result<Statements> {
     if let Some(sky) = sky {
         s.background = sky;
     }
-    if !s.globals.gamma {
-        let file = p.files[0].display().to_string();
-        p.warnings.push(format!(
-            "{file}: no `assumed_gamma` in global_settings: POV-Ray 3.7 then treats colours \
-             by its older gamma rules; sturmray reads them as linear, as with `assumed_gamma 1.0`"
-        ));
-    }
     Ok(s)
 }
 
@@ -182,16 +175,28 @@ fn globals(p: &mut Parser, g: &mut Globals) -> Result<()> {
         let word = p.word()?;
         match word.as_str() {
             "assumed_gamma" => {
-                g.gamma = true;
-                let gamma = p.float()?;
-                if gamma != 1.0 {
-                    p.warn(
-                        loc,
-                        format!(
-                            "assumed_gamma {gamma}: colours are read as linear, as with assumed_gamma 1 \
-                             (POV-Ray 3.7 would treat them as gamma-encoded)"
-                        ),
-                    );
+                let gamma = if p.eat_word("srgb")? {
+                    WorkingGamma::Srgb
+                } else {
+                    let gamma = p.float()?;
+                    // POV-Ray refuses a gamma of 0 or below; a typo is not
+                    // worth a failed render: linear, with a warning.
+                    if !(gamma > 0.0 && gamma <= 10.0) {
+                        p.warn(
+                            loc,
+                            format!("assumed_gamma {gamma} is not a gamma: read as 1 (linear)"),
+                        );
+                    }
+                    match gamma {
+                        g if g == 1.0 || !(g > 0.0 && g <= 10.0) => WorkingGamma::Linear,
+                        g => WorkingGamma::Power(g as f32),
+                    }
+                };
+                // POV-Ray keeps the first, as sturmray does.
+                if g.gamma.is_some() {
+                    p.warn(loc, "a second assumed_gamma is ignored, as in POV-Ray");
+                } else {
+                    g.gamma = Some(gamma);
                 }
             }
             "max_trace_level" => {

@@ -194,6 +194,19 @@ impl Obj {
         }
     }
 
+    /// Gives each part of a CSG object that has no interior of its own the
+    /// object's, down the tree, as POV-Ray's post-processing of a finished
+    /// object does (an `interior` on `object { Glass_Thing }` is every
+    /// part's). Bounds and clips are never drawn, so they keep none.
+    pub(super) fn promote_interior(&mut self) {
+        if let Kind::Csg { children, .. } = &mut self.kind {
+            for child in children {
+                child.ior = child.ior.or(self.ior);
+                child.promote_interior();
+            }
+        }
+    }
+
     /// Moves the object (and all it carries) by `t`.
     fn apply(&mut self, t: DAffine3) {
         self.transform = t * self.transform;

@@ -117,6 +117,9 @@ pub struct Parser {
     pub(super) array_items: usize,
     /// The parts of declared objects copied so far (see `Parser::copy_object`).
     pub(super) object_parts: usize,
+    /// The language version the last `#version` set: POV-Ray's own, 3.7,
+    /// until one does. Its value at the end decides the gamma rules.
+    pub(super) version: f64,
 }
 
 /// Expressions and objects nest at most this deep: far beyond any scene a
@@ -146,6 +149,7 @@ impl Parser {
             nesting: 0,
             passes: 0,
             streams: Vec::new(),
+            version: 3.7,
             array_items: 0,
             object_parts: 0,
         };
@@ -556,7 +560,7 @@ impl Parser {
                 self.open(&path)
             }
             "version" => {
-                self.held_float()?;
+                self.version = self.held_float()?;
                 self.eat(';')?;
                 Ok(())
             }

@@ -237,6 +237,76 @@ fn the_camera_resolves_as_povray_does() {
 }
 
 #[test]
+fn povray_37s_gamma_rules_decide_the_colour_space() {
+    use crate::scene::WorkingGamma::{Linear, Power, Srgb};
+    let gamma = |header: &str| {
+        let scene = load(&format!("{header}\n{VIEW}sphere {{ 0, 1 }}")).unwrap();
+        scene.render.working_gamma
+    };
+    // Without assumed_gamma: off for a scene older than 3.7 (the last
+    // #version counts), 1 for a 3.7 scene.
+    assert_eq!(gamma("#version 3.6;"), Srgb);
+    assert_eq!(gamma("#version 3.5; #version 3.7;"), Linear);
+    assert_eq!(gamma(""), Linear);
+    assert_eq!(
+        gamma("#version 3.6; global_settings { assumed_gamma 2.2 }"),
+        Power(2.2)
+    );
+    assert_eq!(gamma("global_settings { assumed_gamma 1.0 }"), Linear);
+    assert_eq!(gamma("global_settings { assumed_gamma srgb }"), Srgb);
+    // POV-Ray keeps the first.
+    assert_eq!(
+        gamma("global_settings { assumed_gamma 1.5 } global_settings { assumed_gamma 2 }"),
+        Power(1.5)
+    );
+    // Not a gamma: linear, with a warning, never a failed load.
+    assert_eq!(gamma("global_settings { assumed_gamma -1 }"), Linear);
+    // `version` reads back what #version set.
+    let p = read("#version 3.5;\n#declare V = version;");
+    assert_eq!(float(&p, "V"), 3.5);
+}
+
+#[test]
+fn working_gamma_decodes_to_linear_light() {
+    use crate::scene::WorkingGamma;
+    let v = glam::Vec3::new(0.5, 0.0, 1.0);
+    assert_eq!(WorkingGamma::Linear.to_linear(v), v);
+    assert_eq!(
+        WorkingGamma::Power(2.0).to_linear(v),
+        glam::Vec3::new(0.25, 0.0, 1.0)
+    );
+    let srgb = WorkingGamma::Srgb.to_linear(v);
+    assert!((srgb.x - 0.2140).abs() < 1e-4 && srgb.y == 0.0 && (srgb.z - 1.0).abs() < 1e-6);
+    // Rounding below zero stays light, not NaN.
+    assert_eq!(
+        WorkingGamma::Power(2.2).to_linear(glam::Vec3::splat(-1e-9)),
+        glam::Vec3::ZERO
+    );
+}
+
+#[test]
+fn an_objects_interior_is_every_part_that_has_none() {
+    // iortest.pov's idiom: one declared union of glass, placed again with
+    // another `interior` each time. POV-Ray gives the wrapper's interior to
+    // every part without one of its own, down the tree.
+    let scene = load(&format!(
+        "{VIEW}#declare Thing = union {{\n\
+           sphere {{ <-2, 0, 0>, 1 }}\n\
+           union {{ sphere {{ <0, 0, 0>, 1 }} sphere {{ <2, 0, 0>, 1 interior {{ ior 1.2 }} }} }}\n\
+         }}\n\
+         object {{ Thing interior {{ ior 1.5 }} pigment {{ rgbf <1, 1, 1, 0.9> }} }}\n\
+         object {{ Thing pigment {{ rgbf <1, 1, 1, 0.9> }} translate 3*y }}"
+    ))
+    .unwrap();
+    let iors: Vec<f32> = scene
+        .shapes
+        .iter()
+        .map(|s| scene.materials[s.material as usize].ior)
+        .collect();
+    assert_eq!(iors, [1.5, 1.5, 1.2, 1.0, 1.0, 1.2]);
+}
+
+#[test]
 fn a_scene_builds_shapes_lights_and_povrays_settings() {
     let scene = load(&format!(
         "{VIEW}light_source {{ <0, 10, 0> color rgb <1, 0.5, 0.25> }}\n\
@@ -1614,7 +1684,7 @@ fn a_mapped_pattern_is_drawn_and_turbulence_keeps_the_mean_colour() {
     // The direction is normalised, as POV-Ray reads it; the scale moves the
     // pattern: at y = 1 the value is 0.5, halfway between red and blue.
     assert_eq!(mapped.kind, crate::shading::PatternKind::Gradient(DVec3::Y));
-    let half = material(0).albedo_at(glam::Vec3::new(0.0, 1.0, 0.0), None);
+    let half = material(0).albedo_at(glam::Vec3::new(0.0, 1.0, 0.0), glam::Vec3::ZERO, None);
     assert!(
         (half - glam::Vec3::new(0.5, 0.0, 0.5)).length() < 1e-5,
         "{half}"

@@ -464,7 +464,7 @@ impl Parser {
                 Ok(Value::Float(0.0))
             }
             "clock_on" => Ok(Value::Float(0.0)),
-            "version" => Ok(Value::Float(3.7)),
+            "version" => Ok(Value::Float(self.version)),
             "color" | "colour" => self.colour_rest(None),
             w if COLOUR_WORDS.contains(&w) || matches!(w, "red" | "green" | "blue") => {
                 self.colour_rest(Some((w.to_owned(), loc)))
