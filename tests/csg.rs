@@ -262,6 +262,43 @@ fn a_box_is_a_constant_inside_cut_by_its_box() {
 }
 
 #[test]
+fn a_hit_on_a_face_of_a_leafs_box_is_as_sure_as_the_face() {
+    // A box's F is a constant, so the surface's error bound at its faces
+    // was the box's size: 2 units on this cube, and rays spawned from a
+    // face (shadows, reflections, refractions) started that far off. A
+    // glass slab let light through one face only (POV-Ray's iortest.pov).
+    // The bound of a face hit is the slab's rounding, as for a plane's.
+    let inside_everywhere = Quadric {
+        a: DMat3::ZERO,
+        b: DVec3::ZERO,
+        c: -1.0,
+    };
+    let b = tree(
+        Op::Union,
+        vec![solid(placed(
+            Surface::Quadric(inside_everywhere),
+            DVec3::ZERO,
+            Some(Box3::cube(1.0)),
+        ))],
+    );
+    let c = tree(Op::Union, vec![solid(cylinder(1.0, 2.0))]);
+    for (shape, o, d) in [
+        (&b, DVec3::new(0.2, 0.3, 5.0), -Z),
+        (&b, DVec3::ZERO, X),
+        (&c, DVec3::new(0.5, 0.5, 3.0), -Z),
+        (&c, DVec3::new(0.0, 0.0, 1.0), Z),
+    ] {
+        let h = shape.intersect(o, d, 0.0, f64::INFINITY).unwrap();
+        assert!(h.error < 1e-12, "error {} of the hit at t {}", h.error, h.t);
+    }
+    // The side of the cylinder keeps the surface's own bound, small too.
+    let side = c
+        .intersect(DVec3::new(-5.0, 0.0, 1.0), X, 0.0, f64::INFINITY)
+        .unwrap();
+    assert!(side.error < 1e-9, "{}", side.error);
+}
+
+#[test]
 fn a_disc_with_a_hole_is_a_ring_and_clipped_by_an_intersection() {
     let disc = || Leaf {
         part: Part::Disc {

@@ -478,6 +478,50 @@ def test_gamma_rules_give_povrays_pixels(povray, sturmray_bin, tmp_path, header)
     assert np.percentile(levels, 99) <= 4, np.percentile(levels, 99)
 
 
+BOX_FACES_SCENE = """\
+#version 3.7;
+global_settings { assumed_gamma 1.0 max_trace_level 10 }
+camera { location <0, 3, -6> look_at <0, 0.5, 0> angle 50 }
+light_source { <-4, 8, -3> color rgb 1 }
+background { color rgb <0.9, 0.9, 1.0> }
+// A box for a floor and a sphere resting on it, whose shadow falls on the
+// box's top face; glass that light crosses twice, a slab and a capped
+// cylinder seen through their faces and caps (untinted, and casting no
+// shadow: sturmray's shadows are opaque, POV-Ray's filtered).
+box { <-4, -0.5, -2>, <4, 0, 6> pigment { color rgb <0.8, 0.7, 0.5> } }
+sphere { <-1.8, 0.6, 0.5>, 0.6 pigment { color rgb <0.2, 0.5, 0.8> } }
+box { <-0.6, 0.05, -0.5>, <0.6, 1.6, -0.3>
+      pigment { color rgbf <1, 1, 1, 0.7> } finish { ambient 0 diffuse 0 reflection 0.1 }
+      interior { ior 1.5 } no_shadow }
+cylinder { <1.8, 0.05, 0.5>, <1.8, 1.2, 0.5>, 0.6
+      pigment { color rgbt <1, 1, 1, 0.8> } finish { ambient 0 diffuse 0 }
+      interior { ior 1.3 } no_shadow }
+"""
+
+
+def test_rays_leave_box_faces_and_caps_where_povray_s_do(povray, sturmray_bin, tmp_path):
+    # A hit on a face of a box or a cylinder's cap carried the box's size
+    # as its error bound, and the rays spawned from it started that far
+    # off: no shadow on a box floor near what stands on it, and glass that
+    # filtered light once instead of at each face (iortest.pov): then 8.3%
+    # of the pixels were more than 8 levels of 255 off, under a 1.5% mean.
+    # Limits: the 2% mean, and 4% of the pixels more than 8 levels off: 2.5%
+    # are, the slab's top edge seen grazing and the floor seen through the
+    # cylinder's bottom cap, where the two renderers' refraction depths and
+    # bail-outs part.
+    scene = tmp_path / "faces.pov"
+    scene.write_text(BOX_FACES_SCENE)
+    r = renderers(sturmray_bin, 160, 120)
+    pov = r.run_povray(scene, scene, tmp_path, "faces-povray")
+    ours = r.run_sturmray(scene, scene, tmp_path, "faces-sturmray")
+    assert pov.image is not None, pov.failure()
+    assert ours.image is not None, ours.failure()
+    _, overall = compare.colour_difference(pov.image, ours.image)
+    assert overall <= compare.COLOUR_LIMIT, overall
+    far_off = (np.abs(pov.image.astype(int) - ours.image.astype(int)).max(axis=2) > 8).mean()
+    assert far_off <= 0.04, far_off
+
+
 IDIOM_HEADER = """\
 #version 3.7;
 global_settings { assumed_gamma 1.0 }

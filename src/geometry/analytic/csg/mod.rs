@@ -272,7 +272,14 @@ impl Csg {
                 t: e.t,
                 normal: if e.flip { -normal } else { normal },
                 part: e.leaf,
-                error: self.hit_error(e.leaf, o, d, e.t),
+                // On a face of the leaf's box the point is the slab's, good
+                // to its rounding; the surface's own bound means nothing
+                // there (a box's F is a constant: its bound was the box's
+                // size, and rays spawned from a face started that far off).
+                error: match e.face {
+                    Some(_) => face_width(e.t),
+                    None => self.hit_error(e.leaf, o, d, e.t),
+                },
             }
         })
     }
