@@ -288,6 +288,44 @@ fn the_plan_traces_only_what_a_finish_calls_for() {
 }
 
 #[test]
+fn shadows_through_a_transparent_surface_are_filtered_at_each_face() {
+    // The square at z = 0 (the default finish) lit along (−1, 0, −1); a
+    // ball of transmit 0.5 at (2, 0, 2) stands between its centre, which the
+    // 1° camera sees, and the light. As in POV-Ray, the shadow ray crosses
+    // both of the ball's faces, each letting half through: a quarter of the
+    // light, where it had been a full shadow. An opaque ball still casts one.
+    let light = "[[lights]]\ntype = \"directional\"\ndirection = [-1, 0, -1]\n\
+                 irradiance = [1, 1, 1]";
+    let ball = |transmit: f32| {
+        format!(
+            "[materials.ball]\ntype = \"classic\"\ndiffuse = 0\ntransmit = {transmit}\n\
+             [[objects]]\n{SPHERE}\nmaterial = \"ball\"\n\
+             transform = {{ translate = [2, 0, 2] }}\n{light}"
+        )
+    };
+    let lit = |extra: &str, name: &str| {
+        let s = scene(name, "", PLANE, 1.0, extra);
+        let (_, image) = run(&s);
+        (Plan::for_scene(&s), image[image.len() / 2 + 4][0])
+    };
+    let (_, open) = lit(light, "filter-open");
+    let (plan, glass) = lit(&ball(0.5), "filter-glass");
+    let (opaque_plan, opaque) = lit(&ball(0.0), "filter-opaque");
+    assert!(open > 0.05, "{open}");
+    assert!(plan.filtered_shadows && !opaque_plan.filtered_shadows);
+    assert!(
+        (glass / open - 0.25).abs() < 1e-4,
+        "{glass} of {open}: {}",
+        glass / open
+    );
+    assert_eq!(opaque, 0.0);
+    assert!(
+        plan.to_string()
+            .contains("shadow rays yes (filtered by transparent surfaces)")
+    );
+}
+
+#[test]
 fn forcing_every_branch_changes_no_classic_pixel() {
     let s = sphere_scene("forced", "reflection = 0.5\nspecular = 0.5", LIGHT);
     let (planned, image) = run(&s);

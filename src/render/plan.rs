@@ -16,6 +16,10 @@ use super::photon;
 pub struct Plan {
     /// Shadow rays towards lights, from surfaces that shade locally.
     pub shadow: bool,
+    /// Shadow rays pass transparent classic surfaces, filtered by each (as
+    /// POV-Ray's do): only where some classic material transmits, since
+    /// each such ray then finds every surface on its way, not just one.
+    pub filtered_shadows: bool,
     /// Specular reflection rays, from mirrors, dielectrics and classic
     /// materials with a reflection (or a transmission that can reflect totally).
     pub reflection: bool,
@@ -82,9 +86,11 @@ impl Plan {
                 MaterialKind::Metal,
             ]);
         let deep = scene.render.max_depth > 0;
+        // The environment is a light too: shadow rays sample it.
+        let shadow = local && (!scene.lights.is_empty() || scene.environment.is_some());
         Plan {
-            // The environment is a light too: shadow rays sample it.
-            shadow: local && (!scene.lights.is_empty() || scene.environment.is_some()),
+            shadow,
+            filtered_shadows: shadow && classic(&|f, _| f.transmits()),
             reflection: deep
                 && (uses(&[MaterialKind::Mirror, MaterialKind::Dielectric])
                     || classic(&|f, ior| f.reflects(ior))),
@@ -117,6 +123,7 @@ impl Plan {
         // lets it bounce wherever it can.)
         Plan {
             shadow: true,
+            filtered_shadows: true,
             reflection: true,
             refraction: true,
             diffuse: true,
@@ -137,11 +144,16 @@ impl fmt::Display for Plan {
         };
         write!(
             f,
-            "{} (depth {}{forced}): shadow rays {}, reflection rays {}, refraction rays {}, \
+            "{} (depth {}{forced}): shadow rays {}{}, reflection rays {}, refraction rays {}, \
              diffuse bounces {}, photon pass {}",
             if self.diffuse { "path" } else { "whitted" },
             self.max_depth,
             on(self.shadow),
+            if self.filtered_shadows && self.shadow {
+                " (filtered by transparent surfaces)"
+            } else {
+                ""
+            },
             on(self.reflection),
             on(self.refraction),
             on(self.diffuse),

@@ -18,6 +18,10 @@ use crate::scene::{Interaction, Scene};
 use crate::shading::fresnel;
 use crate::shading::{MaterialKind, Surface};
 
+/// The most surfaces a shadow ray passes filtered (`Whitted::shadow_through`):
+/// far more than any glass in a scene puts between a point and a light.
+const MAX_FILTERING_SURFACES: u32 = 64;
+
 /// What one sample's walk down the tree carries: the counts and its sampler
 /// (area lights pick a point on themselves with it).
 struct Walk<'t> {
@@ -225,25 +229,26 @@ impl Whitted<'_> {
             radiance += self.direct(it, brdf, depth, weight, walk);
         }
         let outward = it.outward();
-        let mut reflected = finish.reflectance(wo.dot(outward), material.ior);
+        let mut reflected = Vec3::splat(finish.reflectance(wo.dot(outward), material.ior));
+        // POV-Ray's colour × filter + transmit, the pigment tinting the filter.
+        let t = finish.transmitted(albedo);
         let refracted = if finish.transmits() {
             let dir = fresnel::refract(wo, outward, material.ior);
             if dir.is_none() {
-                reflected += finish.transmit;
+                reflected += t;
             }
             dir
         } else {
             None
         };
         let r = finish.tint(albedo) * reflected;
-        if self.plan.reflection && reflected > 0.0 {
+        if self.plan.reflection && reflected.max_element() > 0.0 {
             let dir = fresnel::reflect(ray.dir, it.ns);
             radiance += r * self.spawn(it, dir, depth, weight * r, RayKind::Reflection, walk);
         }
         if self.plan.refraction
             && let Some(dir) = refracted
         {
-            let t = finish.transmit;
             radiance += t * self.spawn(it, dir, depth, weight * t, RayKind::Refraction, walk);
         }
         self.force(
@@ -251,10 +256,60 @@ impl Whitted<'_> {
             it,
             depth,
             weight,
-            [reflected == 0.0, refracted.is_none()],
+            [reflected.max_element() == 0.0, refracted.is_none()],
             walk,
         );
         radiance
+    }
+
+    /// The light a shadow ray lets through: none past an opaque surface, all
+    /// where nothing is in its way. Where the scene has transparent classic
+    /// materials (`Plan::filtered_shadows`), POV-Ray's shadows: each surface
+    /// of one the ray crosses, going in and coming out, lets through its
+    /// colour × filter + transmit, without bending the ray.
+    fn shadow_through(&self, shadow: &Ray) -> Vec3 {
+        if !self.plan.filtered_shadows {
+            return if self.accel.occluded(shadow) {
+                Vec3::ZERO
+            } else {
+                Vec3::ONE
+            };
+        }
+        let mut ray = *shadow;
+        let mut through = Vec3::ONE;
+        for _ in 0..MAX_FILTERING_SURFACES {
+            let hit = self.accel.intersect(&ray);
+            if !hit.is_hit() {
+                return through;
+            }
+            let it = self.scene.interaction(&ray, &hit);
+            if self.scene.casts_shadow(&hit) {
+                let material = &self.scene.materials[it.material as usize];
+                if material.kind != MaterialKind::Classic || !material.finish.transmits() {
+                    return Vec3::ZERO;
+                }
+                through *= material.finish.transmitted(it.surface(material).albedo);
+                if through.max_element() < self.scene.render.min_weight {
+                    return Vec3::ZERO;
+                }
+            }
+            // On from just past the surface, to the same end (a directional
+            // light's is at infinity, where o + t·d has no finite point).
+            let origin = offset(it.p, it.error, it.n, ray.dir);
+            let tfar = if ray.tfar.is_finite() {
+                (ray.at(ray.tfar) - origin).dot(ray.dir) / ray.dir.length_squared()
+            } else {
+                f32::INFINITY
+            };
+            // Not past the end (nor NaN, which no ray may carry).
+            if tfar.is_nan() || tfar <= 0.0 {
+                return through;
+            }
+            ray = Ray::new(origin, ray.dir);
+            ray.tfar = tfar;
+        }
+        // More surfaces than any glass needs: as dark as their light would be.
+        Vec3::ZERO
     }
 
     /// A secondary ray from `it` along `dir`, if the depth limit and the branch's
@@ -311,16 +366,23 @@ impl Whitted<'_> {
             // Stop just short of the light: its own surface must not occlude it.
             shadow.tfar = incident.distance * (1.0 - 1e-4);
             walk.tally.count(RayKind::Shadow, depth);
-            let blocked = self.accel.occluded(&shadow);
-            let contribution = if blocked {
+            let through = self.shadow_through(&shadow);
+            let contribution = if through == Vec3::ZERO {
                 Vec3::ZERO
             } else {
-                brdf(incident.wi) * incident.irradiance * (cos / picked)
+                brdf(incident.wi) * incident.irradiance * through * (cos / picked)
             };
             walk.tally.open(|| Node {
                 depth,
                 kind: RayKind::Shadow,
-                hit: format!("{light}: {}", if blocked { "blocked" } else { "visible" }),
+                hit: format!(
+                    "{light}: {}",
+                    match through {
+                        Vec3::ZERO => "blocked",
+                        Vec3::ONE => "visible",
+                        _ => "filtered",
+                    }
+                ),
                 t: shadow.tfar,
                 material: None,
                 weight: weight.to_array(),

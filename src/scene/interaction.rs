@@ -46,6 +46,13 @@ impl Scene {
         }
     }
 
+    /// Whether what `hit` found casts shadows (a shape may not: POV-Ray's
+    /// `no_shadow`), as occlusion queries see it.
+    pub fn casts_shadow(&self, hit: &Hit) -> bool {
+        let (meshes, shapes, _) = self.hit_geometry(hit);
+        hit.geom_id as usize != meshes.len() || shapes[hit.prim_id as usize].casts_shadow()
+    }
+
     /// The material `hit` found, which must be a hit in this scene: what
     /// `interaction` says, without the work of finding the point and normal.
     pub fn material_of(&self, hit: &Hit) -> u32 {

@@ -38,6 +38,11 @@ pub struct Finish {
     /// The fraction refracted through the surface (a pigment's `transmit`);
     /// the diffuse and ambient parts keep 1 − transmit of their light.
     pub transmit: f32,
+    /// The part of `transmit` the pigment's colour tints (POV-Ray's
+    /// `filter`; the rest is its untinted `transmit`); left out of the scene
+    /// hash when 0, so the hashes of materials without one stay as they were.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub filter: f32,
 }
 
 impl Default for Finish {
@@ -54,8 +59,13 @@ impl Default for Finish {
             fresnel: false,
             metallic: 0.0,
             transmit: 0.0,
+            filter: 0.0,
         }
     }
+}
+
+fn is_zero(v: &f32) -> bool {
+    *v == 0.0
 }
 
 impl Finish {
@@ -94,6 +104,12 @@ impl Finish {
 
     pub fn transmits(&self) -> bool {
         self.transmit > 0.0
+    }
+
+    /// What of the light through the surface comes out, over a pigment
+    /// `albedo`: POV-Ray's colour × filter + transmit.
+    pub fn transmitted(&self, albedo: Vec3) -> Vec3 {
+        albedo * self.filter + Vec3::splat(self.transmit - self.filter)
     }
 
     /// The mirrored fraction for a viewer at cosine `cos_o` to the outward

@@ -429,6 +429,11 @@ impl Shape {
         self.no_shadow = true;
     }
 
+    /// Whether occlusion queries find the shape (see `set_no_shadow`).
+    pub fn casts_shadow(&self) -> bool {
+        !self.no_shadow
+    }
+
     /// Swaps the root finder, for studies that compare them on one scene.
     pub fn set_solver(&mut self, solver: Solver) {
         if let Surface::Csg(tree) = &mut self.surface {

@@ -603,6 +603,7 @@ fn finish(check: &Check, name: &str, m: &MaterialFile, roughness: f32) -> Result
         fresnel,
         metallic,
         transmit: fraction("transmit", m.transmit, defaults.transmit)?,
+        filter: defaults.filter,
     })
 }
 

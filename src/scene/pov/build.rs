@@ -649,6 +649,7 @@ impl Builder<'_> {
         };
         let mut finish = texture.finish;
         finish.transmit = (c[3] + c[4]).clamp(0.0, 1.0) as f32;
+        finish.filter = (c[3].max(0.0) as f32).min(finish.transmit);
         finish.ambient *= self.ambient;
         for v in [
             &mut finish.diffuse,

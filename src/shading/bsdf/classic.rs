@@ -152,8 +152,9 @@ impl Classic {
         if u[0] < w.pick_reflection + w.pick_transmission {
             let pick = w.pick_transmission;
             // Total internal reflection: the transmitted fraction reflects.
+            let transmitted = self.finish.transmitted(self.albedo);
             let Some(wi) = fresnel::refract(wo, Vec3::Z, self.ior) else {
-                return mirror(Vec3::splat(transmit), pick);
+                return mirror(transmitted, pick);
             };
             if wi.z.abs() < COS_EPS {
                 return None;
@@ -163,7 +164,7 @@ impl Classic {
                 Transport::Radiance => 1.0 / (eta * eta),
                 Transport::Importance => 1.0,
             };
-            let fraction = Vec3::splat(transmit * fit * scale);
+            let fraction = transmitted * (fit * scale);
             return Some(BsdfSample::new(
                 wi,
                 fraction / wi.z.abs(),
