@@ -241,21 +241,26 @@ fn a_capped_cylinder_is_hit_on_its_caps_its_side_and_from_inside() {
     assert_hit(&c, DVec3::new(-5.0, 0.0, 2.0 - 1e-9), X, 4.0, -X);
 }
 
-#[test]
-fn a_box_is_a_constant_inside_cut_by_its_box() {
+/// The cube [−1, 1]³ as a tree: F = −1 (inside everywhere) cut by its box.
+fn unit_box() -> Shape {
     let inside_everywhere = Quadric {
         a: DMat3::ZERO,
         b: DVec3::ZERO,
         c: -1.0,
     };
-    let b = tree(
+    tree(
         Op::Union,
         vec![solid(placed(
             Surface::Quadric(inside_everywhere),
             DVec3::ZERO,
             Some(Box3::cube(1.0)),
         ))],
-    );
+    )
+}
+
+#[test]
+fn a_box_is_a_constant_inside_cut_by_its_box() {
+    let b = unit_box();
     assert_hit(&b, DVec3::new(0.2, 0.3, 5.0), -Z, 4.0, Z);
     assert_hit(&b, DVec3::ZERO, X, 1.0, X);
     assert_hit(&b, DVec3::new(0.0, 0.0, 0.5), -X, 1.0, -X);
@@ -268,19 +273,7 @@ fn a_hit_on_a_face_of_a_leafs_box_is_as_sure_as_the_face() {
     // face (shadows, reflections, refractions) started that far off. A
     // glass slab let light through one face only (POV-Ray's iortest.pov).
     // The bound of a face hit is the slab's rounding, as for a plane's.
-    let inside_everywhere = Quadric {
-        a: DMat3::ZERO,
-        b: DVec3::ZERO,
-        c: -1.0,
-    };
-    let b = tree(
-        Op::Union,
-        vec![solid(placed(
-            Surface::Quadric(inside_everywhere),
-            DVec3::ZERO,
-            Some(Box3::cube(1.0)),
-        ))],
-    );
+    let b = unit_box();
     let c = tree(Op::Union, vec![solid(cylinder(1.0, 2.0))]);
     for (shape, o, d) in [
         (&b, DVec3::new(0.2, 0.3, 5.0), -Z),
