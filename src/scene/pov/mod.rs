@@ -181,15 +181,17 @@ fn globals(p: &mut Parser, g: &mut Globals) -> Result<()> {
                     let gamma = p.float()?;
                     // POV-Ray refuses a gamma of 0 or below; a typo is not
                     // worth a failed render: linear, with a warning.
-                    if !(gamma > 0.0 && gamma <= 10.0) {
+                    let valid = gamma > 0.0 && gamma <= 10.0;
+                    if !valid {
                         p.warn(
                             loc,
                             format!("assumed_gamma {gamma} is not a gamma: read as 1 (linear)"),
                         );
                     }
-                    match gamma {
-                        g if g == 1.0 || !(g > 0.0 && g <= 10.0) => WorkingGamma::Linear,
-                        g => WorkingGamma::Power(g as f32),
+                    if valid && gamma != 1.0 {
+                        WorkingGamma::Power(gamma as f32)
+                    } else {
+                        WorkingGamma::Linear
                     }
                 };
                 // POV-Ray keeps the first, as sturmray does.
