@@ -161,6 +161,21 @@ fn local_shading_is_povrays_per_light_sum() {
     );
 }
 
+#[test]
+fn brilliance_raises_the_cosine_at_the_light_to_its_power() {
+    // POV-Ray's unit light (irradiance π) at cos θ = 0.6 to the plane's
+    // normal: diffuse light 0.6^brilliance, Lambert's 0.6 at brilliance 1.
+    let light = "[[lights]]\ntype = \"directional\"\ndirection = [-0.8, 0, -0.6]\n\
+                 irradiance = [3.14159265, 3.14159265, 3.14159265]";
+    for brilliance in [0.5f32, 1.0, 3.0] {
+        let finish = format!("albedo = [1, 1, 1]\ndiffuse = 1\nbrilliance = {brilliance}");
+        let s = scene("brilliance", &finish, PLANE, 0.1, light);
+        let (_, image) = run(&s);
+        // f32 cosines and π: within a few units in the last place.
+        all_pixels(&image, [0.6f32.powf(brilliance); 3], 2e-6);
+    }
+}
+
 /// The path-traced sphere of `finish` in the white furnace (background 1):
 /// the mean over the pixels of 64 paths each, and its standard error.
 fn furnace(name: &str, finish: &str) -> (f64, f64) {
@@ -223,6 +238,7 @@ fn bad_finish_values_name_the_line_and_key() {
         ("transmit = -0.1", "materials.finish.transmit"),
         ("phong_size = 0", "materials.finish.phong_size"),
         ("roughness = 0", "materials.finish.roughness"),
+        ("brilliance = 0", "materials.finish.brilliance"),
         ("metallic = 2", "materials.finish.metallic"),
         ("specular = [1, 1, 1]", "materials.finish.specular"),
         ("shininess = 20", "materials.finish.shininess"),

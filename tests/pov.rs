@@ -96,6 +96,18 @@ fn info_lists_what_was_read_and_skipped() {
         "{text}"
     );
     assert!(text.contains("unfading point (POV-Ray's)"), "{text}");
+    // A fading light says how it fades, and from where.
+    let faded = SCENE.replace(
+        "color rgb 1 }",
+        "color rgb 1 fade_distance 4 fade_power 2 }",
+    );
+    write(&dir, "faded.pov", &faded);
+    let out = sturmray(&dir, &["info", "faded.pov"]);
+    let text = stdout(&out);
+    assert!(
+        text.contains("fading (fade_distance 4, fade_power 2, from [10, 10, -10]) point"),
+        "{text}"
+    );
 }
 
 #[test]

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use sturmray::accel::Accel;
 use sturmray::io::console::print;
-use sturmray::lights::Light;
+use sturmray::lights::{Fade, Light};
 use sturmray::math::Vec3;
 use sturmray::render::Plan;
 use sturmray::scene::Scene;
@@ -32,6 +32,19 @@ pub fn run(args: Args) -> anyhow::Result<()> {
 
 fn v(x: Vec3) -> String {
     format!("[{}, {}, {}]", x.x, x.y, x.z)
+}
+
+/// How a POV-Ray light fades: not at all, or by its distance and power.
+fn fading(fade: Option<&Fade>) -> String {
+    match fade {
+        None => "unfading".into(),
+        Some(f) => format!(
+            "fading (fade_distance {}, fade_power {}, from {})",
+            f.distance,
+            f.power,
+            v(f.from)
+        ),
+    }
 }
 
 fn describe(scene: &Scene, accel: &Accel) -> String {
@@ -215,18 +228,21 @@ fn describe(scene: &Scene, accel: &Accel) -> String {
                 cos_end.acos().to_degrees(),
                 cos_start.acos().to_degrees()
             ),
-            Light::Unfading {
+            Light::PovPoint {
                 position,
                 irradiance,
+                fade,
             } => writeln!(
                 s,
-                "  unfading point (POV-Ray's) at {} irradiance {}",
+                "  {} point (POV-Ray's) at {} irradiance {}",
+                fading(fade.as_ref()),
                 v(*position),
                 v(*irradiance)
             ),
             Light::PovBeam(light) => writeln!(
                 s,
-                "  unfading {:?}{} (POV-Ray's) at {} along {} irradiance {}",
+                "  {} {:?}{} (POV-Ray's) at {} along {} irradiance {}",
+                fading(light.fade.as_ref()),
                 light.beam,
                 if light.parallel { ", parallel" } else { "" },
                 v(light.position),

@@ -1,8 +1,9 @@
-//! POV-Ray's `spotlight`, `cylinder` and `parallel` lights: an unfading
-//! light (`Light::Unfading`) times POV-Ray 3.7's attenuation of its beam,
+//! POV-Ray's `spotlight`, `cylinder` and `parallel` lights: its point
+//! light (`Light::PovPoint`) times POV-Ray 3.7's attenuation of its beam,
 //! with the same formulas, defaults and quirks (see docs/povray.md).
 
 use super::Incident;
+use super::fade::{self, Fade};
 use crate::math::Vec3;
 
 /// The shape of a POV-Ray light's beam.
@@ -89,6 +90,8 @@ pub struct PovBeam {
     pub beam: Beam,
     /// Rays all along `direction`, from the plane through `position`.
     pub parallel: bool,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fade: Option<Fade>,
 }
 
 impl PovBeam {
@@ -133,6 +136,7 @@ impl PovBeam {
             };
             (wi, distance, share)
         };
+        let share = share * fade::share(self.fade.as_ref(), p, self.parallel.then_some(direction));
         (share > 0.0).then(|| Incident {
             wi,
             distance,
@@ -153,6 +157,7 @@ mod tests {
             irradiance: Vec3::ONE,
             beam,
             parallel,
+            fade: None,
         }
     }
 
@@ -191,7 +196,7 @@ mod tests {
         assert!((share(light, p30) - want).abs() < 1e-5);
         // 45°: past falloff.
         assert_eq!(share(light, Vec3::new(10.0, 0.0, 0.0)), 0.0);
-        // Unfading: the same share twice as far along the same ray.
+        // No fade: the same share twice as far along the same ray.
         assert!((share(light, 2.0 * p - Vec3::new(0.0, 10.0, 0.0)) - c * c).abs() < 1e-5);
     }
 

@@ -61,7 +61,7 @@ impl Light {
             } => *intensity * (2.0 * PI * ((1.0 - cos_start) + 0.5 * (cos_start - cos_end))),
             // What crosses the scene's bounding disk, as for a directional
             // light: an unfading light has no finite total.
-            Light::Directional { irradiance, .. } | Light::Unfading { irradiance, .. } => {
+            Light::Directional { irradiance, .. } | Light::PovPoint { irradiance, .. } => {
                 let (_, radius) = bounding_disk(bounds);
                 *irradiance * (PI * radius * radius)
             }
@@ -84,7 +84,7 @@ impl Light {
         // integral, its photons' flux is not.
         let flux = || self.power(bounds);
         match self {
-            Light::Point { position, .. } | Light::Unfading { position, .. } => Some(Emission {
+            Light::Point { position, .. } | Light::PovPoint { position, .. } => Some(Emission {
                 origin: *position,
                 normal: Vec3::ZERO,
                 error: Vec3::ZERO,
@@ -153,7 +153,7 @@ impl Light {
         match self {
             Light::Point { .. }
             | Light::Spot { .. }
-            | Light::Unfading { .. }
+            | Light::PovPoint { .. }
             | Light::PovBeam(_)
             | Light::Directional { .. } => 0.0,
             Light::Sphere { radius, .. } => 4.0 * PI * radius * radius,
@@ -194,7 +194,7 @@ impl Light {
             }
             Light::Point { .. }
             | Light::Spot { .. }
-            | Light::Unfading { .. }
+            | Light::PovPoint { .. }
             | Light::PovBeam(_)
             | Light::Directional { .. } => {
                 return None;
@@ -218,7 +218,7 @@ fn integral(a: f32, b: f32, f: impl Fn(f32) -> f32) -> f32 {
 }
 
 /// The power of a POV-Ray beam light per unit of its irradiance, by the convention of
-/// `Light::Unfading`: the unfading point light's πR² over the whole sphere
+/// `Light::PovPoint`: the unfading point light's πR² over the whole sphere
 /// (R the scene's bounding disk), here only where the beam shines; a
 /// parallel light sends πR² as a directional light does, and a cylinder
 /// what crosses its disk.
@@ -436,6 +436,7 @@ mod tests {
                 tightness: 3.0,
             },
             parallel: false,
+            fade: None,
         });
         let cylinder = Light::PovBeam(PovBeam {
             position: Vec3::new(1.0, 5.0, 1.0),
@@ -447,6 +448,7 @@ mod tests {
                 tightness: 1.0,
             },
             parallel: true,
+            fade: None,
         });
         for (light, is_spot) in [(&spot, true), (&cylinder, false)] {
             let power = light.power(bounds());

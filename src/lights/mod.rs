@@ -15,11 +15,13 @@ mod beam;
 mod emission_map;
 mod emit;
 mod environment;
+mod fade;
 
 pub use beam::{Beam, PovBeam};
 pub use emission_map::EmissionMap;
 pub use emit::Emission;
 pub use environment::{Environment, EnvironmentSource};
+pub use fade::Fade;
 
 use crate::math::Vec3;
 use crate::sampling::warp;
@@ -29,10 +31,17 @@ pub enum Light {
     /// Radiant intensity I (W/sr per channel): irradiance I·cosθ / d² at distance d.
     Point { position: Vec3, intensity: Vec3 },
     /// POV-Ray's point `light_source`: the same irradiance at every
-    /// distance (its `fade_power 0`), not a physical light, for scenes read
-    /// from POV-Ray's language.
-    Unfading { position: Vec3, irradiance: Vec3 },
-    /// POV-Ray's `spotlight`, `cylinder` or `parallel` light: unfading,
+    /// distance (its `fade_power 0`) unless it fades as POV-Ray's lights
+    /// do; not a physical light, for scenes read from POV-Ray's language.
+    /// Hashed under its earlier name, so that scenes keep their hashes.
+    #[serde(rename = "Unfading")]
+    PovPoint {
+        position: Vec3,
+        irradiance: Vec3,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        fade: Option<Fade>,
+    },
+    /// POV-Ray's `spotlight`, `cylinder` or `parallel` light: a `PovPoint`
     /// times the share of its beam (see `beam`).
     PovBeam(PovBeam),
     /// Irradiance E on a surface facing the light; `direction` is where light travels.
@@ -108,16 +117,17 @@ impl Light {
                     pdf: 0.0,
                 })
             }
-            Light::Unfading {
+            Light::PovPoint {
                 position,
                 irradiance,
+                fade,
             } => {
                 let to = *position - p;
                 let distance = to.length();
                 Some(Incident {
                     wi: to / distance,
                     distance,
-                    irradiance: *irradiance,
+                    irradiance: *irradiance * fade::share(fade.as_ref(), p, None),
                     pdf: 0.0,
                 })
             }
@@ -192,7 +202,7 @@ impl Light {
         match self {
             Light::Point { .. }
             | Light::Spot { .. }
-            | Light::Unfading { .. }
+            | Light::PovPoint { .. }
             | Light::PovBeam(_)
             | Light::Directional { .. } => 0.0,
             Light::Sphere { center, radius, .. } => {
@@ -218,7 +228,7 @@ impl Light {
             self,
             Light::Point { .. }
                 | Light::Spot { .. }
-                | Light::Unfading { .. }
+                | Light::PovPoint { .. }
                 | Light::PovBeam(_)
                 | Light::Directional { .. }
         )
@@ -290,9 +300,10 @@ mod tests {
 
     #[test]
     fn unfading_light_gives_the_same_irradiance_at_every_distance() {
-        let light = Light::Unfading {
+        let light = Light::PovPoint {
             position: Vec3::new(0.0, 2.0, 0.0),
             irradiance: Vec3::splat(3.0),
+            fade: None,
         };
         for p in [Vec3::ZERO, Vec3::new(0.0, -98.0, 0.0)] {
             let inc = light.incident(p, [0.5; 2]).unwrap();

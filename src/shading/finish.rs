@@ -43,6 +43,12 @@ pub struct Finish {
     /// hash when 0, so the hashes of materials without one stay as they were.
     #[serde(skip_serializing_if = "is_zero")]
     pub filter: f32,
+    /// The diffuse part's power of the cosine at the light (POV-Ray's
+    /// `brilliance`): cos^brilliance, flatter below 1, more like a highlight
+    /// above. Left out of the scene hash when 1, so the hashes of materials
+    /// without one stay as they were.
+    #[serde(skip_serializing_if = "is_one")]
+    pub brilliance: f32,
 }
 
 impl Default for Finish {
@@ -60,12 +66,17 @@ impl Default for Finish {
             metallic: 0.0,
             transmit: 0.0,
             filter: 0.0,
+            brilliance: 1.0,
         }
     }
 }
 
 fn is_zero(v: &f32) -> bool {
     *v == 0.0
+}
+
+fn is_one(v: &f32) -> bool {
+    *v == 1.0
 }
 
 impl Finish {
@@ -130,13 +141,19 @@ impl Finish {
 
     /// POV-Ray's per-light shading as a BRDF for the Whitted integrator, for
     /// unit n, wo (to the viewer) and wi (to the light) on one side: the
-    /// diffuse part over π, as a Lambertian's, plus the Blinn and Phong
+    /// diffuse part over π, as a Lambertian's (times cos^(brilliance − 1),
+    /// since POV-Ray's diffuse is cos^brilliance), plus the Blinn and Phong
     /// highlights. POV-Ray does not weight those by the cosine at the light,
     /// so they are divided by it here (the caller multiplies by it); over π as
     /// well, so that a light giving irradiance π is one of POV-Ray's unit lights.
     pub fn local_brdf(&self, albedo: Vec3, n: Vec3, wo: Vec3, wi: Vec3) -> Vec3 {
-        let diffuse = self.diffuse_colour(albedo) / PI;
         let cos_i = n.dot(wi);
+        let diffuse = self.diffuse_colour(albedo) / PI;
+        let diffuse = if self.brilliance != 1.0 && cos_i > 0.0 {
+            diffuse * cos_i.powf(self.brilliance - 1.0)
+        } else {
+            diffuse
+        };
         if cos_i < COS_EPS {
             return diffuse;
         }
@@ -153,5 +170,30 @@ impl Finish {
             0.0
         };
         diffuse + self.tint(albedo) * ((blinn + phong) / (PI * cos_i))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn brilliance_raises_the_diffuse_cosine_to_its_power() {
+        let n = Vec3::Z;
+        let wi = Vec3::new(0.6, 0.0, 0.8);
+        for brilliance in [0.4f32, 1.0, 4.0] {
+            let f = Finish {
+                diffuse: 1.0,
+                brilliance,
+                ..Finish::default()
+            };
+            // What the integrator takes: the BRDF times the cosine, times π
+            // for POV-Ray's unit light.
+            let shaded = f.local_brdf(Vec3::ONE, n, n, wi).x * 0.8 * PI;
+            assert!(
+                (shaded - 0.8f32.powf(brilliance)).abs() < 1e-6,
+                "{brilliance}: {shaded}"
+            );
+        }
     }
 }

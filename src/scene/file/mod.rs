@@ -578,6 +578,8 @@ fn finish(check: &Check, name: &str, m: &MaterialFile, roughness: f32) -> Result
     };
     let phong_size = m.phong_size.unwrap_or(defaults.phong_size);
     check.positive(&key("phong_size"), phong_size)?;
+    let brilliance = m.brilliance.unwrap_or(defaults.brilliance);
+    check.positive(&key("brilliance"), brilliance)?;
     let reflection = fraction("reflection", m.reflection, defaults.reflection)?;
     let fresnel = m.fresnel.unwrap_or(defaults.fresnel);
     let metallic = match m.metallic {
@@ -604,6 +606,7 @@ fn finish(check: &Check, name: &str, m: &MaterialFile, roughness: f32) -> Result
         metallic,
         transmit: fraction("transmit", m.transmit, defaults.transmit)?,
         filter: defaults.filter,
+        brilliance,
     })
 }
 
@@ -614,6 +617,7 @@ fn classic_keys_refused(check: &Check, name: &str, m: &MaterialFile) -> Result<(
         ("ambient", m.ambient.is_some()),
         ("phong", m.phong.is_some()),
         ("phong_size", m.phong_size.is_some()),
+        ("brilliance", m.brilliance.is_some()),
         ("reflection", m.reflection.is_some()),
         ("reflection_max", m.reflection_max.is_some()),
         ("fresnel", m.fresnel.is_some()),

@@ -180,6 +180,7 @@ pub(super) struct MaterialFile {
     pub ambient: Option<f32>,
     pub phong: Option<f32>,
     pub phong_size: Option<f32>,
+    pub brilliance: Option<f32>,
     pub reflection: Option<f32>,
     pub reflection_max: Option<f32>,
     pub fresnel: Option<bool>,

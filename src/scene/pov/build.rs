@@ -22,7 +22,7 @@ use super::texture::{Pigment, Texture, default_texture};
 use super::{Globals, Statements};
 use crate::error::Result;
 use crate::geometry::{Box3, Csg, CsgError, Mesh, Op, Part, Shape, Surface};
-use crate::lights::{Beam, Light, PovBeam};
+use crate::lights::{Beam, Fade, Light, PovBeam};
 use crate::math::Vec3;
 use crate::poly::solve::Solver;
 use crate::scene::{
@@ -564,7 +564,8 @@ impl Builder<'_> {
         }
     }
 
-    /// POV-Ray's light: unfading, and a grid of lights for an `area_light`.
+    /// POV-Ray's light: unfading unless it has a fade, and a grid of
+    /// lights for an `area_light`.
     fn light(&mut self, light: &LightSource, to_world: DAffine3) {
         let position = to_world.transform_point3(light.position);
         // π: a light of colour 1 gives POV-Ray's unit diffuse shading (see
@@ -572,10 +573,14 @@ impl Builder<'_> {
         let colour = light.colour * std::f64::consts::PI;
         // One axis, from the centre, for every light of a grid (POV-Ray's).
         let direction = (to_world.transform_point3(light.point_at) - position).normalize_or_zero();
+        // Every light of a grid fades from the centre, as POV-Ray's area
+        // light does (without `area_illumination`).
+        let fade = Fade::new(light.fade_distance, light.fade_power, position.as_vec3());
         let one = |position: DVec3, irradiance: DVec3| match beam(light) {
-            None => Light::Unfading {
+            None => Light::PovPoint {
                 position: position.as_vec3(),
                 irradiance: irradiance.as_vec3(),
+                fade,
             },
             Some(beam) => Light::PovBeam(PovBeam {
                 position: position.as_vec3(),
@@ -583,6 +588,7 @@ impl Builder<'_> {
                 irradiance: irradiance.as_vec3(),
                 beam,
                 parallel: light.parallel,
+                fade,
             }),
         };
         let Some((a, b, n1, n2)) = light.area else {
@@ -664,6 +670,9 @@ impl Builder<'_> {
         }
         finish.roughness = finish.roughness.clamp(1e-4, 1.0);
         finish.phong_size = finish.phong_size.max(1e-3);
+        // 0 lights a surface evenly; far above POV-Ray's own 1-10 only
+        // overflows the power.
+        finish.brilliance = finish.brilliance.clamp(0.0, 1000.0);
         let material = Material {
             name: format!("pov {}", self.scene.materials.len()),
             kind: MaterialKind::Classic,
@@ -734,7 +743,7 @@ impl Builder<'_> {
 }
 
 /// A POV-Ray light's beam; None for a plain point light, which is
-/// `Light::Unfading`.
+/// `Light::PovPoint`.
 fn beam(light: &LightSource) -> Option<Beam> {
     let (radius, falloff, tightness) = (
         light.radius as f32,

@@ -45,6 +45,9 @@ pub struct LightSource {
     pub tightness: f64,
     pub parallel: bool,
     pub point_at: DVec3,
+    /// `fade_distance` and `fade_power`, POV-Ray's 0 (no fade) until given.
+    pub fade_distance: f64,
+    pub fade_power: f64,
 }
 
 /// Which of POV-Ray's light types a `light_source` is.

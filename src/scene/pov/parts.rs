@@ -70,16 +70,8 @@ impl Parser {
                     let c = self.as_colour(&c, cloc)?;
                     light.colour = DVec3::new(c[0], c[1], c[2]);
                 }
-                "fade_power" | "fade_distance" => {
-                    let v = self.float()?;
-                    if word == "fade_power" && v != 0.0 {
-                        self.skip_warning(
-                            iloc,
-                            "fade_power",
-                            "the light does not fade with distance",
-                        );
-                    }
-                }
+                "fade_power" => light.fade_power = self.float()?,
+                "fade_distance" => light.fade_distance = self.float()?,
                 // POV-Ray 3.7's defaults with each type (its parser).
                 "spotlight" => {
                     (light.beam, light.radius, light.falloff) = (BeamKind::Spot, 30.0, 45.0);
@@ -158,6 +150,8 @@ impl Parser {
             parallel: false,
             // POV-Ray's default aim.
             point_at: DVec3::Z,
+            fade_distance: 0.0,
+            fade_power: 0.0,
         })
     }
     /// A light keyword before the type it belongs to: a parse error in

@@ -324,13 +324,16 @@ fn a_scene_builds_shapes_lights_and_povrays_settings() {
     let pi = std::f32::consts::PI;
     assert_eq!(
         scene.lights,
-        [Light::Unfading {
+        [Light::PovPoint {
             position: crate::math::Vec3::new(0.0, 10.0, 0.0),
             irradiance: crate::math::Vec3::new(pi, 0.5 * pi, 0.25 * pi),
+            fade: None,
         }]
     );
     // The later background replaces the earlier one.
     assert_eq!(scene.background.to_array(), [0.3; 3]);
+    // brilliance: read, not warned about.
+    assert_eq!(m.finish.brilliance, 1.0);
     assert_eq!(scene.render.max_depth, 6);
     assert_eq!(scene.render.spp, 1);
     assert_eq!(scene.render.photons.count, 0);
@@ -338,6 +341,33 @@ fn a_scene_builds_shapes_lights_and_povrays_settings() {
     let import = scene.import.as_ref().unwrap();
     assert_eq!(import.read.get("sphere"), Some(&1));
     assert!(import.skipped.is_empty());
+}
+
+#[test]
+fn lights_fade_from_their_centre_and_finishes_keep_their_brilliance() {
+    let scene = load(&format!(
+        "{VIEW}light_source {{ <0, 10, 0> color rgb 1 fade_distance 5 fade_power 2 \
+         area_light x*2, z*2, 2, 2 }}
+         light_source {{ <0, 10, 0> color rgb 1 fade_power 2 }}
+         sphere {{ 0, 1 finish {{ brilliance 3.5 }} }}"
+    ))
+    .unwrap();
+    let fades: Vec<_> = scene
+        .lights
+        .iter()
+        .map(|l| match l {
+            Light::PovPoint { fade, .. } => *fade,
+            other => panic!("{other:?}"),
+        })
+        .collect();
+    // Four lights of the grid, each faded from the grid's centre; the
+    // second light has no distance, so it does not fade (POV-Ray's rule).
+    let centre = crate::math::Vec3::new(0.0, 10.0, 0.0);
+    let fade = crate::lights::Fade::new(5.0, 2.0, centre);
+    assert!(fade.is_some());
+    assert_eq!(fades, [fade, fade, fade, fade, None]);
+    let m = &scene.materials[scene.shapes[0].material as usize];
+    assert_eq!(m.finish.brilliance, 3.5);
 }
 
 #[test]
@@ -1531,7 +1561,7 @@ fn a_declared_light_goes_on_in_a_light_source_naming_it() {
         .lights
         .iter()
         .map(|l| match l {
-            Light::Unfading { position, .. } => position.to_array(),
+            Light::PovPoint { position, .. } => position.to_array(),
             other => panic!("{other:?}"),
         })
         .collect();

@@ -467,12 +467,7 @@ impl Parser {
                     };
                 }
                 "reflection" => self.reflection(&mut f, loc)?,
-                "brilliance" => {
-                    let b = self.float()?;
-                    if b != 1.0 {
-                        self.warn(loc, "`brilliance` other than 1 is read as 1");
-                    }
-                }
+                "brilliance" => f.brilliance = self.float()? as f32,
                 "conserve_energy" | "crand" => {
                     if word == "crand" {
                         self.float()?;
