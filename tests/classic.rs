@@ -357,11 +357,11 @@ fn forcing_every_branch_changes_no_classic_pixel() {
 }
 
 #[test]
-fn total_internal_reflection_sends_the_transmitted_fraction_back() {
+fn total_internal_reflection_sends_the_light_back() {
     // The eye inside a unit sphere at (0, 0, 0.9), looking along +x: every
     // ray's line passes 0.9 (±0.01 over the 1° view) from the centre, so it
     // meets the surface from inside at sin θ = 0.9, θ = 64°. With ior 1.5
-    // the critical angle is asin(1/1.5) = 41.8°: transmit = 1 turns wholly
+    // the critical angle is asin(1/1.5) = 41.8°: the light turns wholly
     // into reflection, and the chord keeps its angle, so the ray stays
     // trapped until the depth limit and brings back nothing. With ior 1.1
     // (critical angle 65.4°) it leaves and sees the background: 1.
@@ -383,6 +383,28 @@ fn total_internal_reflection_sends_the_transmitted_fraction_back() {
             assert_eq!(stats.refraction, stats.camera);
         }
     }
+}
+
+#[test]
+fn total_internal_reflection_carries_all_the_light_as_povray_s_does() {
+    // The square seen from behind (its inside) at 71.6° from its normal,
+    // past the critical angle of ior 1.5: POV-Ray 3.7 traces the mirrored
+    // ray with all of the light, neither filtered by transmit 0.5 nor
+    // joined by the surface's own reflection 0.2, so the background (1)
+    // comes back whole; adding the two fractions gave 0.7.
+    let dir = scratch("tir-whole");
+    write(&dir, "square.obj", SQUARE);
+    let text = format!(
+        "background = [1, 1, 1]\n[camera]\neye = [0, -3, -1]\nlook_at = [0, 0, 0]\n\
+         fov = 1\nwidth = 4\nheight = 4\n[render]\nspp = 1\nmax_depth = 4\nmin_weight = 0\n\
+         [materials.glass]\ntype = \"classic\"\ndiffuse = 0\ntransmit = 0.5\n\
+         reflection = 0.2\nior = 1.5\n[[objects]]\n{PLANE}\nmaterial = \"glass\"\n"
+    );
+    let s = Scene::load(&write(&dir, "s.toml", &text)).unwrap();
+    let (stats, image) = run(&s);
+    all_pixels(&image, [1.0; 3], 1e-6);
+    assert_eq!(stats.refraction, 0);
+    assert_eq!(stats.reflection, stats.camera);
 }
 
 #[test]

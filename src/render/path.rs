@@ -119,6 +119,10 @@ impl PathTracer<'_> {
             let it = self.scene.interaction(&ray, &hit);
             let u = Bounce::draw(sampler);
             let material = &self.scene.materials[it.material as usize];
+            // Out of a fading interior: all the light from here on crossed it.
+            if let Some(fade) = material.finish.fade.filter(|_| !it.front) {
+                beta *= fade.share((it.p - ray.origin).length());
+            }
             let surface = it.surface(material);
             if depth == 0 {
                 first = Some((hit.t, it.ns, surface.albedo));

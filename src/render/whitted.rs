@@ -229,20 +229,29 @@ impl Whitted<'_> {
             radiance += self.direct(it, brdf, depth, weight, walk);
         }
         let outward = it.outward();
-        let mut reflected = Vec3::splat(finish.reflectance(wo.dot(outward), material.ior));
+        // A ray that leaves a fading interior brings light faded by its way
+        // inside (POV-Ray applies it to what comes through the surface).
+        let fade = finish
+            .fade
+            .filter(|_| !it.front)
+            .map_or(Vec3::ONE, |f| f.share((it.p - ray.origin).length()));
         // POV-Ray's colour × filter + transmit, the pigment tinting the filter.
-        let t = finish.transmitted(albedo);
+        let t = finish.transmitted(albedo) * fade;
         let refracted = if finish.transmits() {
-            let dir = fresnel::refract(wo, outward, material.ior);
-            if dir.is_none() {
-                reflected += t;
-            }
-            dir
+            fresnel::refract(wo, outward, material.ior)
         } else {
             None
         };
-        let r = finish.tint(albedo) * reflected;
-        if self.plan.reflection && reflected.max_element() > 0.0 {
+        // Under total internal reflection POV-Ray 3.7 traces the mirrored
+        // ray with all of the light, faded but neither filtered nor tinted,
+        // in place of the surface's own reflection (its
+        // `ComputeLightedTexture`).
+        let r = if finish.transmits() && refracted.is_none() {
+            fade
+        } else {
+            finish.tint(albedo) * finish.reflectance(wo.dot(outward), material.ior)
+        };
+        if self.plan.reflection && r.max_element() > 0.0 {
             let dir = fresnel::reflect(ray.dir, it.ns);
             radiance += r * self.spawn(it, dir, depth, weight * r, RayKind::Reflection, walk);
         }
@@ -256,7 +265,7 @@ impl Whitted<'_> {
             it,
             depth,
             weight,
-            [reflected.max_element() == 0.0, refracted.is_none()],
+            [r.max_element() == 0.0, refracted.is_none()],
             walk,
         );
         radiance
@@ -285,10 +294,15 @@ impl Whitted<'_> {
             let it = self.scene.interaction(&ray, &hit);
             if self.scene.casts_shadow(&hit) {
                 let material = &self.scene.materials[it.material as usize];
-                if material.kind != MaterialKind::Classic || !material.finish.transmits() {
+                let finish = &material.finish;
+                if material.kind != MaterialKind::Classic || !finish.transmits() {
                     return Vec3::ZERO;
                 }
-                through *= material.finish.transmitted(it.surface(material).albedo);
+                through *= finish.transmitted(it.surface(material).albedo);
+                // Leaving an interior: faded by the way through it.
+                if let Some(fade) = finish.fade.filter(|_| !it.front) {
+                    through *= fade.shadow_share((it.p - ray.origin).length());
+                }
                 if through.max_element() < self.scene.render.min_weight {
                     return Vec3::ZERO;
                 }

@@ -49,6 +49,55 @@ pub struct Finish {
     /// without one stay as they were.
     #[serde(skip_serializing_if = "is_one")]
     pub brilliance: f32,
+    /// How light fades inside (POV-Ray's interior `fade_distance`,
+    /// `fade_power` and `fade_color`); none when left out of the hash.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fade: Option<InteriorFade>,
+}
+
+/// POV-Ray's fade of the light that crosses an interior: after a distance
+/// d inside, colour + (1 − colour) / (1 + (d / distance)^power), or for a
+/// power of 1000 or more exp(−(1 − colour) d / distance), per channel
+/// (POV-Ray 3.7's `ComputeLightedTexture`).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct InteriorFade {
+    pub distance: f32,
+    pub power: f32,
+    pub colour: Vec3,
+}
+
+impl InteriorFade {
+    /// The fade of an interior, or None where POV-Ray draws none: a
+    /// distance of 0 (its test against 1e-10). A negative distance counts
+    /// by its size.
+    pub fn new(distance: f64, power: f64, colour: Vec3) -> Option<InteriorFade> {
+        (distance.abs() > 1e-10).then(|| InteriorFade {
+            distance: distance.abs() as f32,
+            power: power as f32,
+            colour,
+        })
+    }
+
+    /// What is left of the light after `d` inside.
+    pub fn share(&self, d: f32) -> Vec3 {
+        let r = d / self.distance;
+        if self.power >= 1000.0 {
+            ((self.colour - Vec3::ONE) * r).exp()
+        } else {
+            self.colour + (Vec3::ONE - self.colour) / (1.0 + r.powf(self.power))
+        }
+    }
+
+    /// `share` for a shadow ray: POV-Ray's shadows fade only with a power
+    /// above 0 (its `ComputeShadowTexture`), where seen light fades by half
+    /// with a power of 0.
+    pub fn shadow_share(&self, d: f32) -> Vec3 {
+        if self.power > 0.0 {
+            self.share(d)
+        } else {
+            Vec3::ONE
+        }
+    }
 }
 
 impl Default for Finish {
@@ -67,6 +116,7 @@ impl Default for Finish {
             transmit: 0.0,
             filter: 0.0,
             brilliance: 1.0,
+            fade: None,
         }
     }
 }

@@ -13,7 +13,7 @@ pub use bsdf::{
     Bsdf, BsdfSample, COS_EPS, Classic, DIELECTRIC_F0, Dielectric, Lambert, Lobe, MIN_ALPHA, Metal,
     Mirror, Plastic, Transport, shininess_to_alpha,
 };
-pub use finish::Finish;
+pub use finish::{Finish, InteriorFade};
 pub use mapped::{Mapped, PatternKind, Wave};
 pub(crate) use material::metalness;
 pub use material::{Bump, Maps, Material, MaterialKind, Metallic};

@@ -607,6 +607,7 @@ fn finish(check: &Check, name: &str, m: &MaterialFile, roughness: f32) -> Result
         transmit: fraction("transmit", m.transmit, defaults.transmit)?,
         filter: defaults.filter,
         brilliance,
+        fade: defaults.fade,
     })
 }
 

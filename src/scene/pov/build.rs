@@ -18,7 +18,7 @@ use super::boxes::world_box;
 use super::csg::{Context, tree};
 use super::object::{BeamKind, CsgOp, Kind, LightSource, Obj, Triangle, clear};
 use super::parse::{Loc, Parser};
-use super::texture::{Pigment, Texture, default_texture};
+use super::texture::{Interior, Pigment, Texture, default_texture};
 use super::{Globals, Statements};
 use crate::error::Result;
 use crate::geometry::{Box3, Csg, CsgError, Mesh, Op, Part, Shape, Surface};
@@ -28,7 +28,7 @@ use crate::poly::solve::Solver;
 use crate::scene::{
     Camera, ImagePlane, Integrator, PhotonSettings, RenderSettings, Scene, WorkingGamma,
 };
-use crate::shading::{Checker, Mapped, Material, MaterialKind};
+use crate::shading::{Checker, InteriorFade, Mapped, Material, MaterialKind};
 
 /// Half the side of the world box that cuts what is unbounded.
 pub const WORLD: f64 = 1e7;
@@ -359,7 +359,7 @@ impl Builder<'_> {
                     self.parser
                         .skip_warning(obj.loc, "no_shadow", "a mesh casts shadows");
                 }
-                return self.mesh(triangles, to_world, texture, obj.ior);
+                return self.mesh(triangles, to_world, texture, obj.interior.as_ref());
             }
             _ => {}
         }
@@ -613,11 +613,11 @@ impl Builder<'_> {
     }
 
     /// The scene's material for `texture` (POV-Ray's default where there is
-    /// none) with an interior's `ior`.
+    /// none) with an interior's ior and fade.
     pub(super) fn material(
         &mut self,
         texture: Option<&Texture>,
-        ior: Option<f64>,
+        interior: Option<&Interior>,
         to_world: DAffine3,
     ) -> u32 {
         let fallback = default_texture();
@@ -673,6 +673,12 @@ impl Builder<'_> {
         // 0 lights a surface evenly; far above POV-Ray's own 1-10 only
         // overflows the power.
         finish.brilliance = finish.brilliance.clamp(0.0, 1000.0);
+        let interior = interior.copied().unwrap_or_default();
+        finish.fade = InteriorFade::new(
+            interior.fade_distance,
+            interior.fade_power,
+            DVec3::from(interior.fade_colour).as_vec3(),
+        );
         let material = Material {
             name: format!("pov {}", self.scene.materials.len()),
             kind: MaterialKind::Classic,
@@ -680,7 +686,7 @@ impl Builder<'_> {
             specular: Vec3::ZERO,
             shininess: 50.0,
             roughness: finish.roughness,
-            ior: ior.unwrap_or(1.0).clamp(1e-3, 100.0) as f32,
+            ior: interior.ior.clamp(1e-3, 100.0) as f32,
             emission: Vec3::ZERO,
             finish,
             checker,
@@ -711,7 +717,7 @@ impl Builder<'_> {
         triangles: &[Triangle],
         to_world: DAffine3,
         texture: Option<&Texture>,
-        ior: Option<f64>,
+        interior: Option<&Interior>,
     ) -> Result<()> {
         let mut mesh = Mesh {
             name: format!("mesh {}", self.scene.meshes.len()),
@@ -722,7 +728,7 @@ impl Builder<'_> {
         // the surface under a scale.
         let normal_map = to_world.matrix3.inverse().transpose();
         for triangle in triangles {
-            let material = self.material(triangle.texture.as_ref().or(texture), ior, to_world);
+            let material = self.material(triangle.texture.as_ref().or(texture), interior, to_world);
             let first = mesh.positions.len() as u32;
             for p in triangle.corners {
                 mesh.positions.push(to_world.transform_point3(p).as_vec3());

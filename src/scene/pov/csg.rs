@@ -125,7 +125,7 @@ impl Builder<'_> {
                 clips,
             }));
         }
-        let material = self.material(texture, obj.ior, to_world);
+        let material = self.material(texture, obj.interior.as_ref(), to_world);
         let leaf = |part: Part, closed: bool| {
             Some(Built::Leaf {
                 part: Box::new(part),

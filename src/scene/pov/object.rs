@@ -14,7 +14,7 @@ use glam::{DAffine3, DMat3, DVec3};
 
 use super::lex::Tok;
 use super::parse::{Loc, Parser};
-use super::texture::{Pigment, Texture};
+use super::texture::{Interior, Pigment, Texture};
 use super::value::{OBJECT_KEYWORDS, UNSUPPORTED, Value};
 use crate::error::Result;
 use crate::poly::trivariate::Trivariate;
@@ -169,7 +169,7 @@ pub struct Obj {
     /// Object space to its parent's (the world's at the top).
     pub transform: DAffine3,
     pub texture: Option<Texture>,
-    pub ior: Option<f64>,
+    pub interior: Option<Interior>,
     pub inverse: bool,
     pub no_shadow: bool,
     pub bounded_by: Vec<Obj>,
@@ -187,7 +187,7 @@ impl Obj {
             kind,
             transform: DAffine3::IDENTITY,
             texture: None,
-            ior: None,
+            interior: None,
             inverse: false,
             no_shadow: false,
             bounded_by: Vec::new(),
@@ -204,7 +204,7 @@ impl Obj {
     pub(super) fn promote_interior(&mut self) {
         if let Kind::Csg { children, .. } = &mut self.kind {
             for child in children {
-                child.ior = child.ior.or(self.ior);
+                child.interior = child.interior.or(self.interior);
                 child.promote_interior();
             }
         }
@@ -648,7 +648,7 @@ impl Parser {
                     let f = self.finish_block(base)?;
                     obj.texture.get_or_insert_with(|| self.defaults()).finish = f;
                 }
-                "interior" => obj.ior = Some(self.interior_block()?),
+                "interior" => obj.interior = Some(self.interior_block()?),
                 "material" => {
                     self.expect('{')?;
                     while !self.eat('}')? {
@@ -658,7 +658,7 @@ impl Parser {
                                 let t = self.texture_block()?;
                                 obj.set_texture(t);
                             }
-                            "interior" => obj.ior = Some(self.interior_block()?),
+                            "interior" => obj.interior = Some(self.interior_block()?),
                             other => self.unknown_item(loc, other, "material")?,
                         }
                     }

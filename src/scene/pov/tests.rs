@@ -307,6 +307,36 @@ fn an_objects_interior_is_every_part_that_has_none() {
 }
 
 #[test]
+fn an_interiors_fade_reaches_the_material() {
+    // glass.inc's idiom: a declared interior, then one built on it.
+    let scene = load(&format!(
+        "{VIEW}#declare I = interior {{ ior 1.5 fade_distance 2 fade_power 1001 }}\n\
+         sphere {{ 0, 1 pigment {{ rgbf <1, 1, 1, 0.9> }} interior {{ I fade_color <1, 0.5, 0> }} }}\n\
+         sphere {{ 2*x, 1 pigment {{ rgbf <1, 1, 1, 0.9> }} interior {{ ior 1.3 fade_power 2 }} }}"
+    ))
+    .unwrap();
+    let fades: Vec<_> = scene
+        .shapes
+        .iter()
+        .map(|s| scene.materials[s.material as usize].finish.fade)
+        .collect();
+    let colour = crate::math::Vec3::new(1.0, 0.5, 0.0);
+    // No distance, no fade, as in POV-Ray.
+    assert_eq!(
+        fades,
+        [crate::shading::InteriorFade::new(2.0, 1001.0, colour), None]
+    );
+    let fade = fades[0].unwrap();
+    // Exponential: the red channel (colour 1) keeps all, the others fade.
+    let left = fade.share(2.0);
+    assert_eq!(left.x, 1.0);
+    assert!((left.y - (-0.5f32).exp()).abs() < 1e-6 && (left.z - (-1f32).exp()).abs() < 1e-6);
+    // The shadow rule: a power of 0 fades what is seen by half, not shadows.
+    let flat = crate::shading::InteriorFade::new(1.0, 0.0, crate::math::Vec3::ZERO).unwrap();
+    assert_eq!((flat.share(5.0).x, flat.shadow_share(5.0).x), (0.5, 1.0));
+}
+
+#[test]
 fn a_scene_builds_shapes_lights_and_povrays_settings() {
     let scene = load(&format!(
         "{VIEW}light_source {{ <0, 10, 0> color rgb <1, 0.5, 0.25> }}\n\

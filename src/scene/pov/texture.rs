@@ -67,6 +67,27 @@ impl Texture {
     }
 }
 
+/// An object's `interior`: its index of refraction and how light fades
+/// inside it (POV-Ray's defaults: ior 1, no fade).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Interior {
+    pub ior: f64,
+    pub fade_distance: f64,
+    pub fade_power: f64,
+    pub fade_colour: [f64; 3],
+}
+
+impl Default for Interior {
+    fn default() -> Interior {
+        Interior {
+            ior: 1.0,
+            fade_distance: 0.0,
+            fade_power: 0.0,
+            fade_colour: [0.0; 3],
+        }
+    }
+}
+
 /// POV-Ray's default finish (ambient 0.1; sturmray's own classic default is
 /// 0, see `Finish`).
 pub fn pov_finish() -> Finish {
@@ -567,25 +588,32 @@ impl Parser {
         })
     }
 
-    /// The contents of `interior { … }`: its ior.
-    pub fn interior_block(&mut self) -> Result<f64> {
+    /// The contents of `interior { … }`.
+    pub fn interior_block(&mut self) -> Result<Interior> {
         self.expect('{')?;
-        let mut ior = 1.0;
+        let mut interior = Interior::default();
         if let Some(w) = self.peek_word()?
             && let Some(Value::Interior(named)) = self.symbol(&w)
         {
-            ior = *named;
+            interior = *named;
             self.next()?;
         }
         while !self.eat('}')? {
             let loc = self.here();
             let word = self.word()?;
             match word.as_str() {
-                "ior" => ior = self.float()?,
+                "ior" => interior.ior = self.float()?,
+                "fade_distance" => interior.fade_distance = self.float()?,
+                "fade_power" => interior.fade_power = self.float()?,
+                "fade_color" | "fade_colour" => {
+                    let c = self.expression(false)?;
+                    let c = self.as_colour(&c, loc)?;
+                    interior.fade_colour = [c[0], c[1], c[2]];
+                }
                 other => self.unknown_item(loc, other, "interior")?,
             }
         }
-        Ok(ior)
+        Ok(interior)
     }
 
     /// `transform { … }` (after the keyword) or `transform NAME`.

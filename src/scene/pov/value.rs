@@ -8,7 +8,7 @@ use glam::DAffine3;
 use super::lex::Tok;
 use super::object::Obj;
 use super::parse::Parser;
-use super::texture::{Pigment, Texture};
+use super::texture::{Interior, Pigment, Texture};
 use crate::error::Result;
 use crate::shading::Finish;
 use crate::suggest;
@@ -26,7 +26,7 @@ pub enum Value {
     Pigment(Pigment),
     Finish(Finish),
     /// An interior's index of refraction.
-    Interior(f64),
+    Interior(Interior),
     Transform(DAffine3),
     /// A declared camera, which `camera { NAME … }` starts from.
     Camera(Box<super::camera::CameraSpec>),
