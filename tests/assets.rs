@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{png_bytes, scratch, sturmray, write};
+use common::{beauty, png_bytes, scratch, sturmray, write};
 
 #[test]
 fn a_blender_export_without_its_library_renders_grey_with_warnings() {
@@ -162,8 +162,7 @@ fn render_square(
     mesh: (&str, &[u8]),
     files: &[(&str, &[u8])],
 ) -> Vec<[f32; 3]> {
-    use sturmray::accel::{Accel, Backend};
-    use sturmray::render::{RenderOptions, render};
+    use sturmray::accel::Backend;
     use sturmray::scene::Scene;
     let dir = scratch(name);
     for (file, bytes) in files.iter().chain([&mesh]) {
@@ -181,18 +180,7 @@ fn render_square(
     );
     let scene = Scene::load(&write(&dir, "s.toml", &text)).unwrap();
     assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
-    let mut images = Backend::ALL.iter().map(|&backend| {
-        let accel = Accel::build(&scene, backend, None).unwrap();
-        let options = RenderOptions {
-            threads: Some(2),
-            ..RenderOptions::default()
-        };
-        render(&scene, &accel, &options)
-            .unwrap()
-            .film
-            .layers()
-            .beauty
-    });
+    let mut images = Backend::ALL.iter().map(|&backend| beauty(&scene, backend));
     let first = images.next().unwrap();
     // Every backend finds the same texels; barycentrics differ in the last
     // bits between backends, so the filtered colours may too.

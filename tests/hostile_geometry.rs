@@ -167,6 +167,7 @@ fn square_scene(half: f32) -> Scene {
         render: RenderSettings::default(),
         background: Vec3::ZERO,
         environment: None,
+        fogs: Vec::new(),
         materials: vec![Material::default_grey()],
         meshes: vec![Mesh {
             name: "square".into(),

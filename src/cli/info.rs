@@ -135,6 +135,24 @@ fn describe(scene: &Scene, accel: &Accel) -> String {
             let _ = writeln!(s, "background {}", v(scene.background));
         }
     }
+    for fog in &scene.fogs {
+        let ground = fog.ground.map_or(String::new(), |g| {
+            format!(
+                ", ground: offset {} alt {} up {}",
+                g.offset,
+                g.alt,
+                v(g.up.as_vec3())
+            )
+        });
+        let _ = writeln!(
+            s,
+            "fog        distance {}, colour {} filter {} transmit {}{ground}",
+            fog.distance,
+            v(fog.colour),
+            fog.filter,
+            fog.transmit
+        );
+    }
     let _ = writeln!(s, "plan       {}", Plan::for_scene(scene));
     let _ = writeln!(s, "meshes     {}", scene.meshes.len());
     for (id, mesh) in scene.meshes.iter().enumerate() {

@@ -21,7 +21,7 @@ use crate::lights::LightRef;
 use crate::math::{Frame, Hit, Ray, Ray64, Vec3, offset};
 use crate::sampling::mis::power_heuristic;
 use crate::sampling::{Deferred, Sampler};
-use crate::scene::{Interaction, Scene};
+use crate::scene::{Interaction, Scene, fog_along};
 use crate::shading::{Bsdf, Lobe};
 
 /// Bounces before Russian roulette may end a path.
@@ -111,12 +111,19 @@ impl PathTracer<'_> {
             // Built only when explain records the tree: nothing is allocated per ray.
             let node = tally.open(|| Node::of_hit(self.scene, &hit, kind, depth, beta));
             if !hit.is_hit() {
-                let add = beta * self.escaped(ray.dir, sampled_from);
+                let glow = self.fog(&ray, None, &mut beta);
+                let add = glow + beta * self.escaped(ray.dir, sampled_from);
                 tally.add(node, add);
                 radiance += add;
                 break;
             }
             let it = self.scene.interaction(&ray, &hit);
+            // POV-Ray's fogs on the way through the air (not on an inside).
+            let glow = if it.front {
+                self.fog(&ray, Some((it.p - ray.origin).length()), &mut beta)
+            } else {
+                Vec3::ZERO
+            };
             let u = Bounce::draw(sampler);
             let material = &self.scene.materials[it.material as usize];
             // Out of a fading interior: all the light from here on crossed it.
@@ -127,7 +134,7 @@ impl PathTracer<'_> {
             if depth == 0 {
                 first = Some((hit.t, it.ns, surface.albedo));
             }
-            let mut add = Vec3::ZERO;
+            let mut add = glow;
             // Emitters shine from their front side only.
             if it.front && material.emits() {
                 let light = self.scene.light_picker.light_of(hit.geom_id, hit.prim_id);
@@ -227,6 +234,19 @@ impl PathTracer<'_> {
             sum += self.light_sample(v, light, picked, pick.u, tally);
         }
         sum
+    }
+
+    /// POV-Ray's fogs on the way of `ray`, `length` long (None: to a miss):
+    /// the light they add, times the path's weight, which then keeps what
+    /// they let through. Nothing where the scene has no fog.
+    fn fog(&self, ray: &Ray, length: Option<f32>, beta: &mut Vec3) -> Vec3 {
+        if !self.plan.fog {
+            return Vec3::ZERO;
+        }
+        let (added, through) = fog_along(&self.scene.fogs, ray.origin, ray.dir, length);
+        let glow = *beta * added;
+        *beta *= through;
+        glow
     }
 
     /// The radiance of a ray that left the scene in direction `dir`, weighted

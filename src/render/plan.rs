@@ -30,6 +30,9 @@ pub struct Plan {
     /// The photon pass for caustics: photons from the lights through specular
     /// surfaces to diffuse ones, gathered where the eye's rays meet them.
     pub photon: bool,
+    /// POV-Ray's fogs, on every ray's way through the air (a `.pov`
+    /// scene's `fog`).
+    pub fog: bool,
     /// The depth limit of the ray tree.
     pub max_depth: u32,
     /// Every effect forced on: reflection and refraction rays from every surface,
@@ -112,6 +115,7 @@ impl Plan {
                 && scene.render.photons.count > 0
                 && uses_where(&|m| Bsdf::from_material(m).has_specular())
                 && uses_where(&|m| photon::receives(&Bsdf::from_material(m))),
+            fog: !scene.fogs.is_empty(),
             max_depth: scene.render.max_depth,
             forced: false,
         }
@@ -128,6 +132,7 @@ impl Plan {
             refraction: true,
             diffuse: true,
             photon: true,
+            fog: true,
             max_depth,
             forced: true,
         }
@@ -145,7 +150,7 @@ impl fmt::Display for Plan {
         write!(
             f,
             "{} (depth {}{forced}): shadow rays {}{}, reflection rays {}, refraction rays {}, \
-             diffuse bounces {}, photon pass {}",
+             diffuse bounces {}, photon pass {}{}",
             if self.diffuse { "path" } else { "whitted" },
             self.max_depth,
             on(self.shadow),
@@ -157,7 +162,9 @@ impl fmt::Display for Plan {
             on(self.reflection),
             on(self.refraction),
             on(self.diffuse),
-            on(self.photon)
+            on(self.photon),
+            // Only where a scene has one, so other plans read as before.
+            if self.fog { ", fog yes" } else { "" }
         )
     }
 }

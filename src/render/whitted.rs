@@ -14,7 +14,7 @@ use crate::film::Sample;
 use crate::lights::LightRef;
 use crate::math::{Hit, Ray, Ray64, Vec3, offset};
 use crate::sampling::Sampler;
-use crate::scene::{Interaction, Scene};
+use crate::scene::{Interaction, Scene, fog_along};
 use crate::shading::fresnel;
 use crate::shading::{MaterialKind, Surface};
 
@@ -113,8 +113,20 @@ impl Whitted<'_> {
             Some(it) => self.shade(ray, it, depth, weight, walk),
             None => self.scene.escaped(ray.dir),
         };
+        let radiance = self.fogged(ray, it, radiance);
         walk.tally.finish(node, radiance);
         radiance
+    }
+
+    /// `radiance` come back along `ray` through POV-Ray's fogs, where the
+    /// way was through the air: not where it ends on an object's inside.
+    fn fogged(&self, ray: &Ray, it: Option<&Interaction>, radiance: Vec3) -> Vec3 {
+        if !self.plan.fog || it.is_some_and(|it| !it.front) {
+            return radiance;
+        }
+        let length = it.map(|it| (it.p - ray.origin).length());
+        let (added, through) = fog_along(&self.scene.fogs, ray.origin, ray.dir, length);
+        added + through * radiance
     }
 
     fn shade(

@@ -4,6 +4,7 @@
 mod camera;
 mod emitters;
 mod file;
+mod fog;
 mod hash;
 mod instance;
 mod interaction;
@@ -21,6 +22,7 @@ use std::sync::Arc;
 pub use camera::{
     Camera, CameraFrame, CameraKey, CameraProblem, ImagePlane, Optics, Projection, ThinLens,
 };
+pub use fog::{Fog, GroundFog, along as fog_along};
 pub use instance::{Instance, Prototype};
 pub use interaction::Interaction;
 use obj::MAX_COORDINATE;
@@ -211,6 +213,8 @@ pub struct Scene {
     /// The environment light (`[environment]`): when present, what rays that
     /// leave the scene see, in place of `background`.
     pub environment: Option<Arc<Environment>>,
+    /// POV-Ray's fogs, on every ray's way through the air.
+    pub fogs: Vec<Fog>,
     pub materials: Vec<Material>,
     /// Geometry i of the scene is mesh i: its `geom_id` in hits.
     pub meshes: Vec<Mesh>,
@@ -335,6 +339,7 @@ impl Scene {
             render,
             background,
             environment: None,
+            fogs: Vec::new(),
             materials: Vec::new(),
             meshes: Vec::new(),
             shapes: Vec::new(),

@@ -144,3 +144,17 @@ pub fn compile_embree3_c(source: &Path, out: &Path) {
         String::from_utf8_lossy(&built.stderr)
     );
 }
+
+/// The beauty layer of `scene` rendered on `backend` with two threads.
+pub fn beauty(scene: &sturmray::scene::Scene, backend: sturmray::accel::Backend) -> Vec<[f32; 3]> {
+    let accel = sturmray::accel::Accel::build(scene, backend, None).unwrap();
+    let options = sturmray::render::RenderOptions {
+        threads: Some(2),
+        ..sturmray::render::RenderOptions::default()
+    };
+    sturmray::render::render(scene, &accel, &options)
+        .unwrap()
+        .film
+        .layers()
+        .beauty
+}

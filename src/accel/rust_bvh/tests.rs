@@ -14,6 +14,7 @@ fn mesh_scene(positions: Vec<Vec3>, triangles: Vec<[u32; 3]>) -> Scene {
         render: RenderSettings::default(),
         background: Vec3::ZERO,
         environment: None,
+        fogs: Vec::new(),
         materials: vec![Material::default_grey()],
         meshes: vec![Mesh {
             name: "mesh".into(),

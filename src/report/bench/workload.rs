@@ -93,6 +93,7 @@ pub fn bumpy_sphere(triangles: usize) -> Scene {
         render: RenderSettings::default(),
         background: Vec3::ZERO,
         environment: None,
+        fogs: Vec::new(),
         materials: vec![Material::default_grey()],
         meshes: vec![mesh],
         shapes: Vec::new(),

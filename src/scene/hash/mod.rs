@@ -62,6 +62,10 @@ impl Scene {
             serde_json::to_writer(&mut feed, &("environment", &environment.source))
                 .expect("a scene serialises");
         }
+        // And the fogs, for scenes that have them.
+        if !self.fogs.is_empty() {
+            serde_json::to_writer(&mut feed, &("fogs", &self.fogs)).expect("a scene serialises");
+        }
         feed.0
             .finalize()
             .iter()

@@ -115,10 +115,12 @@ pub(super) fn scene(
         mut objects,
         camera,
         background,
+        fogs,
         globals,
     } = statements;
     let render = settings(&globals, parser.version);
     let mut scene = Scene::empty(path, render, background.as_vec3());
+    scene.fogs = fogs;
     let resolved = camera
         .resolve()
         .map_err(|m| parser.error_at(camera.loc, m))?;

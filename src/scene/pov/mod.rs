@@ -34,7 +34,7 @@ use std::path::Path;
 
 use glam::DVec3;
 
-use super::{LoadOptions, Scene, WorkingGamma};
+use super::{Fog, GroundFog, LoadOptions, Scene, WorkingGamma};
 use crate::error::Result;
 use camera::CameraSpec;
 use lex::Tok;
@@ -50,6 +50,7 @@ struct Statements {
     objects: Vec<Obj>,
     camera: CameraSpec,
     background: DVec3,
+    fogs: Vec<Fog>,
     globals: Globals,
 }
 
@@ -88,6 +89,7 @@ fn statements(p: &mut Parser) -> Result<Statements> {
         objects: Vec::new(),
         camera: CameraSpec::default(),
         background: DVec3::ZERO,
+        fogs: Vec::new(),
         globals: Globals::default(),
     };
     let mut cameras = 0;
@@ -121,6 +123,13 @@ fn statements(p: &mut Parser) -> Result<Statements> {
                 s.background = DVec3::new(c[0], c[1], c[2]);
                 p.expect('}')?;
                 p.count("background");
+            }
+            "fog" => {
+                p.next()?;
+                if let Some(fog) = p.fog_block()? {
+                    s.fogs.push(fog);
+                }
+                p.count("fog");
             }
             "sky_sphere" => {
                 p.next()?;
@@ -165,6 +174,78 @@ fn statements(p: &mut Parser) -> Result<Statements> {
         s.background = sky;
     }
     Ok(s)
+}
+
+impl Parser {
+    /// `fog { … }` after its keyword: None for one POV-Ray draws nothing
+    /// of (a distance of 0).
+    fn fog_block(&mut self) -> Result<Option<Fog>> {
+        self.expect('{')?;
+        let mut colour = [0.0; 5];
+        let (mut distance, mut kind, mut offset, mut alt) = (0.0, 1.0, 0.0, 0.0);
+        let mut up = DVec3::Y;
+        while !self.eat('}')? {
+            let loc = self.here();
+            if self.starts_number()? {
+                self.warn(
+                    loc,
+                    "a fog's distance should follow `distance` (POV-Ray's warning too)",
+                );
+                distance = self.float()?;
+                continue;
+            }
+            let word = self.word()?;
+            if let Some(t) = self.transform_item(&word)? {
+                if word == "translate" {
+                    self.warn(
+                        loc,
+                        "a fog's up vector can't be translated (POV-Ray's warning too)",
+                    );
+                } else {
+                    up = t.transform_vector3(up);
+                }
+                continue;
+            }
+            match word.as_str() {
+                "color" | "colour" => {
+                    let c = self.colour_rest(None)?;
+                    colour = self.as_colour(&c, loc)?;
+                }
+                w if value::COLOUR_WORDS.contains(&w) => {
+                    let c = self.colour_rest(Some((word.clone(), loc)))?;
+                    colour = self.as_colour(&c, loc)?;
+                }
+                "distance" => distance = self.float()?,
+                "fog_type" => kind = self.float()?,
+                "fog_offset" => offset = self.float()?,
+                "fog_alt" => alt = self.float()?,
+                "up" => up = self.vector()?,
+                "turbulence" | "octaves" | "omega" | "lambda" | "turb_depth" => {
+                    self.expression(false)?;
+                    self.skip_warning(loc, &word, "the fog is drawn without its turbulence");
+                }
+                other => self.unknown_item(loc, other, "fog")?,
+            }
+        }
+        // POV-Ray leaves out a fog of no distance; its ground fog divides
+        // by the altitude, which must then not be 0.
+        if distance.abs() <= 1e-10 {
+            return Ok(None);
+        }
+        let ground = (kind.round() as i64 == 2).then(|| GroundFog {
+            offset,
+            alt: if alt == 0.0 { 1e-10 } else { alt },
+            up: up.normalize_or(DVec3::Y),
+        });
+        let rgb = DVec3::new(colour[0], colour[1], colour[2]).as_vec3();
+        Ok(Some(Fog {
+            distance: distance.abs(),
+            colour: rgb,
+            filter: colour[3] as f32,
+            transmit: colour[4] as f32,
+            ground,
+        }))
+    }
 }
 
 /// `global_settings { … }` after its keyword.

@@ -337,6 +337,36 @@ fn an_interiors_fade_reaches_the_material() {
 }
 
 #[test]
+fn fogs_are_read_with_povrays_defaults_and_rules() {
+    let scene = load(&format!(
+        "{VIEW}fog {{ distance 20 color rgbf <0.5, 0.6, 0.7, 0.2> }}\n\
+         fog {{ fog_type 2 distance 4 color rgb 1 fog_offset 1 fog_alt 2 up x rotate z*90 }}\n\
+         fog {{ distance 0 color rgb 1 }}\n\
+         fog {{ 8 color rgb 0.5 turbulence 0.3 octaves 4 }}"
+    ))
+    .unwrap();
+    // A fog of distance 0 draws nothing in POV-Ray: left out.
+    assert_eq!(scene.fogs.len(), 3);
+    let f = &scene.fogs[0];
+    assert_eq!((f.distance, f.filter, f.transmit), (20.0, 0.2, 0.0));
+    assert_eq!(f.colour.to_array(), [0.5, 0.6, 0.7]);
+    assert!(f.ground.is_none());
+    // The up vector turns with the fog's rotation: x by 90° about z is y.
+    let g = scene.fogs[1].ground.unwrap();
+    assert_eq!((g.offset, g.alt), (1.0, 2.0));
+    assert!((g.up - glam::DVec3::Y).length() < 1e-12, "{:?}", g.up);
+    // A bare number is the distance (with POV-Ray's warning); turbulence
+    // is left out with a warning naming it.
+    assert_eq!(scene.fogs[2].distance, 8.0);
+    let warnings = scene.warnings.join("\n");
+    assert!(warnings.contains("should follow `distance`"), "{warnings}");
+    assert!(
+        warnings.contains("`turbulence`") && warnings.contains("without its turbulence"),
+        "{warnings}"
+    );
+}
+
+#[test]
 fn a_scene_builds_shapes_lights_and_povrays_settings() {
     let scene = load(&format!(
         "{VIEW}light_source {{ <0, 10, 0> color rgb <1, 0.5, 0.25> }}\n\

@@ -88,7 +88,6 @@ pub const UNSUPPORTED: &[&str] = &[
     "function",
     "spline",
     "media",
-    "fog",
     "rainbow",
     "material",
     "normal",
