@@ -435,7 +435,7 @@ fn what_is_outside_the_subset_is_skipped_with_a_warning_naming_the_line() {
     let scene = load(&format!(
         "{VIEW}isosurface {{ function {{ x }} }}\n\
          sphere {{ 0, 1 normal {{ bumps 0.5 }} }}\n\
-         fog {{ distance 10 }}\n"
+         rainbow {{ angle 42 width 5 }}\n"
     ))
     .unwrap();
     assert_eq!(scene.shapes.len(), 1);
@@ -449,7 +449,7 @@ fn what_is_outside_the_subset_is_skipped_with_a_warning_naming_the_line() {
         "{warnings}"
     );
     assert!(
-        warnings.contains("t.pov:4:1: `fog` is not supported"),
+        warnings.contains("t.pov:4:1: `rainbow` is not supported"),
         "{warnings}"
     );
     let skipped = &scene.import.as_ref().unwrap().skipped;
