@@ -186,6 +186,14 @@ impl Parser {
         let mut up = DVec3::Y;
         while !self.eat('}')? {
             let loc = self.here();
+            // A declared colour, as in `fog { distance 200 Wheat*.5 }`.
+            if let Some(w) = self.peek_word()?
+                && matches!(self.symbol(&w), Some(Value::Vector(_)))
+            {
+                let c = self.expression(false)?;
+                colour = self.as_colour(&c, loc)?;
+                continue;
+            }
             if self.starts_number()? {
                 self.warn(
                     loc,

@@ -342,7 +342,8 @@ fn fogs_are_read_with_povrays_defaults_and_rules() {
         "{VIEW}fog {{ distance 20 color rgbf <0.5, 0.6, 0.7, 0.2> }}\n\
          fog {{ fog_type 2 distance 4 color rgb 1 fog_offset 1 fog_alt 2 up x rotate z*90 }}\n\
          fog {{ distance 0 color rgb 1 }}\n\
-         fog {{ 8 color rgb 0.5 turbulence 0.3 octaves 4 }}"
+         #declare Wheat = rgb <0.96, 0.87, 0.7>;\n\
+         fog {{ 8 Wheat * 0.5 turbulence 0.3 octaves 4 }}"
     ))
     .unwrap();
     // A fog of distance 0 draws nothing in POV-Ray: left out.
@@ -358,6 +359,8 @@ fn fogs_are_read_with_povrays_defaults_and_rules() {
     // A bare number is the distance (with POV-Ray's warning); turbulence
     // is left out with a warning naming it.
     assert_eq!(scene.fogs[2].distance, 8.0);
+    // A declared colour stands without `color`, as in lights/circular.pov.
+    assert_eq!(scene.fogs[2].colour.to_array(), [0.48, 0.435, 0.35]);
     let warnings = scene.warnings.join("\n");
     assert!(warnings.contains("should follow `distance`"), "{warnings}");
     assert!(
