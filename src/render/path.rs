@@ -118,8 +118,8 @@ impl PathTracer<'_> {
                 break;
             }
             let it = self.scene.interaction(&ray, &hit);
-            // POV-Ray's fogs on the way through the air (not on an inside).
-            let glow = if it.front {
+            // POV-Ray's fogs on the way through the air (not a solid's inside).
+            let glow = if !self.scene.came_through_solid(&hit, it.front) {
                 self.fog(&ray, Some((it.p - ray.origin).length()), &mut beta)
             } else {
                 Vec3::ZERO

@@ -113,15 +113,15 @@ impl Whitted<'_> {
             Some(it) => self.shade(ray, it, depth, weight, walk),
             None => self.scene.escaped(ray.dir),
         };
-        let radiance = self.fogged(ray, it, radiance);
+        let radiance = self.fogged(ray, (hit, it), radiance);
         walk.tally.finish(node, radiance);
         radiance
     }
 
     /// `radiance` come back along `ray` through POV-Ray's fogs, where the
-    /// way was through the air: not where it ends on an object's inside.
-    fn fogged(&self, ray: &Ray, it: Option<&Interaction>, radiance: Vec3) -> Vec3 {
-        if !self.plan.fog || it.is_some_and(|it| !it.front) {
+    /// way was through the air: not where it ends on a solid's inside.
+    fn fogged(&self, ray: &Ray, (hit, it): (&Hit, Option<&Interaction>), radiance: Vec3) -> Vec3 {
+        if !self.plan.fog || it.is_some_and(|it| self.scene.came_through_solid(hit, it.front)) {
             return radiance;
         }
         let length = it.map(|it| (it.p - ray.origin).length());

@@ -53,6 +53,15 @@ impl Scene {
         hit.geom_id as usize != meshes.len() || shapes[hit.prim_id as usize].casts_shadow()
     }
 
+    /// Whether the ray that made `hit` on the inside of what it hit came
+    /// through that object's inside, not through air: true for an analytic
+    /// shape that is not `hollow`; never for a mesh, to which POV-Ray gives
+    /// no inside. A fog fills only the air.
+    pub fn came_through_solid(&self, hit: &Hit, front: bool) -> bool {
+        let (meshes, shapes, _) = self.hit_geometry(hit);
+        !front && hit.geom_id as usize == meshes.len() && !shapes[hit.prim_id as usize].hollow()
+    }
+
     /// The material `hit` found, which must be a hit in this scene: what
     /// `interaction` says, without the work of finding the point and normal.
     pub fn material_of(&self, hit: &Hit) -> u32 {

@@ -140,6 +140,11 @@ pub struct Shape {
     /// (see `set_no_shadow`); left out of the scene hash when false.
     #[serde(skip_serializing_if = "<&bool as std::ops::Not>::not")]
     no_shadow: bool,
+    /// POV-Ray's `hollow`: its inside is air, which a fog fills (see
+    /// `set_hollow`). The scene hash takes it with the fogs, the only thing
+    /// it changes (so the hashes of scenes without fog stay as they were).
+    #[serde(skip)]
+    hollow: bool,
 }
 
 /// Q(s) = F(start + s·d) of one ray in object space (|d| = 1, s the distance
@@ -273,6 +278,7 @@ impl Shape {
             gate: None,
             context_box: false,
             no_shadow: false,
+            hollow: false,
         })
     }
 
@@ -432,6 +438,17 @@ impl Shape {
     /// Whether occlusion queries find the shape (see `set_no_shadow`).
     pub fn casts_shadow(&self) -> bool {
         !self.no_shadow
+    }
+
+    /// POV-Ray's `hollow`: the shape's inside is air, as its outside is,
+    /// for a fog.
+    pub fn set_hollow(&mut self) {
+        self.hollow = true;
+    }
+
+    /// Whether the shape's inside is air (see `set_hollow`).
+    pub fn hollow(&self) -> bool {
+        self.hollow
     }
 
     /// Swaps the root finder, for studies that compare them on one scene.

@@ -62,9 +62,14 @@ impl Scene {
             serde_json::to_writer(&mut feed, &("environment", &environment.source))
                 .expect("a scene serialises");
         }
-        // And the fogs, for scenes that have them.
+        // And the fogs, for scenes that have them, with the shapes whose
+        // inside they fill (`hollow`), which changes nothing without one.
         if !self.fogs.is_empty() {
-            serde_json::to_writer(&mut feed, &("fogs", &self.fogs)).expect("a scene serialises");
+            let hollow: Vec<usize> = (0..self.shapes.len())
+                .filter(|&i| self.shapes[i].hollow())
+                .collect();
+            serde_json::to_writer(&mut feed, &("fogs", &self.fogs, hollow))
+                .expect("a scene serialises");
         }
         feed.0
             .finalize()

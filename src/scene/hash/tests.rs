@@ -138,3 +138,24 @@ fn the_hash_of_a_scene_with_a_mesh_is_golden() {
         "f120d51ff659ed87cefd90d0def4b665cbfc3c2916e553086ec11449d5da0859"
     );
 }
+
+#[test]
+fn fogs_and_the_hollow_shapes_they_fill_change_the_hash_and_nothing_else_does() {
+    let scratch = scratch("hash-fog");
+    let pov = |body: &str| {
+        let text = format!("camera {{ location <0, 0, -5> look_at 0 }}\n{body}");
+        Scene::load(&write(scratch.path(), "s.pov", &text))
+            .unwrap()
+            .content_hash()
+    };
+    let ball = "sphere { 0, 1 }";
+    let hollow = "sphere { 0, 1 hollow }";
+    let fog = "fog { distance 5 color rgb 1 }";
+    // Without a fog, `hollow` changes no pixel, and no hash.
+    assert_eq!(pov(ball), pov(hollow));
+    // A fog changes the image, and with one, so does `hollow`.
+    let fogged = pov(&format!("{ball}\n{fog}"));
+    assert_ne!(pov(ball), fogged);
+    assert_ne!(fogged, pov(&format!("{hollow}\n{fog}")));
+    assert_ne!(fogged, pov(&format!("{ball}\n{}", fog.replace('5', "6"))));
+}

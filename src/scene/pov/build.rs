@@ -307,10 +307,12 @@ impl Builder<'_> {
         let own = own_texture(obj, inherited);
         let texture = own.as_ref();
         if let Some(children) = split_union(obj) {
+            // The union's `no_shadow` and `hollow` are its parts' too.
             for child in children {
-                if obj.no_shadow && !child.no_shadow {
+                if (obj.no_shadow && !child.no_shadow) || (obj.hollow && !child.hollow) {
                     let mut child = child.clone();
-                    child.no_shadow = true;
+                    child.no_shadow |= obj.no_shadow;
+                    child.hollow |= obj.hollow;
                     self.top(&child, to_world, texture)?;
                 } else {
                     self.top(child, to_world, texture)?;
@@ -416,6 +418,9 @@ impl Builder<'_> {
         }
         if obj.no_shadow {
             shape.set_no_shadow();
+        }
+        if obj.hollow {
+            shape.set_hollow();
         }
         self.scene.shapes.push(shape);
         Ok(())

@@ -172,6 +172,8 @@ pub struct Obj {
     pub interior: Option<Interior>,
     pub inverse: bool,
     pub no_shadow: bool,
+    /// `hollow`: its inside is air, which a fog fills.
+    pub hollow: bool,
     pub bounded_by: Vec<Obj>,
     pub clipped_by: Vec<Obj>,
     /// One list was read as a copy of the other (`bounded_by { clipped_by }`
@@ -190,6 +192,7 @@ impl Obj {
             interior: None,
             inverse: false,
             no_shadow: false,
+            hollow: false,
             bounded_by: Vec::new(),
             clipped_by: Vec::new(),
             bound_is_clip: false,
@@ -669,12 +672,15 @@ impl Parser {
                     _ => self.warn(loc, "`open` applies to cylinders and cones; ignored"),
                 },
                 "no_shadow" => obj.no_shadow = true,
-                "sturm" | "hollow" | "double_illuminate" | "no_reflection" | "no_image"
-                | "no_radiosity" | "global_lights" => {
+                "hollow" => {
+                    // `hollow off` (or 0) undoes it, as in POV-Ray.
+                    obj.hollow = !self.starts_number()? || self.float()? != 0.0;
+                }
+                "sturm" | "double_illuminate" | "no_reflection" | "no_image" | "no_radiosity"
+                | "global_lights" => {
                     // `sturm`: sturmray's solver always isolates roots with
-                    // Sturm sequences. `hollow`: there is no media to fill.
-                    // `global_lights`: a light group is lit by the scene's
-                    // lights in any case (its own are left out).
+                    // Sturm sequences. `global_lights`: a light group is lit
+                    // by the scene's lights in any case (its own are left out).
                     if self.starts_number()? {
                         self.float()?;
                     }

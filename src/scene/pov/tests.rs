@@ -370,6 +370,19 @@ fn fogs_are_read_with_povrays_defaults_and_rules() {
 }
 
 #[test]
+fn hollow_reaches_the_shape_and_a_unions_parts() {
+    let scene = load(&format!(
+        "{VIEW}sphere {{ 0, 1 hollow }}\n\
+         sphere {{ 0, 1 hollow off }}\n\
+         union {{ sphere {{ 3*x, 1 }} sphere {{ 6*x, 1 }} hollow }}\n\
+         sphere {{ 0, 1 }}"
+    ))
+    .unwrap();
+    let hollow: Vec<bool> = scene.shapes.iter().map(|s| s.hollow()).collect();
+    assert_eq!(hollow, [true, false, true, true, false]);
+}
+
+#[test]
 fn a_scene_builds_shapes_lights_and_povrays_settings() {
     let scene = load(&format!(
         "{VIEW}light_source {{ <0, 10, 0> color rgb <1, 0.5, 0.25> }}\n\
