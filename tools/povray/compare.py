@@ -28,6 +28,9 @@ left, sturmray right) to --out DIR, and exits 1 if a scene fails.
 
     .venv/bin/python tools/povray/compare.py --sturmray target/release/sturmray \\
         --out docs/img/povray --width 800 --height 600
+
+Other folders of Debian's samples, beyond the issue's two, with
+`--examples /usr/share/doc/povray/examples --folders interior,lights,objects`.
 """
 
 from __future__ import annotations
@@ -348,9 +351,10 @@ SIDE_BY_SIDE = ("helix", "intee1")
 WARNING = re.compile(r"\bwarning:", re.IGNORECASE)
 
 
-def sample_scenes(examples: Path = EXAMPLES) -> list[Path]:
-    """The sample scenes the comparison covers, in a stable order."""
-    return [p for folder in SAMPLE_FOLDERS for p in sorted((examples / folder).glob("*.pov"))]
+def sample_scenes(examples: Path = EXAMPLES, folders=SAMPLE_FOLDERS) -> list[Path]:
+    """The sample scenes the comparison covers (the .pov files directly in
+    each of `folders` under `examples`), in a stable order."""
+    return [p for folder in folders for p in sorted((examples / folder).glob("*.pov"))]
 
 
 def wrapper_text(scene: Path, grey: int) -> str:
@@ -700,6 +704,11 @@ def main(argv=None) -> int:
     parser.add_argument("--jobs", type=int, default=4, help="renders at a time")
     parser.add_argument("--povray", default="povray", help="the POV-Ray 3.7 binary")
     parser.add_argument("--examples", type=Path, default=EXAMPLES)
+    parser.add_argument(
+        "--folders",
+        default=",".join(SAMPLE_FOLDERS),
+        help="folders of --examples whose scenes are compared, comma-separated",
+    )
     parser.add_argument("--includes", type=Path, default=INCLUDES)
     parser.add_argument("--keep", type=Path, help="keep renders and hit pictures here")
     parser.add_argument(
@@ -710,7 +719,7 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
     if not args.sturmray.is_file():
         parser.error(f"--sturmray {args.sturmray}: no such file (cargo build --release)")
-    scenes = sample_scenes(args.examples)
+    scenes = sample_scenes(args.examples, args.folders.split(","))
     if not scenes:
         parser.error(f"no sample scenes under {args.examples} (install povray-examples)")
     renderers = Renderers(
