@@ -23,7 +23,6 @@ const NOT_RUN: &[&str] = &[
     "eval_pigment",
     "min_extent",
     "max_extent",
-    "vaxis_rotate",
     "vturbulence",
     "file_exists",
     "bitwise_and",

@@ -1,5 +1,6 @@
 //! The built-in functions of POV-Ray's expressions the subset evaluates:
-//! `sqrt`, `sin`, `pow`, `max`, `vlength`, `vcross`, `select` and the like,
+//! `sqrt`, `sin`, `pow`, `max`, `vlength`, `vcross`, `vaxis_rotate`,
+//! `select` and the like,
 //! and the random streams of `seed` and `rand`.
 
 use super::parse::{Loc, Parser};
@@ -15,7 +16,7 @@ impl Parser {
             | "floor" | "int" | "ln" | "log" | "radians" | "sin" | "sinh" | "sqrt" | "tan"
             | "tanh" | "vlength" | "vnormalize" | "sqr" | "seed" | "rand" => 1,
             "atan2" | "div" | "mod" | "pow" | "vcross" | "vdot" | "max" | "min" | "vrotate" => 2,
-            "select" => 3,
+            "select" | "vaxis_rotate" => 3,
             _ => return Ok(None),
         };
         self.expect('(')?;
@@ -53,6 +54,17 @@ impl Parser {
             "vrotate" => {
                 let r = vec3(self, &args[1])? * (std::f64::consts::PI / 180.0);
                 out(rotation(r).transform_vector3(vec3(self, &args[0])?))
+            }
+            // A about the axis B by F degrees, turning as `vrotate` turns
+            // about x, y and z (POV-Ray's axis rotation matrix is this one,
+            // for its row vectors).
+            "vaxis_rotate" => {
+                let axis = vec3(self, &args[1])?.normalize_or_zero();
+                if axis == glam::DVec3::ZERO {
+                    return Err(self.error_at(loc, "`vaxis_rotate` needs an axis that is not zero"));
+                }
+                let turn = glam::DMat3::from_axis_angle(axis, f(2)?.to_radians());
+                out(turn * vec3(self, &args[0])?)
             }
             "select" => {
                 let c = f(0)?;

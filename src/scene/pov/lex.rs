@@ -34,6 +34,38 @@ pub struct LexError {
     pub message: String,
 }
 
+/// The words that make a directive after `#`, POV-Ray 3.7's.
+const DIRECTIVES: &[&str] = &[
+    "declare",
+    "local",
+    "undef",
+    "include",
+    "version",
+    "if",
+    "ifdef",
+    "ifndef",
+    "else",
+    "elseif",
+    "end",
+    "switch",
+    "case",
+    "range",
+    "break",
+    "default",
+    "while",
+    "for",
+    "macro",
+    "debug",
+    "warning",
+    "error",
+    "fopen",
+    "fclose",
+    "read",
+    "write",
+    "render",
+    "statistics",
+];
+
 /// The tokens of `text`.
 pub fn tokens(text: &str) -> Result<Vec<Token>, LexError> {
     let chars: Vec<char> = text.chars().collect();
@@ -130,11 +162,11 @@ pub fn tokens(text: &str) -> Result<Vec<Token>, LexError> {
             } else {
                 String::new()
             };
-            if word.is_empty() {
-                return Err(LexError {
-                    at,
-                    message: "expected a directive after `#` (such as #declare)".into(),
-                });
+            // POV-Ray reads a `#` that no directive follows as if it were
+            // not there (a macro's name after it calls the macro; a stray
+            // one before a brace is passed over): so does the reader.
+            if !DIRECTIVES.contains(&word.as_str()) {
+                continue;
             }
             step(&mut i, &mut line, &mut col, word.chars().count());
             out.push(Token {

@@ -112,6 +112,90 @@ fn colours_have_five_components() {
     assert_eq!(vector(&p, "T"), [0.1, 0.2, 0.3, 0.0, 0.4]);
 }
 
+/// `.gray` weighs red, green and blue as POV-Ray 3.7 does (0.297, 0.589,
+/// 0.114; incdemo/sort.pov sorts colours by it), `.grey` too; a number is
+/// a grey colour of itself.
+#[test]
+fn gray_weighs_a_colours_three_components() {
+    let p = read(
+        "#declare A = rgb <1, 0, 0>;\n\
+         #declare R = A.gray;\n\
+         #declare G = (rgb <0, 1, 0>).grey;\n\
+         #declare M = (color rgb <0.2, 0.4, 0.6> filter 0.9).gray;\n\
+         #declare F = (0.5).gray;",
+    );
+    assert_eq!(float(&p, "R"), 0.297);
+    assert_eq!(float(&p, "G"), 0.589);
+    assert!((float(&p, "M") - (0.297 * 0.2 + 0.589 * 0.4 + 0.114 * 0.6)).abs() < 1e-15);
+    assert!((float(&p, "F") - 0.5).abs() < 1e-15);
+    let (_dir, path) = file("#declare V = <1, 2>;\n#declare W = V.gray;");
+    let err = Parser::new(&path, &[], (800, 600))
+        .and_then(|mut p| {
+            while p.peek()?.is_some() {
+                p.next()?;
+            }
+            Ok(())
+        })
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("t.pov:2:") && err.contains("`.gray`"), "{err}");
+}
+
+/// `vaxis_rotate(A, B, F)` turns A about the axis B by F degrees: about x,
+/// y or z it is `vrotate` by F on that axis, as POV-Ray's documentation
+/// says, and a point on the axis stays.
+#[test]
+fn vaxis_rotate_turns_about_an_axis_as_vrotate_does() {
+    let p = read(
+        "#declare X = vaxis_rotate(<1, 2, 3>, x, 30);\n\
+         #declare VX = vrotate(<1, 2, 3>, <30, 0, 0>);\n\
+         #declare Y = vaxis_rotate(<1, 2, 3>, <0, 2, 0>, -75);\n\
+         #declare VY = vrotate(<1, 2, 3>, <0, -75, 0>);\n\
+         #declare Z = vaxis_rotate(<1, 2, 3>, z, 120);\n\
+         #declare VZ = vrotate(<1, 2, 3>, <0, 0, 120>);\n\
+         #declare On = vaxis_rotate(<2, 2, 2>, <1, 1, 1>, 77);\n\
+         #declare Q = vaxis_rotate(x, <1, 1, 1>, 120);",
+    );
+    let close = |a: &[f64], b: &[f64]| a.iter().zip(b).all(|(a, b)| (a - b).abs() < 1e-12);
+    for (a, b) in [("X", "VX"), ("Y", "VY"), ("Z", "VZ")] {
+        assert!(
+            close(&vector(&p, a), &vector(&p, b)),
+            "{a} {:?} {b} {:?}",
+            vector(&p, a),
+            vector(&p, b)
+        );
+    }
+    assert!(close(&vector(&p, "On"), &[2.0, 2.0, 2.0]));
+    // A third of a turn about the diagonal takes x to y.
+    assert!(
+        close(&vector(&p, "Q"), &[0.0, 1.0, 0.0]),
+        "{:?}",
+        vector(&p, "Q")
+    );
+}
+
+/// A `#` that no directive follows is passed over, as POV-Ray passes it
+/// over (language/image_size.pov has one before a closing brace), and a
+/// macro's name after `#` calls the macro; a directive after `#` still
+/// runs, with spaces between them.
+#[test]
+fn a_hash_without_a_directive_is_passed_over() {
+    let p = read(
+        "#declare A = 1;#\n\
+         #macro Twice(V) (2 * V) #end\n\
+         #declare B = #Twice(3);\n\
+         #   declare C = <1, 2, 3>#;",
+    );
+    assert_eq!(float(&p, "A"), 1.0);
+    assert_eq!(float(&p, "B"), 6.0);
+    assert_eq!(vector(&p, "C"), [1.0, 2.0, 3.0]);
+    let scene = load(&format!(
+        "{VIEW}sphere {{ 0, 1 pigment {{ rgb 1 }} #\n}}\nlight_source {{ <0, 5, -5> rgb 1 }}"
+    ))
+    .unwrap();
+    assert_eq!(scene.shapes.len(), 1);
+}
+
 #[test]
 fn conditionals_take_one_branch_and_macros_are_skipped_whole() {
     let p = read(

@@ -106,6 +106,10 @@ pub(super) const COLOUR_WORDS: &[&str] = &[
     "rgb", "rgbf", "rgbt", "rgbft", "srgb", "srgbf", "srgbt", "srgbft",
 ];
 
+/// The weights of red, green and blue in a colour's `.gray` (POV-Ray 3.7's
+/// `RED2GRAY`, `GREEN2GRAY`, `BLUE2GRAY`).
+const GREY: [f64; 3] = [0.297, 0.589, 0.114];
+
 impl Parser {
     /// The right-hand side of `#declare NAME =`.
     pub fn value(&mut self) -> Result<Value> {
@@ -341,10 +345,25 @@ impl Parser {
             return Ok(Value::Float(f64::from(u8::from(!truth(&v)))));
         }
         let mut v = self.primary()?;
-        // `.x`, `.red` and the like pick one component.
+        // `.x`, `.red` and the like pick one component; `.gray` weighs a
+        // colour's three, as POV-Ray's GREY_SCALE does.
         while self.peek()? == Some(Tok::Punct('.')) {
             self.next()?;
             let name = self.word()?;
+            if matches!(name.as_str(), "gray" | "grey") {
+                let rgb = match v {
+                    Value::Vector(c) if c.len() >= 3 => [c[0], c[1], c[2]],
+                    Value::Float(f) => [f; 3],
+                    _ => {
+                        return Err(self.error_at(
+                            loc,
+                            format!("`.{name}` of a value without three components"),
+                        ));
+                    }
+                };
+                v = Value::Float(GREY[0] * rgb[0] + GREY[1] * rgb[1] + GREY[2] * rgb[2]);
+                continue;
+            }
             let index = match name.as_str() {
                 "x" | "u" | "red" => 0,
                 "y" | "v" | "green" => 1,
