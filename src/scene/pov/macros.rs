@@ -107,6 +107,22 @@ impl Parser {
                 .is_none()
     }
 
+    /// Why the reader does not run the macro `name` (see `calls_macro`),
+    /// for the warning of a call it skips: the first thing its body uses
+    /// that the reader cannot evaluate, else its call's arguments.
+    pub(super) fn not_run(&self, name: &str) -> String {
+        let blocker = match self.symbol(name) {
+            Some(Value::Macro(m)) => self.unrunnable_in(m.body(), &mut vec![name.to_owned()]),
+            _ => None,
+        };
+        match blocker {
+            Some(what) => format!("a macro is not run (it uses `{what}`)"),
+            None => {
+                "a macro is not run (its arguments hold a string or what the reader skips)".into()
+            }
+        }
+    }
+
     /// Runs the call of the macro `name` at `loc` (its name taken): reads
     /// the arguments, then the body with the parameters bound to them.
     pub(super) fn call_macro(&mut self, name: &str, loc: Loc) -> Result<()> {

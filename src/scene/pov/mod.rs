@@ -157,7 +157,8 @@ fn statements(p: &mut Parser) -> Result<Statements> {
                     p.skip_warning(loc, &word, "skipped");
                     p.skip_block()?;
                 } else if matches!(p.symbol(&word), Some(Value::Macro(_))) {
-                    p.skip_warning(loc, &word, "a macro is not run (its call is skipped)");
+                    let why = p.not_run(&word);
+                    p.skip_warning(loc, &word, &format!("{why}: its call is skipped"));
                     p.skip_parens()?;
                 } else {
                     return Err(p.error_at(

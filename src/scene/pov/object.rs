@@ -314,10 +314,11 @@ impl Parser {
                                 return Ok(None);
                             }
                             Some(Value::Macro(_)) => {
+                                let why = self.not_run(&w);
                                 self.skip_warning(
                                     inner_loc,
                                     &w,
-                                    "a macro is not run: the object is left out",
+                                    &format!("{why}: the object is left out"),
                                 );
                                 self.skip_parens()?;
                                 self.skip_rest()?;

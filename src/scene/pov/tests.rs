@@ -1005,6 +1005,14 @@ fn macros_run_where_called_and_those_that_cannot_are_skipped_with_a_warning() {
     for place in ["t.pov:12:1: `Jitter`", "t.pov:13:10: `Jitter`"] {
         assert!(warnings.contains(place), "{place} in {warnings}");
     }
+    // Each says what stops it.
+    assert_eq!(
+        warnings
+            .matches("a macro is not run (it uses `vturbulence`)")
+            .count(),
+        2,
+        "{warnings}"
+    );
     // A call with the wrong number of arguments is an error at the call.
     let e = load(&format!(
         "{VIEW}#macro Paint(p) texture {{ pigment {{ p }} }} #end\n\

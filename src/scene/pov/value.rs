@@ -195,7 +195,8 @@ impl Parser {
                 let v = v.clone();
                 self.next()?;
                 if matches!(v, Value::Macro(_)) {
-                    self.skip_warning(loc, w, "a macro is not run (its call is skipped)");
+                    let why = self.not_run(w);
+                    self.skip_warning(loc, w, &format!("{why}: its call is skipped"));
                     self.skip_parens()?;
                     return Ok(Value::Unsupported(format!("{w}()")));
                 }
@@ -443,7 +444,8 @@ impl Parser {
         if let Some(v) = self.symbol(w) {
             return match v.clone() {
                 Value::Macro(_) => {
-                    self.skip_warning(loc, w, "a macro is not run (its call is skipped)");
+                    let why = self.not_run(w);
+                    self.skip_warning(loc, w, &format!("{why}: its call is skipped"));
                     self.skip_parens()?;
                     Ok(Value::Float(0.0))
                 }
