@@ -9,7 +9,11 @@
 
 use std::fmt;
 
+mod quartic;
 mod range;
+use quartic::Quartic;
+#[cfg(test)]
+use quartic::linear_powers;
 pub use range::Dense;
 
 use crate::poly::MAX_DEGREE;
@@ -31,6 +35,10 @@ const SIDE: usize = MAX_DEGREE + 1;
 pub struct Trivariate {
     terms: Vec<([u8; 3], f64)>,
     degree: usize,
+    /// The terms as `substitute_ray` reads them at degree 4 or less: a
+    /// function of `terms`, built with them.
+    #[serde(skip)]
+    quartic: Option<Box<Quartic>>,
 }
 
 fn total(e: [u8; 3]) -> usize {
@@ -38,12 +46,19 @@ fn total(e: [u8; 3]) -> usize {
 }
 
 impl Trivariate {
+    /// The polynomial of `terms` (sorted, merged, no zeros) and `degree`.
+    fn assemble(terms: Vec<([u8; 3], f64)>, degree: usize) -> Trivariate {
+        let quartic = Quartic::of(&terms, degree);
+        Trivariate {
+            terms,
+            degree,
+            quartic,
+        }
+    }
+
     /// The zero polynomial (degree 0, no terms).
     pub fn zero() -> Trivariate {
-        Trivariate {
-            terms: Vec::new(),
-            degree: 0,
-        }
+        Trivariate::assemble(Vec::new(), 0)
     }
 
     /// The constant polynomial `c`.
@@ -83,10 +98,7 @@ impl Trivariate {
             degree <= MAX_DEGREE,
             "a trivariate polynomial of degree {degree} exceeds MAX_DEGREE = {MAX_DEGREE}"
         );
-        Trivariate {
-            terms: merged,
-            degree,
-        }
+        Trivariate::assemble(merged, degree)
     }
 
     /// The monomials: exponents of (x, y, z) and coefficient, sorted as the
@@ -238,18 +250,19 @@ impl Trivariate {
     /// follows the terms actually present. (Above degree 4 a variant with
     /// per-axis tables of binomial powers and convolutions measured no
     /// faster; at degree 4 and below, where every table fits five slots and
-    /// the loops unroll, it is: see `substitute_quartic`.)
+    /// the loops unroll, it is: see `quartic`.)
     ///
     /// # Panics
     /// If `out` is shorter than degree + 1.
     pub fn substitute_ray(&self, o: [f64; 3], d: [f64; 3], out: &mut [f64]) -> usize {
+        if let Some(quartic) = &self.quartic {
+            return quartic.substitute(o, d, out);
+        }
         // Accumulators as small as the degree allows: zeroing three of
         // MAX_DEGREE + 1 slots cost a quartic more than some of its
         // arithmetic. The operations, and so the bits, are the same.
         match self.degree {
-            3 => self.substitute_quartic::<4>(o, d, out),
-            0..QUARTIC_SLOTS => self.substitute_quartic::<QUARTIC_SLOTS>(o, d, out),
-            QUARTIC_SLOTS..SMALL_SLOTS => self.substitute_in::<SMALL_SLOTS>(o, d, out),
+            0..SMALL_SLOTS => self.substitute_in::<SMALL_SLOTS>(o, d, out),
             _ => self.substitute_in::<SIDE>(o, d, out),
         }
     }
@@ -299,21 +312,12 @@ impl Trivariate {
         n
     }
 
-    /// `substitute_ray` for degree <= 4, where every accumulator fits five
-    /// slots: the powers (o_i + d_i t)^e of each axis are tabled once (their
-    /// binomial expansions), and each group of terms is a fixed-size
-    /// product with a table row, loops of constant length the compiler
-    /// unrolls. The repeated linear factors of `substitute_in` spend most of
-    /// their instructions on loop bookkeeping at this size: torus.pov's
-    /// 10-term quartic took about 1,550 instructions a ray that way
-    /// (`valgrind --tool=callgrind`). The same algebra, rounded differently.
-    /// `N` > degree, at most 5. The slots below N take the same operations
-    /// in the same order at any N, so a cubic's four slots give the same
-    /// bits as five for less work: POV-Ray's tcubic, witch, folium and
-    /// monkey took 2.5-2.7% fewer render-loop instructions. (Three slots
-    /// for degree 2 as well put the three instances in one function and
-    /// cost torus.pov's quartics 4% more in `substitute_ray`.)
-    fn substitute_quartic<const N: usize>(
+    /// The walk over the term list that `quartic` replaced, kept as the
+    /// tests' reference for its bits: for degree <= 4, the powers
+    /// (o_i + d_i t)^e of each axis tabled once, and each group of terms a
+    /// product with a table row, over all N slots. `N` > degree, at most 5.
+    #[cfg(test)]
+    fn substitute_sparse<const N: usize>(
         &self,
         o: [f64; 3],
         d: [f64; 3],
@@ -442,7 +446,7 @@ impl Trivariate {
             }
         }
         let degree = terms.iter().map(|&(e, _)| total(e)).max().unwrap_or(0);
-        Trivariate { terms, degree }
+        Trivariate::assemble(terms, degree)
     }
 
     /// −self.
@@ -466,7 +470,7 @@ impl Trivariate {
     fn from_sorted(terms: impl Iterator<Item = ([u8; 3], f64)>) -> Trivariate {
         let terms: Vec<_> = terms.filter(|&(_, c)| nonzero(c)).collect();
         let degree = terms.iter().map(|&(e, _)| total(e)).max().unwrap_or(0);
-        Trivariate { terms, degree }
+        Trivariate::assemble(terms, degree)
     }
 
     /// self · other, or `None` when the product's degree would exceed
@@ -528,34 +532,10 @@ fn powers<const N: usize>(v: f64, n: usize) -> [f64; N] {
     p
 }
 
-/// (o + d t)^e for e < N, each as its N coefficients in t (zero above
-/// t^e).
-///
-/// Row e is filled only up to t^e, where the full loop over all N slots
-/// added products with the zeros above it: a sum that gains a zero product
-/// is unchanged, so the entries are the same bits (only a zero's sign
-/// could differ), and `substitute_ray` takes 6% fewer instructions on
-/// POV-Ray's bicube.pov (`valgrind --tool=callgrind`). Skipping the zero
-/// products of the convolutions as well, by a branch on each exponent,
-/// cost more than it saved.
-fn linear_powers<const N: usize>(o: f64, d: f64) -> [[f64; N]; N] {
-    let mut p = [[0.0; N]; N];
-    p[0][0] = 1.0;
-    for e in 1..N {
-        let previous = p[e - 1];
-        p[e][0] = previous[0] * o;
-        for k in 1..e {
-            p[e][k] = previous[k] * o + previous[k - 1] * d;
-        }
-        p[e][e] = previous[e - 1] * d;
-    }
-    p
-}
-
 /// acc += u·(o + d t)^e, with `powers` the table of (o + d t)^e,
 /// truncated to N coefficients: the callers' products have degree at
 /// most N - 1, so nothing is lost. The zeroth power is 1: no product.
-#[inline]
+#[cfg(test)]
 fn add_product<const N: usize>(acc: &mut [f64; N], u: &[f64; N], powers: &[[f64; N]; N], e: u8) {
     if e == 0 {
         for (a, u) in acc.iter_mut().zip(u) {

@@ -448,3 +448,33 @@ proptest! {
         prop_assert_eq!(quartic.map(f64::to_bits), full.map(f64::to_bits));
     }
 }
+
+proptest! {
+    /// The table walk of `quartic` skips groups without terms and products
+    /// with the zeros above each polynomial's degree, and adds the rest in
+    /// the order of the term list's walk, which it replaced: so the same
+    /// bits for every term pattern of degree ≤ 4 (only the sign of a zero
+    /// may differ, where a zero product is no longer added to it).
+    #[test]
+    fn quartic_table_gives_the_term_walks_bits(
+        terms in prop::collection::vec(((0u8..=4, 0u8..=4, 0u8..=4), -100.0f64..100.0), 1..36),
+        o in prop::array::uniform3(-10.0f64..10.0),
+        d in prop::array::uniform3(-1.0f64..1.0),
+    ) {
+        let f = Trivariate::from_terms(
+            terms.into_iter().filter(|((a, b, c), _)| a + b + c <= 4).map(|((a, b, c), k)| ([a, b, c], k)),
+        );
+        prop_assume!(!f.is_zero());
+        let (mut table, mut walk) = ([0.0f64; QUARTIC_SLOTS], [0.0f64; QUARTIC_SLOTS]);
+        let n = f.substitute_ray(o, d, &mut table);
+        let m = if f.degree() == 3 {
+            f.substitute_sparse::<4>(o, d, &mut walk)
+        } else {
+            f.substitute_sparse::<QUARTIC_SLOTS>(o, d, &mut walk)
+        };
+        prop_assert_eq!(n, m);
+        for (a, b) in table[..n].iter().zip(&walk[..n]) {
+            prop_assert!(a.to_bits() == b.to_bits() || (*a == 0.0 && *b == 0.0), "{a} against {b}");
+        }
+    }
+}
