@@ -17,19 +17,23 @@
 
 use std::fmt;
 
-/// The walk over F's groups in the term list's order: for each row a (one
-/// line of the macro, x's exponent first, then y's exponents b in order),
-/// the row's sum of groups times (o_x + d_x t)^a added to q.
+/// Q's coefficients in `N` slots, from the walk over F's groups in the
+/// term list's order: for each row a (one line of the macro, x's exponent
+/// first, then y's exponents b in order), the row's sum of groups times
+/// (o_x + d_x t)^a added to q.
 macro_rules! walk {
-    ($table:expr, $n:ident, $x:ident, $y:ident, $z:ident, $q:ident; $($a:literal: $($b:literal)+;)+) => {
+    ($table:expr, $o:expr, $d:expr, $n:ident; $($a:literal: $($b:literal)+;)+) => {{
+        let [x, y, z] = std::array::from_fn(|axis| linear_powers::<$n>($o[axis], $d[axis]));
+        let mut q = [0.0; $n];
         $(
             if $table.row[$a] {
                 let mut t = [0.0; $n];
-                $( $table.group::<$n, $a, $b>(&$z, &$y, &mut t); )+
-                add_product::<$n, $a>(&mut $q, &t, $n - 1 - $a, &$x);
+                $( $table.group::<$n, $a, $b>(&z, &y, &mut t); )+
+                add_product::<$n, $a>(&mut q, &t, $n - 1 - $a, &x);
             }
         )+
-    };
+        q
+    }};
 }
 
 /// Slots of a degree-4 polynomial in t.
@@ -97,29 +101,23 @@ impl Quartic {
 
     fn walk_quartic(&self, o: [f64; 3], d: [f64; 3]) -> [f64; SLOTS] {
         const N: usize = SLOTS;
-        let [x, y, z] = std::array::from_fn(|axis| linear_powers::<N>(o[axis], d[axis]));
-        let mut q = [0.0; N];
-        walk!(self, N, x, y, z, q;
+        walk!(self, o, d, N;
             4: 0;
             3: 1 0;
             2: 2 1 0;
             1: 3 2 1 0;
             0: 4 3 2 1 0;
-        );
-        q
+        )
     }
 
     fn walk_cubic(&self, o: [f64; 3], d: [f64; 3]) -> [f64; 4] {
         const N: usize = 4;
-        let [x, y, z] = std::array::from_fn(|axis| linear_powers::<N>(o[axis], d[axis]));
-        let mut q = [0.0; N];
-        walk!(self, N, x, y, z, q;
+        walk!(self, o, d, N;
             3: 0;
             2: 1 0;
             1: 2 1 0;
             0: 3 2 1 0;
-        );
-        q
+        )
     }
 
     /// acc += Σ_c f_abc (o_z + d_z t)^c, times (o_y + d_y t)^b: one group's
