@@ -160,7 +160,7 @@ fn write_body(w: &mut impl Write, json: &str, film: &Film) -> std::io::Result<()
     put(MAGIC.as_bytes())?;
     put(json.as_bytes())?;
     put(b"\n")?;
-    for p in &film.pixels {
+    for p in film.pixels.iter() {
         put(&encode(p))?;
     }
     let digest = sha.finalize();
@@ -298,7 +298,7 @@ impl StateFile {
             width: h.width,
             height: h.height,
             region: r,
-            pixels,
+            pixels: pixels.into(),
         })
     }
 }

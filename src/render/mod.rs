@@ -28,7 +28,7 @@ use batch::TileCameras;
 use crate::accel::Accel;
 use crate::accel::ftz::enable_flush_to_zero;
 use crate::error::{Error, Result};
-use crate::film::{Film, Pixel, Region, Sample};
+use crate::film::{Film, Pixel, Pixels, Region, Sample};
 use crate::math::{Hit, Ray, Ray64};
 use crate::sampling::{FilterSampler, Sampler};
 use crate::scene::{CameraFrame, Integrator, PhotonSettings, Scene};
@@ -223,7 +223,7 @@ pub fn render(scene: &Scene, accel: &Accel, options: &RenderOptions) -> Result<R
     // tiles to copy them over one by one. Copying 50 MB of 800x600 pixels
     // on one thread, and filling a fresh film with defaults before, were
     // 15% of the render time of POV-Ray's torus.pov at 1 spp on 2 threads.
-    let mut spare: Option<Vec<Pixel>> = None;
+    let mut spare: Option<Pixels> = None;
     for range in passes {
         // A pass an interrupt cuts short is dropped whole: the film keeps
         // only complete passes, which is what its state can describe.
@@ -232,10 +232,11 @@ pub fn render(scene: &Scene, accel: &Accel, options: &RenderOptions) -> Result<R
         }
         let first = passes::is_first(&range);
         // Zero bytes the kernel maps on first write, from every thread at
-        // once; each pixel is overwritten before anything reads it.
+        // once, in huge pages where it can (see `Pixels`); each pixel is
+        // overwritten before anything reads it.
         let mut next = spare
             .take()
-            .unwrap_or_else(|| bytemuck::zeroed_vec(region.area()));
+            .unwrap_or_else(|| Pixels::zeroed(region.area()));
         let rows = tile_rows(&mut next, region, &tiles);
         let prev = film.as_ref();
         let results: Option<Vec<(RayStats, u64)>> = pool.install(|| {
@@ -692,7 +693,7 @@ mod tests {
             width: 100,
             height: 100,
             region,
-            pixels,
+            pixels: pixels.into(),
         };
         for y in region.y0..region.y1 {
             for x in region.x0..region.x1 {

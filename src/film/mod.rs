@@ -1,6 +1,10 @@
 //! The film: per-pixel f64 sums and sample counts, so averages do not depend
 //! on the order samples arrive in.
 
+mod pixels;
+
+pub use pixels::Pixels;
+
 use crate::math::{LUMINANCE, Vec3};
 
 /// What one camera sample measured.
@@ -34,8 +38,10 @@ impl Sample {
     }
 }
 
-// Zeroable: a render's pass buffer starts as zero bytes (see render::render).
-#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Zeroable)]
+// Zeroable: a render's pass buffer starts as zero bytes (see render::render);
+// Pod (C layout, no padding): a buffer may be a memory map (see `Pixels`).
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Zeroable, bytemuck::Pod)]
+#[repr(C)]
 pub struct Pixel {
     /// Σ weight · radiance.
     pub radiance: [f64; 3],
@@ -160,7 +166,7 @@ pub struct Film {
     pub height: usize,
     /// The pixels this film holds, row by row.
     pub region: Region,
-    pub pixels: Vec<Pixel>,
+    pub pixels: Pixels,
 }
 
 /// The film's averages as f32 layers, ready for an image file.
@@ -183,7 +189,7 @@ impl Film {
             width,
             height,
             region,
-            pixels: vec![Pixel::default(); region.area()],
+            pixels: Pixels::filled(region.area(), Pixel::default()),
         }
     }
 
