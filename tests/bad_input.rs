@@ -290,7 +290,7 @@ fn cases() -> Vec<Case> {
             "a film larger than the machine's memory",
             scene_with("width = 32\nheight = 24", "width = 65536\nheight = 65536"),
             RENDER,
-            &["line 2, camera", "512.0 GiB", "128 bytes per pixel"],
+            &["line 2, camera", "832.0 GiB", "208 bytes per pixel"],
         ),
         case(
             "an instance of an unknown prototype",

@@ -129,7 +129,7 @@ fn a_bad_size_is_refused_with_the_flag_s_name() {
             &["--height: ", "found 0"],
         ),
         (&["--width", "65537"], &["--width: ", sides, "found 65537"]),
-        // The film-memory check: 512 GiB and 322 GiB of film, beyond any
+        // The film-memory check: 832 GiB and 523 GiB of film, beyond any
         // machine these tests run on. In the second, the width is fine alone:
         // the film is too large with the height that follows from it.
         (

@@ -5,6 +5,12 @@ mod pixels;
 
 pub use pixels::Pixels;
 
+/// The most memory a render holds per pixel at once: two buffers of sums,
+/// the film and the pass writing into the next (see `render::render`).
+/// The f32 layers written out afterwards (40 bytes a pixel) come once the
+/// second buffer is gone.
+pub const RENDER_BYTES_PER_PIXEL: u64 = 2 * size_of::<Pixel>() as u64;
+
 use crate::math::{LUMINANCE, Vec3};
 
 /// What one camera sample measured.

@@ -8,6 +8,7 @@ use glam::DVec3;
 
 use super::GIB;
 use super::file::physical_memory;
+use crate::film::RENDER_BYTES_PER_PIXEL;
 use crate::math::{Bounds, RAY_LIMIT, Ray, Ray64, Vec3, sci};
 use crate::sampling::warp::concentric_disk;
 
@@ -20,10 +21,6 @@ const MIN_VIEW: f64 = 1e-4;
 
 /// The most pixels on a side of an image (ARCHITECTURE.md's limits).
 const MAX_SIDE: u32 = 1 << 16;
-
-/// What a render holds per pixel: the film's f64 sums (`film::Pixel`, 88
-/// bytes) and the f32 layers written out (beauty, depth, normal, albedo: 40).
-const FILM_BYTES_PER_PIXEL: u64 = 128;
 
 /// Which part of an image size is at fault.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -50,13 +47,13 @@ pub(super) fn size_problem(width: u32, height: u32) -> Option<(SizeFault, String
             return Some((fault, message));
         }
     }
-    let bytes = u64::from(width) * u64::from(height) * FILM_BYTES_PER_PIXEL;
+    let bytes = u64::from(width) * u64::from(height) * RENDER_BYTES_PER_PIXEL;
     let memory = physical_memory()?;
     (bytes > memory).then(|| {
         (
             SizeFault::Film,
             format!(
-                "a {width}x{height} image needs {:.1} GiB for its film ({FILM_BYTES_PER_PIXEL} \
+                "a {width}x{height} image needs {:.1} GiB for its film ({RENDER_BYTES_PER_PIXEL} \
                  bytes per pixel), more than this machine's {:.1} GiB of memory",
                 bytes as f64 / GIB,
                 memory as f64 / GIB
