@@ -7,7 +7,7 @@
 use std::path::{Path, PathBuf};
 
 use super::passes::{passes, target};
-use super::{RenderOptions, RenderOutput, render};
+use super::{RenderOptions, RenderOutput, render_from};
 use crate::accel::{Accel, Backend};
 use crate::error::{Error, Result};
 use crate::film::{Film, Region};
@@ -103,8 +103,7 @@ pub struct Written {
 
 impl<'a> Job<'a> {
     /// Renders the job's part of the scene, resuming from the state beside
-    /// the output when asked. `options.region` and `options.resume` are
-    /// filled in here.
+    /// the output when asked. `options.region` is filled in here.
     pub fn render(&self, mut options: RenderOptions) -> Result<Rendered<'a>> {
         let scene = self.scene;
         let (width, height) = (scene.camera.width as usize, scene.camera.height as usize);
@@ -122,12 +121,15 @@ impl<'a> Job<'a> {
             frame: self.frame,
             backend: self.backend.name().into(),
         };
-        if self.resume {
-            let adaptive = scene.render.adaptive.as_ref();
-            options.resume = Some(resume_from(&state_path(self.output), &header, adaptive)?);
-        }
+        let resume = match self.resume {
+            true => {
+                let adaptive = scene.render.adaptive.as_ref();
+                Some(resume_from(&state_path(self.output), &header, adaptive)?)
+            }
+            false => None,
+        };
         options.region = Some(region);
-        let out = render(scene, self.accel, &options)?;
+        let out = render_from(scene, self.accel, &options, resume)?;
         Ok(Rendered {
             header: StateHeader {
                 samples_done: out.samples_done,

@@ -46,9 +46,6 @@ pub struct RenderOptions {
     pub all_effects: bool,
     /// Renders only this part of the image (a tile or crop); `None` renders it all.
     pub region: Option<Region>,
-    /// Continues from a film state: its samples are kept, the render takes
-    /// the rest. It must hold `region` and `samples_done` full passes.
-    pub resume: Option<(Film, u32)>,
     /// Checked before every sample: once set, the render drops the pass under
     /// way (the first, one sample a pixel, only if it has not ended a second
     /// later) and returns the passes it finished.
@@ -144,6 +141,20 @@ pub fn thread_pool(threads: Option<usize>) -> Result<rayon::ThreadPool> {
 }
 
 pub fn render(scene: &Scene, accel: &Accel, options: &RenderOptions) -> Result<RenderOutput> {
+    render_from(scene, accel, options, None)
+}
+
+/// `render`, continuing from a film state when `resume` holds one (the film
+/// and its samples done): its samples are kept, the render takes the rest.
+/// It must hold `region` and `samples_done` full passes. The film is taken,
+/// not copied, so the render holds at most two buffers of sums
+/// (`film::RENDER_BYTES_PER_PIXEL`).
+pub fn render_from(
+    scene: &Scene,
+    accel: &Accel,
+    options: &RenderOptions,
+    resume: Option<(Film, u32)>,
+) -> Result<RenderOutput> {
     let start = Instant::now();
     let (width, height) = (scene.camera.width as usize, scene.camera.height as usize);
     let spp = options.spp.unwrap_or(scene.render.spp);
@@ -168,8 +179,8 @@ pub fn render(scene: &Scene, accel: &Accel, options: &RenderOptions) -> Result<R
     }
     // A fresh render has no film until its first pass ends: that pass
     // starts every pixel from `Pixel::default()` and writes the film whole.
-    let (mut film, from) = match &options.resume {
-        Some((film, done)) => (Some(film.clone()), *done),
+    let (mut film, from) = match resume {
+        Some((film, done)) => (Some(film), done),
         None => (None, 0),
     };
     if let Some(film) = &film
