@@ -6,7 +6,7 @@ mod pixels;
 pub use pixels::Pixels;
 
 /// The most memory a render holds per pixel at once: two buffers of sums,
-/// the film and the pass writing into the next (see `render::render`).
+/// the film and the pass writing into the next (see `render::render_from`).
 /// The f32 layers written out afterwards (40 bytes a pixel) come once the
 /// second buffer is gone.
 pub const RENDER_BYTES_PER_PIXEL: u64 = 2 * size_of::<Pixel>() as u64;
@@ -44,7 +44,7 @@ impl Sample {
     }
 }
 
-// Zeroable: a render's pass buffer starts as zero bytes (see render::render);
+// Zeroable: a render's pass buffer starts as zero bytes (see render::render_from);
 // Pod (C layout, no padding): a buffer may be a memory map (see `Pixels`).
 #[derive(Clone, Copy, Debug, PartialEq, bytemuck::Zeroable, bytemuck::Pod)]
 #[repr(C)]

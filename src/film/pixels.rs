@@ -1,13 +1,13 @@
 //! A film's pixels, in memory the kernel may back with huge pages.
 //!
-//! A pass writes every pixel of a fresh buffer once (see `render::render`),
-//! and the kernel maps the buffer's pages as they are first written: at
-//! 800x600 a film is 50 MB, 12,000 faults of 4 KiB pages, which were more
-//! than half the render time of an empty POV-Ray scene (`perf record`).
-//! A buffer of a few MiB and more is therefore its own anonymous mapping,
-//! advised as a candidate for transparent huge pages (2 MiB), where the
-//! kernel allows them: one fault maps 512 pages' worth. Smaller buffers,
-//! and any the system will not map, are ordinary vectors.
+//! A pass writes every pixel of a fresh buffer once (see
+//! `render::render_from`), and the kernel maps the buffer's pages as they
+//! are first written: at 800x600 a film is 50 MB, 12,000 faults of 4 KiB
+//! pages, which were more than half the render time of an empty POV-Ray
+//! scene (`perf record`). A buffer of 2 MiB or more is therefore its own
+//! anonymous mapping, advised as a candidate for transparent huge pages
+//! (2 MiB), where the kernel allows them: one fault maps 512 pages' worth.
+//! Smaller buffers, and any the system will not map, are ordinary vectors.
 
 use std::fmt;
 use std::ops::{Deref, DerefMut};
