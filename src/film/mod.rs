@@ -165,7 +165,7 @@ impl Region {
 }
 
 /// The pixel sums of a region of a width × height image.
-#[derive(Clone, Debug)]
+#[derive(Debug)]
 pub struct Film {
     /// The whole image's size.
     pub width: usize,
