@@ -1,7 +1,9 @@
 //! POV-Ray's fog, read from a `.pov` scene, in both integrators: a ray that
 //! meets nothing sees the fog's colour alone (a constant fog lets nothing
 //! through from infinitely far), one that meets a surface sees it through
-//! the fog, and the plan names the fog only where a scene has one.
+//! the fog, and the plan names the fog only where a scene has one. And what
+//! lies between a POV-Ray light and a surface: the fog dims a light with
+//! `media_attenuation`, and a `shadowless` light casts no shadow.
 
 mod common;
 
@@ -77,5 +79,87 @@ fn a_surface_is_seen_through_the_fog_by_its_distance() {
     );
     for p in image(&inside, Integrator::Whitted) {
         assert!((p[0] - 0.5).abs() < 1e-6, "{p:?}");
+    }
+}
+
+/// A wall 10 units in front of the camera (ambient 0, diffuse 1), lit by a
+/// light at the camera, in a black fog of distance 10, with the light's
+/// `extra` keywords and `more` in the scene.
+fn lit_wall(name: &str, extra: &str, more: &str) -> Scene {
+    pov_scene(
+        name,
+        &format!(
+            "background {{ color rgb 0 }}\n\
+             plane {{ -z, -5 pigment {{ color rgb 0.5 }} finish {{ ambient 0 diffuse 1 }} }}\n\
+             fog {{ distance 10 color rgb 0 }}\n\
+             light_source {{ <0, 0, -5> color rgb 1 {extra} }}\n{more}"
+        ),
+    )
+}
+
+#[test]
+fn a_light_with_media_attenuation_is_dimmed_by_the_fog_on_its_way() {
+    // The light's way back from the wall is the camera ray's: 10 long on
+    // the axis, 10 / cos 6.24° = 10.06 at the corners (angle 10 across,
+    // 4:3). With `media_attenuation` the wall gets exp(-length / 10) of the
+    // light, between exp(-1.006) and exp(-1) (the shadow ray stops 1e-4
+    // short of the light, hence the margin above), and without it all of
+    // it (the camera ray's fog is the same in both). `media_interaction
+    // off` turns the attenuation off again, as in POV-Ray, where it needs
+    // both.
+    let plain = lit_wall("fog-light-plain", "", "");
+    let dimmed = lit_wall("fog-light-dimmed", "media_attenuation on", "");
+    let off = lit_wall(
+        "fog-light-off",
+        "media_attenuation media_interaction off",
+        "",
+    );
+    let (low, high) = ((-1.0065f32).exp(), (-1.0f32).exp() * (1.0 + 2e-4));
+    for integrator in [Integrator::Whitted, Integrator::Path] {
+        let (plain, dimmed, off) = (
+            image(&plain, integrator),
+            image(&dimmed, integrator),
+            image(&off, integrator),
+        );
+        for ((p, d), o) in plain.iter().zip(&dimmed).zip(&off) {
+            assert!(p[0] > 0.01, "{integrator:?}: the wall is lit: {p:?}");
+            let ratio = d[0] / p[0];
+            assert!(low < ratio && ratio < high, "{integrator:?}: {ratio}");
+            assert_eq!(o, p, "{integrator:?}");
+        }
+    }
+}
+
+#[test]
+fn a_shadowless_light_casts_no_shadow() {
+    // A sphere behind the camera, between the wall and a light 25 units
+    // from it, shades every pixel's point on the wall: a shadowless light
+    // lights the wall as if the sphere were not there.
+    let blocker = "sphere { <0, 0, -10>, 2 pigment { color rgb 1 } }";
+    let light = "light_source { <0, 0, -20> color rgb 1 shadowless }";
+    let open = image(
+        &lit_wall("shadowless-open", "shadowless", light),
+        Integrator::Whitted,
+    );
+    let behind = image(
+        &lit_wall(
+            "shadowless-behind",
+            "shadowless",
+            &format!("{light}\n{blocker}"),
+        ),
+        Integrator::Whitted,
+    );
+    let shadowed = image(
+        &lit_wall(
+            "shadowless-not",
+            "shadowless",
+            &format!("light_source {{ <0, 0, -20> color rgb 1 }}\n{blocker}"),
+        ),
+        Integrator::Whitted,
+    );
+    for ((o, b), s) in open.iter().zip(&behind).zip(&shadowed) {
+        assert_eq!(o, b);
+        // The light at the camera alone (both are shadowless there).
+        assert!(s[0] < 0.75 * o[0], "{s:?} vs {o:?}");
     }
 }

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use sturmray::accel::Accel;
 use sturmray::io::console::print;
-use sturmray::lights::{Fade, Light};
+use sturmray::lights::{Fade, Light, Shadowing};
 use sturmray::math::Vec3;
 use sturmray::render::Plan;
 use sturmray::scene::Scene;
@@ -44,6 +44,16 @@ fn fading(fade: Option<&Fade>) -> String {
             f.power,
             v(f.from)
         ),
+    }
+}
+
+/// A POV-Ray light's `shadowless` and `media_attenuation`, where given.
+fn shadows(shadowing: Shadowing) -> &'static str {
+    match (shadowing.shadowless, shadowing.fogged) {
+        (false, false) => "",
+        (true, false) => ", shadowless",
+        (false, true) => ", dimmed by the fog",
+        (true, true) => ", shadowless, dimmed by the fog",
     }
 }
 
@@ -250,22 +260,25 @@ fn describe(scene: &Scene, accel: &Accel) -> String {
                 position,
                 irradiance,
                 fade,
+                shadowing,
             } => writeln!(
                 s,
-                "  {} point (POV-Ray's) at {} irradiance {}",
+                "  {} point (POV-Ray's) at {} irradiance {}{}",
                 fading(fade.as_ref()),
                 v(*position),
-                v(*irradiance)
+                v(*irradiance),
+                shadows(*shadowing)
             ),
             Light::PovBeam(light) => writeln!(
                 s,
-                "  {} {:?}{} (POV-Ray's) at {} along {} irradiance {}",
+                "  {} {:?}{} (POV-Ray's) at {} along {} irradiance {}{}",
                 fading(light.fade.as_ref()),
                 light.beam,
                 if light.parallel { ", parallel" } else { "" },
                 v(light.position),
                 v(light.direction),
-                v(light.irradiance)
+                v(light.irradiance),
+                shadows(light.shadowing)
             ),
             Light::Directional {
                 direction,

@@ -2,8 +2,8 @@
 //! light (`Light::PovPoint`) times POV-Ray 3.7's attenuation of its beam,
 //! with the same formulas, defaults and quirks (see docs/povray.md).
 
-use super::Incident;
 use super::fade::{self, Fade};
+use super::{Incident, Shadowing};
 use crate::math::Vec3;
 
 /// The shape of a POV-Ray light's beam.
@@ -92,6 +92,8 @@ pub struct PovBeam {
     pub parallel: bool,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub fade: Option<Fade>,
+    #[serde(skip_serializing_if = "Shadowing::is_plain")]
+    pub shadowing: Shadowing,
 }
 
 impl PovBeam {
@@ -158,6 +160,7 @@ mod tests {
             beam,
             parallel,
             fade: None,
+            shadowing: Shadowing::default(),
         }
     }
 

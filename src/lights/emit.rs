@@ -316,6 +316,7 @@ fn beam_emit(light: &PovBeam, u: [f32; 4], bounds: Bounds) -> Option<Emission> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::lights::Shadowing;
     use crate::sampling::Rng;
 
     fn bounds() -> Bounds {
@@ -437,6 +438,7 @@ mod tests {
             },
             parallel: false,
             fade: None,
+            shadowing: Shadowing::default(),
         });
         let cylinder = Light::PovBeam(PovBeam {
             position: Vec3::new(1.0, 5.0, 1.0),
@@ -449,6 +451,7 @@ mod tests {
             },
             parallel: true,
             fade: None,
+            shadowing: Shadowing::default(),
         });
         for (light, is_spot) in [(&spot, true), (&cylinder, false)] {
             let power = light.power(bounds());

@@ -40,6 +40,8 @@ pub enum Light {
         irradiance: Vec3,
         #[serde(skip_serializing_if = "Option::is_none")]
         fade: Option<Fade>,
+        #[serde(skip_serializing_if = "Shadowing::is_plain")]
+        shadowing: Shadowing,
     },
     /// POV-Ray's `spotlight`, `cylinder` or `parallel` light: a `PovPoint`
     /// times the share of its beam (see `beam`).
@@ -76,6 +78,26 @@ pub enum Light {
     },
 }
 
+/// What POV-Ray's lights do with what lies between them and a shading
+/// point (their `light_source` keywords): a `shadowless` light casts no
+/// shadows, and a `media_attenuation` one (with `media_interaction`, on by
+/// default) is dimmed by the fogs on its way through the air, as a ray that
+/// comes back to the camera is. Every other light casts shadows and is not
+/// dimmed.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+pub struct Shadowing {
+    pub shadowless: bool,
+    pub fogged: bool,
+}
+
+impl Shadowing {
+    /// Whether this is every other light's: hashed only otherwise, so that
+    /// scenes written before it keep their hashes.
+    pub fn is_plain(&self) -> bool {
+        *self == Shadowing::default()
+    }
+}
+
 /// What a light sends towards a shading point: the unit direction to the light,
 /// the distance to it (inf for directional lights) and the irradiance it gives a
 /// surface facing it — for area lights an unbiased one-sample estimate, L / pdf
@@ -91,6 +113,15 @@ pub struct Incident {
 }
 
 impl Light {
+    /// What the light does with what lies on its way (see [`Shadowing`]).
+    pub fn shadowing(&self) -> Shadowing {
+        match self {
+            Light::PovPoint { shadowing, .. } => *shadowing,
+            Light::PovBeam(light) => light.shadowing,
+            _ => Shadowing::default(),
+        }
+    }
+
     /// The light as seen from p; area lights pick a point with `u`. None when
     /// the light sends nothing to p (p inside a sphere light, behind a quad).
     pub fn incident(&self, p: Vec3, u: [f32; 2]) -> Option<Incident> {
@@ -121,6 +152,7 @@ impl Light {
                 position,
                 irradiance,
                 fade,
+                ..
             } => {
                 let to = *position - p;
                 let distance = to.length();
@@ -304,6 +336,7 @@ mod tests {
             position: Vec3::new(0.0, 2.0, 0.0),
             irradiance: Vec3::splat(3.0),
             fade: None,
+            shadowing: Shadowing::default(),
         };
         for p in [Vec3::ZERO, Vec3::new(0.0, -98.0, 0.0)] {
             let inc = light.incident(p, [0.5; 2]).unwrap();

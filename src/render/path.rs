@@ -289,9 +289,19 @@ impl PathTracer<'_> {
         let mut shadow = Ray::new(spawn(it, Some(v.above), incident.wi), incident.wi);
         // Stop just short of the light: its own surface must not occlude it.
         shadow.tfar = incident.distance * (1.0 - 1e-4);
-        tally.count(RayKind::Shadow, v.depth);
-        if self.accel.occluded(&shadow) {
-            return Vec3::ZERO;
+        let shadowing = self.scene.shadowing(light);
+        if !shadowing.shadowless {
+            tally.count(RayKind::Shadow, v.depth);
+            if self.accel.occluded(&shadow) {
+                return Vec3::ZERO;
+            }
+        }
+        // POV-Ray's light dimmed by the fogs on its way (the path tracer's
+        // shadow rays stop at any surface, so the way is all air).
+        let mut irradiance = incident.irradiance;
+        if shadowing.fogged && self.plan.fog {
+            let length = shadow.tfar.is_finite().then_some(shadow.tfar);
+            irradiance *= fog_along(&self.scene.fogs, shadow.origin, shadow.dir, length).1;
         }
         // Delta lights (pdf 0) only light sampling reaches: weight 1.
         let weight = if incident.pdf > 0.0 && v.bsdf_continues {
@@ -300,7 +310,7 @@ impl PathTracer<'_> {
         } else {
             1.0
         };
-        f * incident.irradiance * (cos * weight / picked)
+        f * irradiance * (cos * weight / picked)
     }
 }
 

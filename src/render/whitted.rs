@@ -288,10 +288,12 @@ impl Whitted<'_> {
     /// materials (`Plan::filtered_shadows`), POV-Ray's shadows: each surface
     /// of one the ray crosses, going in and coming out, lets through its
     /// colour × filter + transmit, without bending the ray.
-    fn shadow_through(&self, shadow: &Ray) -> Vec3 {
+    fn shadow_through(&self, shadow: &Ray, fogged: bool) -> Vec3 {
         if !self.plan.filtered_shadows {
             return if self.accel.occluded(shadow) {
                 Vec3::ZERO
+            } else if fogged {
+                self.fog_share(shadow)
             } else {
                 Vec3::ONE
             };
@@ -301,9 +303,20 @@ impl Whitted<'_> {
         for _ in 0..MAX_FILTERING_SURFACES {
             let hit = self.accel.intersect(&ray);
             if !hit.is_hit() {
-                return through;
+                return if fogged {
+                    through * self.fog_share(&ray)
+                } else {
+                    through
+                };
             }
             let it = self.scene.interaction(&ray, &hit);
+            // The fog on the way to this surface, if that way was through
+            // the air (not a solid's inside, as for the camera's rays).
+            if fogged && !self.scene.came_through_solid(&hit, it.front) {
+                let mut part = ray;
+                part.tfar = hit.t;
+                through *= self.fog_share(&part);
+            }
             if self.scene.casts_shadow(&hit) {
                 let material = &self.scene.materials[it.material as usize];
                 let finish = &material.finish;
@@ -336,6 +349,13 @@ impl Whitted<'_> {
         }
         // More surfaces than any glass needs: as dark as their light would be.
         Vec3::ZERO
+    }
+
+    /// The share of light the fogs let through along `ray`, from its origin
+    /// to its end (all of the way, for a ray with no end).
+    fn fog_share(&self, ray: &Ray) -> Vec3 {
+        let length = ray.tfar.is_finite().then(|| ray.tfar * ray.dir.length());
+        fog_along(&self.scene.fogs, ray.origin, ray.dir, length).1
     }
 
     /// A secondary ray from `it` along `dir`, if the depth limit and the branch's
@@ -391,8 +411,19 @@ impl Whitted<'_> {
             let mut shadow = Ray::new(offset(it.p, it.error, it.n, incident.wi), incident.wi);
             // Stop just short of the light: its own surface must not occlude it.
             shadow.tfar = incident.distance * (1.0 - 1e-4);
-            walk.tally.count(RayKind::Shadow, depth);
-            let through = self.shadow_through(&shadow);
+            let shadowing = self.scene.shadowing(light);
+            let fogged = shadowing.fogged && self.plan.fog;
+            let through = if shadowing.shadowless {
+                // No shadow ray: only the fog, over the whole way.
+                if fogged {
+                    self.fog_share(&shadow)
+                } else {
+                    Vec3::ONE
+                }
+            } else {
+                walk.tally.count(RayKind::Shadow, depth);
+                self.shadow_through(&shadow, fogged)
+            };
             let contribution = if through == Vec3::ZERO {
                 Vec3::ZERO
             } else {

@@ -7,7 +7,7 @@
 use std::collections::HashMap;
 
 use super::Scene;
-use crate::lights::{EmissionMap, Incident, Light, LightPicker, LightRef};
+use crate::lights::{EmissionMap, Incident, Light, LightPicker, LightRef, Shadowing};
 use crate::math::Vec3;
 
 impl Scene {
@@ -90,6 +90,14 @@ impl Scene {
         match light {
             LightRef::Index(i) => self.lights[i].incident(p, u),
             LightRef::Environment => self.environment.as_ref()?.incident(u),
+        }
+    }
+
+    /// What `light` does with what lies on its way (see [`Shadowing`]).
+    pub fn shadowing(&self, light: LightRef) -> Shadowing {
+        match light {
+            LightRef::Index(i) => self.lights[i].shadowing(),
+            LightRef::Environment => Shadowing::default(),
         }
     }
 

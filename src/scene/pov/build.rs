@@ -22,7 +22,7 @@ use super::texture::{Interior, Pigment, Texture, default_texture};
 use super::{Globals, Statements};
 use crate::error::Result;
 use crate::geometry::{Box3, Csg, CsgError, Mesh, Op, Part, Shape, Surface};
-use crate::lights::{Beam, Fade, Light, PovBeam};
+use crate::lights::{Beam, Fade, Light, PovBeam, Shadowing};
 use crate::math::Vec3;
 use crate::poly::solve::Solver;
 use crate::scene::{
@@ -583,11 +583,16 @@ impl Builder<'_> {
         // Every light of a grid fades from the centre, as POV-Ray's area
         // light does (without `area_illumination`).
         let fade = Fade::new(light.fade_distance, light.fade_power, position.as_vec3());
+        let shadowing = Shadowing {
+            shadowless: light.shadowless,
+            fogged: light.media_attenuation && light.media_interaction,
+        };
         let one = |position: DVec3, irradiance: DVec3| match beam(light) {
             None => Light::PovPoint {
                 position: position.as_vec3(),
                 irradiance: irradiance.as_vec3(),
                 fade,
+                shadowing,
             },
             Some(beam) => Light::PovBeam(PovBeam {
                 position: position.as_vec3(),
@@ -596,6 +601,7 @@ impl Builder<'_> {
                 beam,
                 parallel: light.parallel,
                 fade,
+                shadowing,
             }),
         };
         let Some((a, b, n1, n2)) = light.area else {

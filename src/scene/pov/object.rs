@@ -48,6 +48,10 @@ pub struct LightSource {
     /// `fade_distance` and `fade_power`, POV-Ray's 0 (no fade) until given.
     pub fade_distance: f64,
     pub fade_power: f64,
+    /// Whether the fogs dim the light on its way (both must be on, as in
+    /// POV-Ray; `media_interaction` is on by default).
+    pub media_attenuation: bool,
+    pub media_interaction: bool,
 }
 
 /// Which of POV-Ray's light types a `light_source` is.

@@ -58,9 +58,24 @@ impl Parser {
                 "adaptive" | "area_illumination" => {
                     self.float()?;
                 }
-                "jitter" | "circular" | "orient" | "media_attenuation" | "media_interaction" => {
-                    if self.starts_number()? {
-                        self.float()?;
+                // They shape an area light's grid, which is drawn as given.
+                "jitter" | "circular" | "orient" => {
+                    if !self.starts_number()? || self.float()? > 0.0 {
+                        let what = match word.as_str() {
+                            "jitter" => "the area light's grid is not jittered",
+                            "circular" => "the area light is drawn as its rectangular grid",
+                            _ => "the area light's grid is not turned towards what it lights",
+                        };
+                        self.skip_warning(iloc, &word, what);
+                    }
+                }
+                // A bare keyword is on, as a number above zero (POV-Ray's).
+                "media_attenuation" | "media_interaction" => {
+                    let on = !self.starts_number()? || self.float()? > 0.0;
+                    if word == "media_attenuation" {
+                        light.media_attenuation = on;
+                    } else {
+                        light.media_interaction = on;
                     }
                 }
                 "shadowless" => light.shadowless = true,
@@ -152,6 +167,8 @@ impl Parser {
             point_at: DVec3::Z,
             fade_distance: 0.0,
             fade_power: 0.0,
+            media_attenuation: false,
+            media_interaction: true,
         })
     }
     /// A light keyword before the type it belongs to: a parse error in

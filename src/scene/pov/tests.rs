@@ -9,7 +9,7 @@ use super::object::poly_terms;
 use super::parse::Parser;
 use super::value::Value;
 use crate::error::Error;
-use crate::lights::Light;
+use crate::lights::{Light, Shadowing};
 use crate::scene::{LoadOptions, Scene};
 
 /// A scene file with `text` in a folder of its own (kept while the guard lives).
@@ -454,6 +454,42 @@ fn fogs_are_read_with_povrays_defaults_and_rules() {
 }
 
 #[test]
+fn a_lights_shadowing_is_read_and_its_grid_shaping_is_warned_about() {
+    let scene = load(&format!(
+        "{VIEW}light_source {{ <0, 5, 0> color rgb 1 shadowless media_attenuation }}\n\
+         light_source {{ <0, 5, 0> color rgb 1 media_attenuation on media_interaction off }}\n\
+         light_source {{ <0, 5, 0> color rgb 1 spotlight point_at 0 media_attenuation 1 }}\n\
+         light_source {{ <0, 5, 0> color rgb 1 area_light x, z, 2, 2 jitter circular orient off }}"
+    ))
+    .unwrap();
+    let shadowing: Vec<_> = scene.lights.iter().map(Light::shadowing).collect();
+    let (plain, fogged) = (Shadowing::default(), |shadowless| Shadowing {
+        shadowless,
+        fogged: true,
+    });
+    // Four lights of the grid, none shaped: `orient off` is no warning.
+    assert_eq!(
+        shadowing,
+        [
+            fogged(true),
+            plain,
+            fogged(false),
+            plain,
+            plain,
+            plain,
+            plain
+        ]
+    );
+    let warnings = scene.warnings.join("\n");
+    assert!(
+        warnings.contains(":5:") && warnings.contains("`jitter`"),
+        "{warnings}"
+    );
+    assert!(warnings.contains("`circular`"), "{warnings}");
+    assert!(!warnings.contains("orient"), "{warnings}");
+}
+
+#[test]
 fn hollow_reaches_the_shape_and_a_unions_parts() {
     let scene = load(&format!(
         "{VIEW}sphere {{ 0, 1 hollow }}\n\
@@ -488,6 +524,7 @@ fn a_scene_builds_shapes_lights_and_povrays_settings() {
             position: crate::math::Vec3::new(0.0, 10.0, 0.0),
             irradiance: crate::math::Vec3::new(pi, 0.5 * pi, 0.25 * pi),
             fade: None,
+            shadowing: Default::default(),
         }]
     );
     // The later background replaces the earlier one.
