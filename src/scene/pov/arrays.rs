@@ -215,6 +215,11 @@ impl Parser {
             return Err(self.error_at(loc, format!("`{name}` is not an array")));
         };
         let (value, shown) = self.element(name, &array, loc)?;
+        // The element stands under a name of its own, so the warnings its
+        // array's declaration met are given here: all of them, as an
+        // element's own are not kept apart. (Its counts for `info` are not:
+        // they would count the whole array at each element.)
+        self.warnings_of(name);
         self.set(&shown, value);
         self.push_frame(Frame {
             file: loc.file,

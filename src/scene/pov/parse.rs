@@ -340,20 +340,33 @@ impl Parser {
         match self.peek()? {
             Some(tok) => {
                 self.advance();
-                if let Tok::Word(w) = &tok
-                    && let Some(d) = self.deferred.get(w)
-                {
-                    for w in &d.warnings {
-                        if !self.warnings.contains(w) {
-                            self.warnings.push(w.clone());
-                        }
-                    }
-                    add(&mut self.skipped, &d.skipped);
-                    add(&mut self.read, &d.read);
+                if let Tok::Word(w) = &tok {
+                    self.used(w);
                 }
                 Ok(tok)
             }
             None => Err(self.error("unexpected end of the scene")),
+        }
+    }
+
+    /// What reading the value declared as `name` met (warnings, skipped
+    /// and read keywords), now given where the name is used.
+    fn used(&mut self, name: &str) {
+        self.warnings_of(name);
+        if let Some(d) = self.deferred.get(name) {
+            add(&mut self.skipped, &d.skipped);
+            add(&mut self.read, &d.read);
+        }
+    }
+
+    /// The warnings reading the value declared as `name` met, given here.
+    pub(super) fn warnings_of(&mut self, name: &str) {
+        if let Some(d) = self.deferred.get(name) {
+            for w in &d.warnings {
+                if !self.warnings.contains(w) {
+                    self.warnings.push(w.clone());
+                }
+            }
         }
     }
 

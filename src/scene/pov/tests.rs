@@ -490,6 +490,55 @@ fn a_lights_shadowing_is_read_and_its_grid_shaping_is_warned_about() {
 }
 
 #[test]
+fn amounts_the_classic_material_cannot_draw_are_warned_about() {
+    let scene = load(&format!(
+        "{VIEW}sphere {{ 0, 1 pigment {{ rgbt <1, 1, 1, 100> }} finish {{ diffuse 1.5 ambient -1 }} }}\n\
+         sphere {{ 0, 1 pigment {{ rgbft <1, 1, 1, 0.5, 0.5> }} finish {{ diffuse 1 phong 0 }} }}"
+    ))
+    .unwrap();
+    let warnings = scene.warnings.join("\n");
+    assert!(
+        warnings.contains(":2:25: filter 0 and transmit 100"),
+        "{warnings}"
+    );
+    assert!(
+        warnings.contains("`diffuse 1.5` is outside [0, 1]: drawn as 1"),
+        "{warnings}"
+    );
+    assert!(
+        warnings.contains("`ambient -1` is outside [0, 1]: drawn as 0"),
+        "{warnings}"
+    );
+    // The second sphere's amounts are all drawable: no warning names line 3.
+    assert!(!warnings.contains(":3:"), "{warnings}");
+}
+
+#[test]
+fn an_array_elements_warnings_are_given_where_it_is_used() {
+    // As POV-Ray's incdemo/texture1.pov uses textures.inc's noise pigments:
+    // declared, put in an array, and used by element.
+    let declare = "#declare Noisy = pigment { bozo }\n\
+                   #declare Pigments = array[2] { pigment { Noisy }, pigment { rgb 1 } }\n";
+    let used = load(&format!(
+        "{VIEW}{declare}sphere {{ 0, 1 pigment {{ Pigments[0] }} }}"
+    ))
+    .unwrap();
+    assert!(
+        used.warnings
+            .iter()
+            .any(|w| w.contains(":2:") && w.contains("`bozo`")),
+        "{:?}",
+        used.warnings
+    );
+    let unused = load(&format!("{VIEW}{declare}sphere {{ 0, 1 }}")).unwrap();
+    assert!(
+        !unused.warnings.iter().any(|w| w.contains("bozo")),
+        "{:?}",
+        unused.warnings
+    );
+}
+
+#[test]
 fn hollow_reaches_the_shape_and_a_unions_parts() {
     let scene = load(&format!(
         "{VIEW}sphere {{ 0, 1 hollow }}\n\

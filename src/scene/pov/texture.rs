@@ -271,7 +271,7 @@ impl Parser {
             let Some(word) = self.peek_word()? else {
                 // A colour given as a vector expression, `pigment { <1, 0, 0> }`.
                 let v = self.expression(false)?;
-                p = Pigment::Colour(self.as_colour(&v, loc)?);
+                p = Pigment::Colour(self.surface_colour(&v, loc)?);
                 continue;
             };
             if let Some(Value::Pigment(base)) = self.symbol(&word) {
@@ -312,7 +312,7 @@ impl Parser {
                 }
                 w if self.starts_colour(w) => {
                     let v = self.colour_rest(None)?;
-                    p = Pigment::Colour(self.as_colour(&v, loc)?);
+                    p = Pigment::Colour(self.surface_colour(&v, loc)?);
                 }
                 w if super::patterns::is_mapped(w) => {
                     self.next()?;
@@ -340,6 +340,28 @@ impl Parser {
             }
         }
         Ok(p)
+    }
+
+    /// A pigment's colour, with a warning where its filter and transmit
+    /// lie outside what a surface can let through: POV-Ray weighs the
+    /// surface by 1 - filter - transmit even below zero (a contrast trick,
+    /// as in its `advanced/bwstripe.pov`), where the classic material
+    /// keeps their sum in [0, 1] (see `Builder::material`).
+    fn surface_colour(&mut self, v: &Value, loc: Loc) -> Result<[f64; 5]> {
+        let c = self.as_colour(v, loc)?;
+        let clear = c[3] + c[4];
+        if c[3] < 0.0 || c[4] < 0.0 || clear > 1.0 {
+            self.warn(
+                loc,
+                format!(
+                    "filter {} and transmit {} are drawn as a surface that lets through {}",
+                    c[3],
+                    c[4],
+                    clear.clamp(0.0, 1.0)
+                ),
+            );
+        }
+        Ok(c)
     }
 
     /// Whether the word `w` begins a colour.
@@ -466,6 +488,17 @@ impl Parser {
             let word = self.word()?;
             let fraction = |p: &mut Parser, name: &str| -> Result<f32> {
                 let v = p.finish_amount(name, loc)?;
+                // POV-Ray takes any amount; the classic material's lie in
+                // [0, 1] (see `Builder::material`).
+                if !(0.0..=1.0).contains(&v) {
+                    p.warn(
+                        loc,
+                        format!(
+                            "`{name} {v}` is outside [0, 1]: drawn as {}",
+                            v.clamp(0.0, 1.0)
+                        ),
+                    );
+                }
                 Ok(v as f32)
             };
             match word.as_str() {
