@@ -616,11 +616,24 @@ impl Builder<'_> {
                 0.0
             }
         };
+        // POV-Ray's `circular` grid: each square ring of the grid moved
+        // onto the circle inside it, from a centre 0.001 off the grid's own
+        // (POV-Ray's, which also keeps the middle point from 0 / 0). With
+        // one light along an edge POV-Ray divides by zero; here the grid
+        // then stays a line.
+        let bend = |(u, v): (f64, f64)| {
+            if !light.circular || n1 < 2 || n2 < 2 {
+                return (u, v);
+            }
+            let (u, v) = (u + 0.001, v + 0.001);
+            let k = u.abs().max(v.abs()) / u.hypot(v);
+            (u * k, v * k)
+        };
         let share = colour / f64::from(n1 * n2);
         for i in 0..n1 {
             for j in 0..n2 {
-                let at = position + step(i, n1) * a + step(j, n2) * b;
-                self.scene.lights.push(one(at, share));
+                let (u, v) = bend((step(i, n1), step(j, n2)));
+                self.scene.lights.push(one(position + u * a + v * b, share));
             }
         }
     }

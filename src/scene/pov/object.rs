@@ -52,6 +52,8 @@ pub struct LightSource {
     /// POV-Ray; `media_interaction` is on by default).
     pub media_attenuation: bool,
     pub media_interaction: bool,
+    /// `circular`: the area light's grid bent into a disc.
+    pub circular: bool,
 }
 
 /// Which of POV-Ray's light types a `light_source` is.

@@ -58,13 +58,15 @@ impl Parser {
                 "adaptive" | "area_illumination" => {
                     self.float()?;
                 }
-                // They shape an area light's grid, which is drawn as given.
-                "jitter" | "circular" | "orient" => {
+                "circular" => light.circular = !self.starts_number()? || self.float()? > 0.0,
+                // They move an area light's grid at each point it lights,
+                // where the grid here stays as given.
+                "jitter" | "orient" => {
                     if !self.starts_number()? || self.float()? > 0.0 {
-                        let what = match word.as_str() {
-                            "jitter" => "the area light's grid is not jittered",
-                            "circular" => "the area light is drawn as its rectangular grid",
-                            _ => "the area light's grid is not turned towards what it lights",
+                        let what = if word == "jitter" {
+                            "the area light's grid is not jittered"
+                        } else {
+                            "the area light's grid is not turned towards what it lights"
                         };
                         self.skip_warning(iloc, &word, what);
                     }
@@ -169,6 +171,7 @@ impl Parser {
             fade_power: 0.0,
             media_attenuation: false,
             media_interaction: true,
+            circular: false,
         })
     }
     /// A light keyword before the type it belongs to: a parse error in

@@ -459,7 +459,7 @@ fn a_lights_shadowing_is_read_and_its_grid_shaping_is_warned_about() {
         "{VIEW}light_source {{ <0, 5, 0> color rgb 1 shadowless media_attenuation }}\n\
          light_source {{ <0, 5, 0> color rgb 1 media_attenuation on media_interaction off }}\n\
          light_source {{ <0, 5, 0> color rgb 1 spotlight point_at 0 media_attenuation 1 }}\n\
-         light_source {{ <0, 5, 0> color rgb 1 area_light x, z, 2, 2 jitter circular orient off }}"
+         light_source {{ <0, 5, 0> color rgb 1 area_light x, z, 2, 2 jitter orient off }}"
     ))
     .unwrap();
     let shadowing: Vec<_> = scene.lights.iter().map(Light::shadowing).collect();
@@ -485,8 +485,39 @@ fn a_lights_shadowing_is_read_and_its_grid_shaping_is_warned_about() {
         warnings.contains(":5:") && warnings.contains("`jitter`"),
         "{warnings}"
     );
-    assert!(warnings.contains("`circular`"), "{warnings}");
     assert!(!warnings.contains("orient"), "{warnings}");
+}
+
+#[test]
+fn a_circular_area_light_is_a_disc() {
+    // A 2x2 square of 5x5 lights, bent into the disc of radius 1 as
+    // POV-Ray bends it: its corners come in to the circle, its middle
+    // stays (0.001 of the square off the centre, POV-Ray's offset).
+    let light = |circular: &str| {
+        load(&format!(
+            "{VIEW}light_source {{ <0, 5, 0> color rgb 1 area_light 2*x, 2*z, 5, 5 {circular} }}"
+        ))
+        .unwrap()
+        .lights
+        .iter()
+        .map(|l| match l {
+            Light::PovPoint { position, .. } => {
+                (position.as_dvec3() - DVec3::new(0.0, 5.0, 0.0)).length()
+            }
+            other => panic!("{other:?}"),
+        })
+        .collect::<Vec<f64>>()
+    };
+    let (square, disc) = (light(""), light("circular"));
+    assert_eq!((square.len(), disc.len()), (25, 25));
+    let corner = square.iter().copied().fold(0.0, f64::max);
+    assert!((corner - 2f64.sqrt()).abs() < 1e-6, "{corner}");
+    // Within the unit circle about the grid's centre moved by POV-Ray's
+    // offset, 0.001 of each edge (2 units): 0.002·√2 off.
+    assert!(disc.iter().all(|&r| r <= 1.0 + 0.0029), "{disc:?}");
+    // The corner lights lie on the circle, the middle one at the centre.
+    assert!((disc[0] - 0.998).abs() < 1e-6, "{disc:?}");
+    assert!(disc[12] < 0.0025, "{disc:?}");
 }
 
 #[test]
