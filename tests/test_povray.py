@@ -235,6 +235,13 @@ def test_colour_difference_by_hand():
     assert compare.colour_difference(a, b, np.zeros((2, 3), dtype=bool)) is None
 
 
+def test_a_render_past_its_time_fails_alone(tmp_path):
+    renderers = compare.Renderers(Path("sturmray"), WIDTH, HEIGHT, timeout=0.2)
+    render = renderers.run(["sleep", "5"], tmp_path, tmp_path / "never.png")
+    assert render.image is None
+    assert render.failure() == "exit -1: error: timed out after 0.2 s"
+
+
 def result(name: str, pov_only=0, sturm_only=0, colour=0.0, warnings=0) -> compare.SceneResult:
     image = np.zeros((HEIGHT, WIDTH, 3), dtype=np.uint8)
     stderr = "sturmray: warning: x\n" * warnings

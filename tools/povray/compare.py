@@ -459,10 +459,15 @@ class Renderers:
         return self.run(self.sturmray_command(pov, scene, exr), work, exr.with_suffix(".png"))
 
     def run(self, command: list[str], work: Path, png: Path) -> Render:
-        """Runs a renderer in `work`; its image is `png` if it succeeded."""
-        proc = subprocess.run(
-            command, cwd=work, capture_output=True, text=True, timeout=self.timeout
-        )
+        """Runs a renderer in `work`; its image is `png` if it succeeded.
+        A run past `timeout` is that scene's failure, not the comparison's
+        end (POV-Ray takes over 10 minutes on some radiosity samples)."""
+        try:
+            proc = subprocess.run(
+                command, cwd=work, capture_output=True, text=True, timeout=self.timeout
+            )
+        except subprocess.TimeoutExpired:
+            return Render(-1, f"error: timed out after {self.timeout:g} s", None)
         image = read_png(png) if proc.returncode == 0 and png.is_file() else None
         return Render(proc.returncode, proc.stderr, image)
 
