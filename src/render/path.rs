@@ -21,7 +21,7 @@ use crate::lights::LightRef;
 use crate::math::{Frame, Hit, Ray, Ray64, Vec3, offset};
 use crate::sampling::mis::power_heuristic;
 use crate::sampling::{Deferred, Sampler};
-use crate::scene::{Interaction, Scene, fog_along};
+use crate::scene::{Interaction, Scene, fog_along, fog_through};
 use crate::shading::{Bsdf, Lobe};
 
 /// Bounces before Russian roulette may end a path.
@@ -300,8 +300,7 @@ impl PathTracer<'_> {
         // shadow rays stop at any surface, so the way is all air).
         let mut irradiance = incident.irradiance;
         if shadowing.fogged && self.plan.fog {
-            let length = shadow.tfar.is_finite().then_some(shadow.tfar);
-            irradiance *= fog_along(&self.scene.fogs, shadow.origin, shadow.dir, length).1;
+            irradiance *= fog_through(&self.scene.fogs, &shadow);
         }
         // Delta lights (pdf 0) only light sampling reaches: weight 1.
         let weight = if incident.pdf > 0.0 && v.bsdf_continues {

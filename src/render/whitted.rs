@@ -14,7 +14,7 @@ use crate::film::Sample;
 use crate::lights::LightRef;
 use crate::math::{Hit, Ray, Ray64, Vec3, offset};
 use crate::sampling::Sampler;
-use crate::scene::{Interaction, Scene, fog_along};
+use crate::scene::{Interaction, Scene, fog_along, fog_through};
 use crate::shading::fresnel;
 use crate::shading::{MaterialKind, Surface};
 
@@ -293,7 +293,7 @@ impl Whitted<'_> {
             return if self.accel.occluded(shadow) {
                 Vec3::ZERO
             } else if fogged {
-                self.fog_share(shadow)
+                fog_through(&self.scene.fogs, shadow)
             } else {
                 Vec3::ONE
             };
@@ -304,7 +304,7 @@ impl Whitted<'_> {
             let hit = self.accel.intersect(&ray);
             if !hit.is_hit() {
                 return if fogged {
-                    through * self.fog_share(&ray)
+                    through * fog_through(&self.scene.fogs, &ray)
                 } else {
                     through
                 };
@@ -315,7 +315,7 @@ impl Whitted<'_> {
             if fogged && !self.scene.came_through_solid(&hit, it.front) {
                 let mut part = ray;
                 part.tfar = hit.t;
-                through *= self.fog_share(&part);
+                through *= fog_through(&self.scene.fogs, &part);
             }
             if self.scene.casts_shadow(&hit) {
                 let material = &self.scene.materials[it.material as usize];
@@ -349,13 +349,6 @@ impl Whitted<'_> {
         }
         // More surfaces than any glass needs: as dark as their light would be.
         Vec3::ZERO
-    }
-
-    /// The share of light the fogs let through along `ray`, from its origin
-    /// to its end (all of the way, for a ray with no end).
-    fn fog_share(&self, ray: &Ray) -> Vec3 {
-        let length = ray.tfar.is_finite().then(|| ray.tfar * ray.dir.length());
-        fog_along(&self.scene.fogs, ray.origin, ray.dir, length).1
     }
 
     /// A secondary ray from `it` along `dir`, if the depth limit and the branch's
@@ -416,7 +409,7 @@ impl Whitted<'_> {
             let through = if shadowing.shadowless {
                 // No shadow ray: only the fog, over the whole way.
                 if fogged {
-                    self.fog_share(&shadow)
+                    fog_through(&self.scene.fogs, &shadow)
                 } else {
                     Vec3::ONE
                 }

@@ -5,7 +5,7 @@
 
 use glam::DVec3;
 
-use crate::math::Vec3;
+use crate::math::{Ray, Vec3};
 
 /// Where a ray that meets nothing ends, for the fog: POV-Ray's depth of a
 /// miss, far enough that a constant fog lets nothing through.
@@ -67,6 +67,15 @@ impl GroundFog {
             }
         }
     }
+}
+
+/// The share of light the fogs let through along `ray`, from its origin to
+/// its end (all of the way, for a ray with no end): what dims a POV-Ray
+/// light with `media_attenuation` on a shadow ray, which adds none of the
+/// fogs' own colour.
+pub fn through(fogs: &[Fog], ray: &Ray) -> Vec3 {
+    let length = ray.tfar.is_finite().then(|| ray.tfar * ray.dir.length());
+    along(fogs, ray.origin, ray.dir, length).1
 }
 
 /// The fogs on a ray's way from `origin` along `dir` to a hit `length` off

@@ -22,7 +22,7 @@ use std::sync::Arc;
 pub use camera::{
     Camera, CameraFrame, CameraKey, CameraProblem, ImagePlane, Optics, Projection, ThinLens,
 };
-pub use fog::{Fog, GroundFog, along as fog_along};
+pub use fog::{Fog, GroundFog, along as fog_along, through as fog_through};
 pub use instance::{Instance, Prototype};
 pub use interaction::Interaction;
 use obj::MAX_COORDINATE;

@@ -681,7 +681,7 @@ impl Parser {
                 "no_shadow" => obj.no_shadow = true,
                 "hollow" => {
                     // `hollow off` (or 0) undoes it, as in POV-Ray.
-                    obj.hollow = !self.starts_number()? || self.float()? != 0.0;
+                    obj.hollow = self.allow_float(1.0)? != 0.0;
                 }
                 "sturm" | "double_illuminate" | "no_reflection" | "no_image" | "no_radiosity"
                 | "global_lights" => {

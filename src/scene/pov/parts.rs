@@ -58,11 +58,11 @@ impl Parser {
                 "adaptive" | "area_illumination" => {
                     self.float()?;
                 }
-                "circular" => light.circular = !self.starts_number()? || self.float()? > 0.0,
+                "circular" => light.circular = self.allow_float(1.0)? > 0.0,
                 // They move an area light's grid at each point it lights,
                 // where the grid here stays as given.
                 "jitter" | "orient" => {
-                    if !self.starts_number()? || self.float()? > 0.0 {
+                    if self.allow_float(1.0)? > 0.0 {
                         let what = if word == "jitter" {
                             "the area light's grid is not jittered"
                         } else {
@@ -73,7 +73,7 @@ impl Parser {
                 }
                 // A bare keyword is on, as a number above zero (POV-Ray's).
                 "media_attenuation" | "media_interaction" => {
-                    let on = !self.starts_number()? || self.float()? > 0.0;
+                    let on = self.allow_float(1.0)? > 0.0;
                     if word == "media_attenuation" {
                         light.media_attenuation = on;
                     } else {

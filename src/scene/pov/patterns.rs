@@ -137,11 +137,7 @@ impl Parser {
                 "scallop_wave" => spec.wave = Wave::Scallop,
                 "cubic_wave" => spec.wave = Wave::Cubic,
                 "poly_wave" => {
-                    let exponent = if self.starts_number()? {
-                        self.float()?
-                    } else {
-                        1.0
-                    };
+                    let exponent = self.allow_float(1.0)?;
                     spec.wave = Wave::Poly(exponent);
                 }
                 // Without turbulence these change nothing.

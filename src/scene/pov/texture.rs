@@ -514,11 +514,7 @@ impl Parser {
                 "specular" => f.specular = fraction(self, "specular")?,
                 "roughness" => f.roughness = self.float()? as f32,
                 "metallic" => {
-                    f.metallic = if self.starts_number()? {
-                        self.float()? as f32
-                    } else {
-                        1.0
-                    };
+                    f.metallic = self.allow_float(1.0)? as f32;
                 }
                 "reflection" => self.reflection(&mut f, loc)?,
                 "brilliance" => f.brilliance = self.float()? as f32,
@@ -577,14 +573,10 @@ impl Parser {
             let loc = self.here();
             match self.word()?.as_str() {
                 "fresnel" => {
-                    f.fresnel = !self.starts_number()? || self.float()? != 0.0;
+                    f.fresnel = self.allow_float(1.0)? != 0.0;
                 }
                 "metallic" => {
-                    f.metallic = if self.starts_number()? {
-                        self.float()? as f32
-                    } else {
-                        1.0
-                    };
+                    f.metallic = self.allow_float(1.0)? as f32;
                 }
                 "falloff" | "exponent" => {
                     self.float()?;
@@ -594,6 +586,16 @@ impl Parser {
             }
         }
         Ok(())
+    }
+
+    /// The number after a keyword, or `bare` where none follows (POV-Ray's
+    /// `Allow_Float`): `hollow`, `hollow off`, `metallic 0.5`, `circular`.
+    pub fn allow_float(&mut self, bare: f64) -> Result<f64> {
+        if self.starts_number()? {
+            self.float()
+        } else {
+            Ok(bare)
+        }
     }
 
     /// Whether the next token starts a number.
