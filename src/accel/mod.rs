@@ -10,10 +10,12 @@ mod panics;
 pub mod primitive;
 pub mod rust_bvh;
 
+pub use rust_bvh::{ListBeams, ShapeSet};
+
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
 use crate::error::{Error, Result};
-use crate::geometry::{Mesh, Shape};
+use crate::geometry::{Mesh, Pinhole, Shape};
 use crate::math::{Hit, INVALID_ID, Ray, Ray64};
 use crate::scene::{Instance, Scene};
 use crate::shading::Material;
@@ -154,7 +156,9 @@ impl Accel {
 
     pub fn intersect(&self, ray: &Ray) -> Hit {
         match self {
-            Accel::Embree(s, Some(list)) => list.nearest(ray, &Ray64::of(ray), s.panics()),
+            Accel::Embree(s, Some(list)) => {
+                list.nearest(ray, &Ray64::of(ray), ShapeSet::ALL, s.panics())
+            }
             Accel::Embree(s, None) => s.intersect(ray),
             Accel::Obvhs(s) => s.intersect(ray),
             Accel::Bvh(s) => s.intersect(ray),
@@ -165,11 +169,31 @@ impl Accel {
     /// analytic shapes solving for `exact` itself (see `Ray64`): for camera
     /// rays, so a graze is decided as POV-Ray's double-precision ray decides it.
     pub fn intersect_exact(&self, exact: &Ray64) -> Hit {
+        self.intersect_exact_among(exact, ShapeSet::ALL)
+    }
+
+    /// `intersect_exact` offered to the shapes of `among` only, where the
+    /// render's rays skip the BVH (`rust_bvh::ListScene`): those of a
+    /// `camera_beams` rectangle that some ray through it may hit. Elsewhere
+    /// (the set is the list's) every primitive is offered.
+    pub fn intersect_exact_among(&self, exact: &Ray64, among: ShapeSet) -> Hit {
         match self {
-            Accel::Embree(s, Some(list)) => list.nearest(&exact.rounded(), exact, s.panics()),
+            Accel::Embree(s, Some(list)) => {
+                list.nearest(&exact.rounded(), exact, among, s.panics())
+            }
             Accel::Embree(s, None) => s.intersect_exact(exact),
             Accel::Obvhs(s) => s.intersect_exact(exact),
             Accel::Bvh(s) => s.intersect_exact(exact),
+        }
+    }
+
+    /// The shapes along a pinhole camera's rays, where the render's rays
+    /// skip the BVH and some shape can be proven missed by a rectangle of
+    /// them (`ListBeams`); None elsewhere.
+    pub fn camera_beams(&self, pinhole: &Pinhole) -> Option<ListBeams> {
+        match self {
+            Accel::Embree(_, Some(list)) => list.beams(pinhole),
+            _ => None,
         }
     }
 

@@ -5,5 +5,7 @@ mod analytic;
 mod mesh;
 
 pub use analytic::csg::{Csg, CsgError, Leaf, Node, Op, Part};
-pub use analytic::{Box3, Crossing, Crossings, Quadric, RayPoly, Shape, ShapeHit, Surface};
+pub use analytic::{
+    Box3, Crossing, Crossings, Pinhole, Quadric, RayPoly, Shape, ShapeBeams, ShapeHit, Surface,
+};
 pub use mesh::Mesh;

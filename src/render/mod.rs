@@ -25,8 +25,8 @@ pub use whitted::Whitted;
 
 use batch::TileCameras;
 
-use crate::accel::Accel;
 use crate::accel::ftz::enable_flush_to_zero;
+use crate::accel::{Accel, ListBeams, ShapeSet};
 use crate::error::{Error, Result};
 use crate::film::{Film, Pixel, Pixels, Region, Sample};
 use crate::math::{Hit, Ray, Ray64};
@@ -88,6 +88,34 @@ fn tiles_of(region: Region) -> Vec<Region> {
             })
         })
         .collect()
+}
+
+/// The shapes each pixel of `tile` (row by row, `TILE` to a row) may be
+/// hit on by its camera rays, whose image positions lie within `reach` of
+/// the pixels' centres: what `beams` proves of the whole tile, then of
+/// each quarter, for the shapes the tile may hit.
+fn tile_sets(beams: &ListBeams, tile: Region, reach: f64) -> [ShapeSet; TILE * TILE] {
+    let span = |from: usize, to: usize| (from as f64 + 0.5 - reach, to as f64 - 0.5 + reach);
+    let rect = |r: &Region| (span(r.x0, r.x1), span(r.y0, r.y1));
+    let (xs, ys) = rect(&tile);
+    let whole = beams.may_hit(xs, ys, ShapeSet::ALL);
+    let mut sets = [whole; TILE * TILE];
+    let (xm, ym) = ((tile.x0 + tile.x1) / 2, (tile.y0 + tile.y1) / 2);
+    for (x0, x1) in [(tile.x0, xm), (xm, tile.x1)] {
+        for (y0, y1) in [(tile.y0, ym), (ym, tile.y1)] {
+            let quarter = Region { x0, y0, x1, y1 };
+            if quarter.area() == 0 {
+                continue;
+            }
+            let (xs, ys) = rect(&quarter);
+            let set = beams.may_hit(xs, ys, whole);
+            for y in y0..y1 {
+                let row = (y - tile.y0) * TILE;
+                sets[row + x0 - tile.x0..row + x1 - tile.x0].fill(set);
+            }
+        }
+    }
+    sets
 }
 
 /// The whole tile of the grid of a width × height image that holds `tile`.
@@ -218,6 +246,14 @@ pub fn render_from(
     let photons_cut = plan.photon && caustics.is_none();
     let integrator = Tracer::new(scene, accel, plan, caustics.as_ref());
     let tiles = tiles_of(region);
+    // Rectangles of camera rays proven to miss a shape skip it (see
+    // `ListBeams`); a sample lies within the filter's radius of its
+    // pixel's centre, its f32 position a rounding or so further.
+    let beams = frame.pinhole().and_then(|p| accel.camera_beams(&p));
+    let reach = match spp {
+        1 => 0.0,
+        _ => f64::from(scene.render.filter.radius()) + 0.01,
+    };
 
     let passes = passes::passes(spp, adaptive, from);
     let total = passes
@@ -301,15 +337,20 @@ pub fn render_from(
                         }
                     } else {
                         // Adaptive rounds (the pixels that take them) and
-                        // backends without streams: one ray at a time.
+                        // backends without streams: one ray at a time, each
+                        // offered the shapes its rectangle may hit.
+                        let sets = beams.as_ref().map(|b| tile_sets(b, *tile, reach));
                         for (y, row) in (tile.y0..tile.y1).zip(rows.iter_mut()) {
                             for (x, pixel) in (tile.x0..tile.x1).zip(row.iter_mut()) {
                                 if !passes::takes(pixel, &range, spp, adaptive) {
                                     continue;
                                 }
+                                let among = sets.as_ref().map_or(ShapeSet::ALL, |s| {
+                                    s[(y - tile.y0) * TILE + x - tile.x0]
+                                });
                                 for k in range.clone() {
                                     let (ray, weight, mut sampler) = camera((x, y), k);
-                                    let hit = accel.intersect_exact(&ray);
+                                    let hit = accel.intersect_exact_among(&ray, among);
                                     sample(pixel, &ray, hit, weight, &mut sampler)?;
                                 }
                             }

@@ -31,6 +31,7 @@ macro_rules! in_storage {
     };
 }
 
+mod beam;
 mod crossings;
 pub mod csg;
 mod extent;
@@ -38,6 +39,7 @@ mod gate;
 mod surface;
 mod unbounded;
 
+pub use beam::{Pinhole, ShapeBeams};
 pub use crossings::{Crossing, Crossings};
 use surface::root_uncertainty;
 pub use surface::{Quadric, Surface};

@@ -9,6 +9,7 @@ use glam::DVec3;
 use super::GIB;
 use super::file::physical_memory;
 use crate::film::RENDER_BYTES_PER_PIXEL;
+use crate::geometry::Pinhole;
 use crate::math::{Bounds, RAY_LIMIT, Ray, Ray64, Vec3, sci};
 use crate::sampling::warp::concentric_disk;
 
@@ -644,6 +645,17 @@ impl CameraFrame {
                 dir: at.normalize(),
             },
         }
+    }
+
+    /// The rays of [`CameraFrame::ray64`] as one family from the eye, for a
+    /// camera without a lens whose rays all leave the eye; None for others.
+    pub fn pinhole(&self) -> Option<Pinhole> {
+        (self.parallel.is_none() && !self.has_lens()).then_some(Pinhole {
+            eye: self.eye,
+            top_left: self.top_left,
+            right: self.right,
+            down: self.down,
+        })
     }
 
     /// Whether rays need a lens sample ([`CameraFrame::lens_ray`]).

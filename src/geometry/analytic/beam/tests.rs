@@ -1,0 +1,175 @@
+use glam::{DAffine3, DVec3};
+
+use super::{N, Pinhole, halves, shift, to_bernstein};
+use crate::geometry::analytic::{Box3, Shape, Surface};
+use crate::poly::solve::Solver;
+use crate::poly::trivariate::Trivariate;
+
+fn eval(c: &[f64; N], t: f64) -> f64 {
+    c.iter().rev().fold(0.0, |v, &k| v * t + k)
+}
+
+/// The Bernstein form's value at t: Σ b_i C(n, i) t^i (1 − t)^(n − i).
+fn eval_bernstein(b: &[f64; N], t: f64) -> f64 {
+    let n = N - 1;
+    let binomial = |k: usize| (0..k).fold(1.0, |c, i| c * (n - i) as f64 / (i + 1) as f64);
+    (0..N)
+        .map(|i| b[i] * binomial(i) * t.powi(i as i32) * (1.0 - t).powi((n - i) as i32))
+        .sum()
+}
+
+#[test]
+fn shifts_conversions_and_halves_keep_the_polynomial() {
+    let p = [0.7, -1.3, 2.1, 0.4, -0.9];
+    let (from, width) = (1.5, 0.25);
+    let mut shifted = p;
+    shift(&mut shifted, from, width);
+    let mut bernstein = shifted;
+    to_bernstein(&mut bernstein);
+    let [low, high] = halves(bernstein);
+    for k in 0..=10 {
+        let t = f64::from(k) / 10.0;
+        let want = eval(&p, from + width * t);
+        let close = |v: f64| (v - want).abs() <= 1e-12 * (1.0 + want.abs());
+        assert!(close(eval(&shifted, t)), "shift at {t}");
+        assert!(close(eval_bernstein(&bernstein, t)), "Bernstein at {t}");
+        let half = if t <= 0.5 {
+            eval_bernstein(&low, 2.0 * t)
+        } else {
+            eval_bernstein(&high, 2.0 * t - 1.0)
+        };
+        assert!(close(half), "halves at {t}");
+    }
+}
+
+fn quartic(expr: &[([u8; 3], f64)], clip: f64, to_world: DAffine3) -> Shape {
+    let f = Trivariate::from_terms(expr.iter().copied());
+    let surface = Surface::Algebraic(Box::new(f));
+    Shape::new(
+        surface,
+        to_world,
+        Some(Box3::cube(clip)),
+        0,
+        Solver::default(),
+    )
+    .unwrap()
+}
+
+/// Surfaces of POV-Ray's quartic samples' kinds: a torus, the cubic of
+/// tcubic.pov, quarcyl.pov's thin spindle, and a sphere of degree 4 far off
+/// the origin (large terms that cancel on the surface), each turned.
+fn shapes() -> Vec<(&'static str, Shape)> {
+    let turn = |x: f64, y: f64, at: DVec3| {
+        DAffine3::from_translation(at) * DAffine3::from_rotation_x(x) * DAffine3::from_rotation_y(y)
+    };
+    let torus = crate::poly::trivariate::tests::torus(2.0, 0.5);
+    vec![
+        (
+            "torus",
+            Shape::new(
+                Surface::Algebraic(Box::new(torus)),
+                turn(0.6, 0.3, DVec3::new(0.0, 0.0, 6.0)),
+                Some(Box3::cube(2.6)),
+                0,
+                Solver::default(),
+            )
+            .unwrap(),
+        ),
+        (
+            "cubic",
+            quartic(
+                &[
+                    ([3, 0, 0], -0.5),
+                    ([2, 0, 0], -0.5),
+                    ([0, 2, 0], 1.0),
+                    ([0, 0, 2], 1.0),
+                ],
+                2.0,
+                turn(0.1, -0.26, DVec3::new(0.0, 0.0, 5.0)),
+            ),
+        ),
+        (
+            "spindle",
+            quartic(
+                &[
+                    ([2, 2, 0], 1.0),
+                    ([2, 0, 0], 0.01),
+                    ([0, 2, 2], 1.0),
+                    ([0, 0, 2], 0.01),
+                    ([0, 0, 0], -0.01),
+                ],
+                2.0,
+                turn(-0.52, 0.35, DVec3::new(0.0, 0.0, 6.0)),
+            ),
+        ),
+        (
+            "far sphere",
+            quartic(
+                &[
+                    ([4, 0, 0], 1.0),
+                    ([0, 4, 0], 1.0),
+                    ([0, 0, 4], 1.0),
+                    ([2, 2, 0], 2.0),
+                    ([2, 0, 2], 2.0),
+                    ([0, 2, 2], 2.0),
+                    ([0, 0, 0], -1.0),
+                ],
+                1.5,
+                turn(0.0, 0.0, DVec3::new(0.3, -0.2, 400.0)),
+            ),
+        ),
+    ]
+}
+
+/// Whenever a rectangle of pixels is proven missed, no ray through it hits
+/// the shape: every ray of a 9 × 9 grid over it, corners and edges
+/// included, is searched as a render would. Rectangles of 1 to 16 pixels a
+/// side, over the whole image; some must be proven and some not, or the
+/// test shows nothing.
+#[test]
+fn no_ray_through_a_missed_rectangle_hits() {
+    let (width, height) = (160.0, 120.0);
+    let pinhole = Pinhole {
+        eye: DVec3::new(0.1, -0.05, -1.0),
+        top_left: DVec3::new(-0.5, 0.375, 1.0),
+        right: DVec3::new(1.0 / width, 0.0, 0.0),
+        down: DVec3::new(0.0, -0.75 / height, 0.0),
+    };
+    for (name, shape) in shapes() {
+        let beams = shape
+            .beams(&pinhole, &shape.bounds())
+            .expect("a quartic in a finite box");
+        let (mut proven, mut tried) = (0, 0);
+        for side in [1.0, 4.0, 16.0] {
+            let mut y0 = 0.0;
+            while y0 < height {
+                let mut x0 = 0.0;
+                while x0 < width {
+                    let (xs, ys) = ((x0, x0 + side), (y0, y0 + side));
+                    tried += 1;
+                    if beams.misses(xs, ys) {
+                        proven += 1;
+                        for i in 0..=8 {
+                            for j in 0..=8 {
+                                let x = x0 + side * f64::from(i) / 8.0;
+                                let y = y0 + side * f64::from(j) / 8.0;
+                                let d = pinhole.dir(x, y).normalize();
+                                let hit = shape.intersect(pinhole.eye, d, 0.0, f64::INFINITY);
+                                assert!(
+                                    hit.is_none(),
+                                    "{name}: ({x}, {y}) in [{xs:?}] × [{ys:?}]: {hit:?}"
+                                );
+                            }
+                        }
+                    }
+                    x0 += side;
+                }
+                y0 += side;
+            }
+        }
+        assert!(
+            proven > tried / 10 && proven < tried,
+            "{name}: {proven} of {tried} proven"
+        );
+    }
+}
