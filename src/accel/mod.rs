@@ -190,7 +190,7 @@ impl Accel {
     /// The shapes along a pinhole camera's rays, where the render's rays
     /// skip the BVH and some shape can be proven missed by a rectangle of
     /// them (`ListBeams`); None elsewhere.
-    pub fn camera_beams(&self, pinhole: &Pinhole) -> Option<ListBeams> {
+    pub fn camera_beams(&self, pinhole: &Pinhole) -> Option<ListBeams<'_>> {
         match self {
             Accel::Embree(_, Some(list)) => list.beams(pinhole),
             _ => None,

@@ -94,7 +94,7 @@ fn tiles_of(region: Region) -> Vec<Region> {
 /// hit on by its camera rays, whose image positions lie within `reach` of
 /// the pixels' centres: what `beams` proves of the whole tile, then of
 /// each quarter, for the shapes the tile may hit.
-fn tile_sets(beams: &ListBeams, tile: Region, reach: f64) -> [ShapeSet; TILE * TILE] {
+fn tile_sets(beams: &ListBeams<'_>, tile: Region, reach: f64) -> [ShapeSet; TILE * TILE] {
     let span = |from: usize, to: usize| (from as f64 + 0.5 - reach, to as f64 - 0.5 + reach);
     let rect = |r: &Region| (span(r.x0, r.x1), span(r.y0, r.y1));
     let (xs, ys) = rect(&tile);

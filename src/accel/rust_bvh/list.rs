@@ -93,7 +93,7 @@ impl ListScene {
 
     /// Each shape's G along a pinhole camera's rays (`ShapeBeams`), for the
     /// shapes that have one; None if none has.
-    pub(crate) fn beams(&self, pinhole: &Pinhole) -> Option<ListBeams> {
+    pub(crate) fn beams(&self, pinhole: &Pinhole) -> Option<ListBeams<'_>> {
         let shapes: Box<[_]> = (self.shapes.iter())
             .map(|(b, shape)| shape.beams(pinhole, b))
             .collect();
@@ -130,9 +130,9 @@ impl ShapeSet {
 const _: () = assert!(MOST_SHAPES <= u8::BITS as usize);
 
 /// The list's shapes along a pinhole camera's rays (see `ShapeBeams`).
-pub struct ListBeams(Box<[Option<ShapeBeams>]>);
+pub struct ListBeams<'a>(Box<[Option<ShapeBeams<'a>>]>);
 
-impl ListBeams {
+impl ListBeams<'_> {
     /// The shapes of `among` that some ray through pixel coordinates
     /// (x, y) in [x0, x1] × [y0, y1] may hit: all but those proven missed.
     pub fn may_hit(&self, xs: (f64, f64), ys: (f64, f64), among: ShapeSet) -> ShapeSet {

@@ -179,6 +179,42 @@ thread_local! {
 }
 
 impl Csg {
+    /// The tree's leaves, by index.
+    pub fn leaves(&self) -> &[Leaf] {
+        &self.leaves
+    }
+
+    /// Whether no point of a region lies inside the tree or on its seen
+    /// surface, where `outside(i)` proves that of leaf i, a solid leaf
+    /// whose F > 0 throughout the region: an intersection or a clip is
+    /// outside where one child is, a union or merge where all are, a
+    /// difference where its first child is; the inverse of a part, or a
+    /// leaf that is not a solid, is never proven outside. The state is
+    /// then the same at every point of the region, so no line through it
+    /// crosses the tree's surface there (see `beam`). Each leaf is asked
+    /// at most once.
+    pub(crate) fn outside(&self, outside: &mut impl FnMut(usize) -> bool) -> bool {
+        self.node_outside(&self.root, outside)
+    }
+
+    fn node_outside(&self, node: &Node, outside: &mut impl FnMut(usize) -> bool) -> bool {
+        match node {
+            Node::Leaf(i) => {
+                let leaf = &self.leaves[*i as usize];
+                !leaf.inverse && matches!(leaf.part, Part::Solid(_)) && outside(*i as usize)
+            }
+            Node::Op { inverse: true, .. } => false,
+            Node::Op { op, children, .. } => match op {
+                Op::Intersection | Op::Clip => {
+                    children.iter().any(|c| self.node_outside(c, outside))
+                }
+                Op::Union | Op::Merge => children.iter().all(|c| self.node_outside(c, outside)),
+                Op::Difference => self.node_outside(&children[0], outside),
+            },
+            Node::Gated { child, .. } => self.node_outside(child, outside),
+        }
+    }
+
     /// A tree over `leaves`. Its box: a union's is the union of its
     /// children's, an intersection's (and a clip's) the overlap of theirs, a
     /// difference's its first child's; a half-space or an inverted child is
