@@ -55,6 +55,15 @@ fn quartic(expr: &[([u8; 3], f64)], clip: f64, to_world: DAffine3) -> Shape {
     .unwrap()
 }
 
+/// (x² + y² + z²)² − 1: the unit sphere as a quartic.
+fn far_sphere() -> Trivariate {
+    let squares = Trivariate::from_terms([([2, 0, 0], 1.0), ([0, 2, 0], 1.0), ([0, 0, 2], 1.0)]);
+    squares
+        .checked_pow(2)
+        .unwrap()
+        .sub(&Trivariate::constant(1.0))
+}
+
 /// Surfaces of POV-Ray's quartic samples' kinds: a torus, the cubic of
 /// tcubic.pov, quarcyl.pov's thin spindle, and a sphere of degree 4 far off
 /// the origin (large terms that cancel on the surface), each turned.
@@ -104,19 +113,14 @@ fn shapes() -> Vec<(&'static str, Shape)> {
         ),
         (
             "far sphere",
-            quartic(
-                &[
-                    ([4, 0, 0], 1.0),
-                    ([0, 4, 0], 1.0),
-                    ([0, 0, 4], 1.0),
-                    ([2, 2, 0], 2.0),
-                    ([2, 0, 2], 2.0),
-                    ([0, 2, 2], 2.0),
-                    ([0, 0, 0], -1.0),
-                ],
-                1.5,
+            Shape::new(
+                Surface::Algebraic(Box::new(far_sphere())),
                 turn(0.0, 0.0, DVec3::new(0.3, -0.2, 400.0)),
-            ),
+                Some(Box3::cube(1.5)),
+                0,
+                Solver::default(),
+            )
+            .unwrap(),
         ),
     ]
 }
