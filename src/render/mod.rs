@@ -11,8 +11,8 @@ mod plan;
 mod tally;
 mod whitted;
 
-use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::{Arc, OnceLock};
 use std::time::Instant;
 
 use rayon::prelude::*;
@@ -254,6 +254,10 @@ pub fn render_from(
         1 => 0.0,
         _ => f64::from(scene.render.filter.radius()) + 0.01,
     };
+    // Each tile's sets, proven in the first pass that reaches the tile and
+    // kept for the passes after it.
+    let tile_proofs: Vec<OnceLock<[ShapeSet; TILE * TILE]>> =
+        tiles.iter().map(|_| OnceLock::new()).collect();
 
     let passes = passes::passes(spp, adaptive, from);
     let total = passes
@@ -290,6 +294,7 @@ pub fn render_from(
             tiles
                 .par_iter()
                 .zip(rows)
+                .zip(&tile_proofs)
                 // At most four tiles a piece rayon may hand to an idle
                 // thread. Its adaptive splitting (a piece is cut again only
                 // when another thread steals it) had given each thread half
@@ -301,7 +306,7 @@ pub fn render_from(
                 // tile's pixels and its place in the results are its own
                 // whichever thread takes it.
                 .with_max_len(4)
-                .map(|(tile, mut rows)| {
+                .map(|((tile, mut rows), proofs)| {
                     let mut tally = Tally::default();
                     let mut bad = 0;
                     for (y, row) in (tile.y0..tile.y1).zip(rows.iter_mut()) {
@@ -339,7 +344,8 @@ pub fn render_from(
                         // Adaptive rounds (the pixels that take them) and
                         // backends without streams: one ray at a time, each
                         // offered the shapes its rectangle may hit.
-                        let sets = beams.as_ref().map(|b| tile_sets(b, *tile, reach));
+                        let sets = (beams.as_ref())
+                            .map(|b| proofs.get_or_init(|| tile_sets(b, *tile, reach)));
                         for (y, row) in (tile.y0..tile.y1).zip(rows.iter_mut()) {
                             for (x, pixel) in (tile.x0..tile.x1).zip(row.iter_mut()) {
                                 if !passes::takes(pixel, &range, spp, adaptive) {

@@ -229,7 +229,7 @@ struct Bounded {
 }
 
 impl Bounded {
-    /// `f` on every line along `axis` of both: `f` must take a polynomial
+    /// `f` on every line along `AXIS` of both: `f` must take a polynomial
     /// with positive coefficients to one with positive coefficients,
     /// through sums of products of positive factors, and the magnitude
     /// then bounds each coefficient's rounding (as Horner's bound does).
@@ -258,8 +258,8 @@ impl Bounded {
     /// [0, 1]³), each clear of zero by `CLEAR` of its magnitude, or,
     /// `splits` more times, of each half in s; None where they differ.
     /// The eight corner coefficients are G's values at the box's corners:
-    /// where two of them differ in sign the rays cross the surface, and
-    /// no halving can prove otherwise.
+    /// where two of them differ in sign G has a zero in the box, and no
+    /// halving can prove otherwise.
     fn sign(&self, splits: u32) -> Option<bool> {
         let (g, magnitude) = (flat(&self.g), flat(&self.magnitude));
         let (mut above, mut below, mut finite) = (true, true, true);
