@@ -289,3 +289,57 @@ fn rays_that_skip_shapes_proven_missed_render_the_same_bytes() {
         }
     }
 }
+
+/// The shadow rays a tile's proofs spare (`render::lit`: a shape's own lit
+/// points proven to cast no shadow on themselves towards a point light)
+/// change nothing: a torus, quarcyl's spindle (its needle reaching past
+/// its gate) and two balls as one quartic, lit by a far light, a near one
+/// that throws the torus's ring onto itself, and one on the balls' axis
+/// that puts one in the other's shadow, render through the list (with the
+/// proofs) as through obvhs (without), at one sample a pixel and at four.
+#[test]
+fn shadow_rays_spared_by_light_proofs_render_the_same_bytes() {
+    let dir = scratch("lights");
+    let scenes = [
+        "quartic { < 1,0,0,0,2,0,0,2,0,-104, 0,0,0,0,0,0,0,0,0,0, 1,0,0,2,0,56,0,0,0,0, \
+         1,0,-104,0,784 > scale 0.2 rotate <-50, 20, 0> translate 3*z pigment { rgb 1 } }",
+        "quartic { < 0,0,0,0,1,0,0,0,0,0.01, 0,0,0,0,0,0,0,0,0,0, 0,0,0,1,0,0,0,0,0,0, \
+         0,0,0.01,0,-0.01 > bounded_by { sphere { 0, 2 } } scale 1.5 rotate <-30, 20, 50> \
+         translate 3*z pigment { rgb 1 } }",
+        // Two balls as one quartic, one in the other's shadow from the
+        // light on their axis.
+        "quartic { < 1,0,0,0,2,0,0,2,0,-2, 0,0,0,0,0,0,0,0,0,0, 1,0,0,2,0,0.56,0,0,0,0, \
+         1,0,0.56,0,0.0784 > translate 3*z pigment { rgb 1 } }",
+    ];
+    for (i, body) in scenes.iter().enumerate() {
+        let text = format!(
+            "camera {{ location <0, 0, -3> angle 55 }}\n\
+             light_source {{ <200, 30, -300> color rgb 1 }}\n\
+             light_source {{ <-2, 3, 1> color rgb <1, 0.5, 0.2> }}\n\
+             light_source {{ <-20, 0.1, 3> color rgb <0.2, 0.5, 1> }}\n{body}\n"
+        );
+        let path = write(&dir, &format!("lights{i}.pov"), &text);
+        let options = sturmray::scene::LoadOptions {
+            size: Some((96, 72)),
+            ..sturmray::scene::LoadOptions::default()
+        };
+        let scene = Scene::load_with(&path, &options).unwrap();
+        for spp in [1, 4] {
+            let options = RenderOptions {
+                threads: Some(2),
+                spp: Some(spp),
+                ..RenderOptions::default()
+            };
+            let image = |backend| {
+                let accel = build(&scene, backend);
+                render(&scene, &accel, &options)
+                    .unwrap()
+                    .film
+                    .layers()
+                    .beauty
+            };
+            let (a, b) = (image(Backend::Embree), image(Backend::Obvhs));
+            assert!(a == b, "scene {i}, {spp} spp: the images differ");
+        }
+    }
+}

@@ -10,13 +10,13 @@ mod panics;
 pub mod primitive;
 pub mod rust_bvh;
 
-pub use rust_bvh::{ListBeams, ShapeSet};
+pub use rust_bvh::{LightBeams, ListBeams, ShapeSet};
 
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
 use crate::error::{Error, Result};
 use crate::geometry::{Mesh, Pinhole, Shape};
-use crate::math::{Hit, INVALID_ID, Ray, Ray64};
+use crate::math::{DVec3, Hit, INVALID_ID, Ray, Ray64};
 use crate::scene::{Instance, Scene};
 use crate::shading::Material;
 
@@ -197,6 +197,16 @@ impl Accel {
         }
     }
 
+    /// The shapes along a point light's rays, where the render's rays skip
+    /// the BVH and a shape's own lit points can be proven to cast no
+    /// shadow on themselves (`LightBeams`); None elsewhere.
+    pub fn light_beams(&self, light: DVec3) -> Option<LightBeams<'_>> {
+        match self {
+            Accel::Embree(_, Some(list)) => list.light_beams(light),
+            _ => None,
+        }
+    }
+
     /// Whether `intersect_exact_batch` traces its rays together (Embree's
     /// stream API), and so is worth gathering them for: elsewhere it asks
     /// one ray at a time, and gathering only costs.
@@ -222,8 +232,15 @@ impl Accel {
     }
 
     pub fn occluded(&self, ray: &Ray) -> bool {
+        self.occluded_among(ray, ShapeSet::ALL)
+    }
+
+    /// `occluded`, asking only the shapes of `among` where the render's
+    /// rays skip the BVH (`rust_bvh::ListScene`): those that some
+    /// `light_beams` proof leaves. Elsewhere every primitive is asked.
+    pub fn occluded_among(&self, ray: &Ray, among: ShapeSet) -> bool {
         match self {
-            Accel::Embree(s, Some(list)) => list.occluded(ray, s.panics()),
+            Accel::Embree(s, Some(list)) => list.occluded(ray, among, s.panics()),
             Accel::Embree(s, None) => s.occluded(ray),
             Accel::Obvhs(s) => s.occluded(ray),
             Accel::Bvh(s) => s.occluded(ray),

@@ -7,5 +7,6 @@ mod mesh;
 pub use analytic::csg::{Csg, CsgError, Leaf, Node, Op, Part};
 pub use analytic::{
     Box3, Crossing, Crossings, Pinhole, Quadric, RayPoly, Shape, ShapeBeams, ShapeHit, Surface,
+    shadow_start_bound,
 };
 pub use mesh::Mesh;

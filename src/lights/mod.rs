@@ -122,6 +122,17 @@ impl Light {
         }
     }
 
+    /// Where every ray of the light leaves from, for a light that has one
+    /// point (point and spot lights): its shadow rays all end there.
+    pub fn point(&self) -> Option<Vec3> {
+        match self {
+            Light::Point { position, .. }
+            | Light::Spot { position, .. }
+            | Light::PovPoint { position, .. } => Some(*position),
+            _ => None,
+        }
+    }
+
     /// The light as seen from p; area lights pick a point with `u`. None when
     /// the light sends nothing to p (p inside a sphere light, behind a quad).
     pub fn incident(&self, p: Vec3, u: [f32; 2]) -> Option<Incident> {

@@ -12,7 +12,7 @@
 //! rendered (a crop's edge tile traces its grid tile's other pixels too,
 //! and drops them), the passes, the threads or a resume.
 
-use crate::accel::Accel;
+use crate::accel::{Accel, ShapeSet};
 use crate::film::Region;
 use crate::math::{Hit, Ray64};
 use crate::sampling::Sampler;
@@ -44,6 +44,29 @@ impl TileCameras {
         grid: Region,
         camera: impl Fn((usize, usize)) -> (Ray64, f32, Sampler),
     ) {
+        self.gather(grid, camera);
+        self.hits.resize(self.rays.len(), Hit::MISS);
+        accel.intersect_exact_batch(&self.rays, &mut self.hits);
+    }
+
+    /// `trace`, one ray at a time, each offered the shapes `among` gives
+    /// its pixel (see `Accel::intersect_exact_among`).
+    pub(super) fn trace_among(
+        &mut self,
+        accel: &Accel,
+        grid: Region,
+        camera: impl Fn((usize, usize)) -> (Ray64, f32, Sampler),
+        among: impl Fn((usize, usize)) -> ShapeSet,
+    ) {
+        self.gather(grid, camera);
+        self.hits.clear();
+        let pixels = (grid.y0..grid.y1).flat_map(|y| (grid.x0..grid.x1).map(move |x| (x, y)));
+        for (ray, at) in self.rays.iter().zip(pixels) {
+            self.hits.push(accel.intersect_exact_among(ray, among(at)));
+        }
+    }
+
+    fn gather(&mut self, grid: Region, camera: impl Fn((usize, usize)) -> (Ray64, f32, Sampler)) {
         self.rays.clear();
         self.samples.clear();
         for y in grid.y0..grid.y1 {
@@ -53,8 +76,16 @@ impl TileCameras {
                 self.samples.push((weight, sampler));
             }
         }
-        self.hits.resize(self.rays.len(), Hit::MISS);
-        accel.intersect_exact_batch(&self.rays, &mut self.hits);
+    }
+
+    /// Pixel i's ray (row by row), as last traced.
+    pub(super) fn ray(&self, i: usize) -> &Ray64 {
+        &self.rays[i]
+    }
+
+    /// Each pixel's ray and hit, row by row, as last traced.
+    pub(super) fn hits(&self) -> impl Iterator<Item = (&Ray64, &Hit)> {
+        self.rays.iter().zip(&self.hits)
     }
 
     /// Pixel (x, y)'s ray, hit, weight and sampler, of `grid` as last traced.

@@ -2,6 +2,8 @@
 
 mod batch;
 pub mod job;
+mod lit;
+use lit::{LightProofs, Lit};
 pub mod merge;
 pub mod order;
 mod passes;
@@ -245,6 +247,7 @@ pub fn render_from(
     // An interrupted photon pass leaves no map: no pass can run without it.
     let photons_cut = plan.photon && caustics.is_none();
     let integrator = Tracer::new(scene, accel, plan, caustics.as_ref());
+    let light_proofs = integrator.light_proofs();
     let tiles = tiles_of(region);
     // Rectangles of camera rays proven to miss a shape skip it (see
     // `ListBeams`); a sample lies within the filter's radius of its
@@ -316,16 +319,20 @@ pub fn render_from(
                     }
                     let camera = |at, k| camera_ray(scene, &frame, &filter, at, k, spp);
                     // Sample a pixel's next sample, from its camera ray's hit.
-                    let mut sample =
-                        |pixel: &mut Pixel, ray: &Ray64, hit, weight, sampler: &mut Sampler| {
-                            if cut(first) {
-                                return None;
-                            }
-                            let mut sample = integrator.sample(ray, hit, sampler, &mut tally);
-                            sample.weight = weight;
-                            bad += passes::add(pixel, sample);
-                            Some(())
-                        };
+                    let mut sample = |pixel: &mut Pixel,
+                                      ray: &Ray64,
+                                      hit,
+                                      weight,
+                                      sampler: &mut Sampler,
+                                      lit| {
+                        if cut(first) {
+                            return None;
+                        }
+                        let mut sample = integrator.sample(ray, hit, sampler, &mut tally, lit);
+                        sample.weight = weight;
+                        bad += passes::add(pixel, sample);
+                        Some(())
+                    };
                     if accel.streams() && passes::every_pixel_takes(&range, spp, adaptive) {
                         // Sample k of the whole grid tile as one stream,
                         // its hits the same whatever the region or pass.
@@ -336,28 +343,64 @@ pub fn render_from(
                             for (y, row) in (tile.y0..tile.y1).zip(rows.iter_mut()) {
                                 for (x, pixel) in (tile.x0..tile.x1).zip(row.iter_mut()) {
                                     let (ray, hit, weight, sampler) = cameras.get(grid, (x, y));
-                                    sample(pixel, ray, hit, weight, sampler)?;
+                                    sample(pixel, ray, hit, weight, sampler, Lit::NONE)?;
                                 }
                             }
                         }
                     } else {
-                        // Adaptive rounds (the pixels that take them) and
-                        // backends without streams: one ray at a time, each
-                        // offered the shapes its rectangle may hit.
+                        // Backends without streams, each ray offered the
+                        // shapes its rectangle may hit.
                         let sets = (beams.as_ref())
                             .map(|b| proofs.get_or_init(|| tile_sets(b, *tile, reach)));
-                        for (y, row) in (tile.y0..tile.y1).zip(rows.iter_mut()) {
-                            for (x, pixel) in (tile.x0..tile.x1).zip(row.iter_mut()) {
-                                if !passes::takes(pixel, &range, spp, adaptive) {
-                                    continue;
-                                }
-                                let among = sets.as_ref().map_or(ShapeSet::ALL, |s| {
-                                    s[(y - tile.y0) * TILE + x - tile.x0]
-                                });
+                        let among = |(x, y): (usize, usize)| {
+                            sets.as_ref()
+                                .map_or(ShapeSet::ALL, |s| s[(y - tile.y0) * TILE + x - tile.x0])
+                        };
+                        match &light_proofs {
+                            Some(light_proofs)
+                                if passes::every_pixel_takes(&range, spp, adaptive) =>
+                            {
+                                // Sample k of the whole tile traced first,
+                                // for the proofs that spare its shadow rays.
+                                let (mut cameras, mut lit) = (TileCameras::new(), Vec::new());
                                 for k in range.clone() {
-                                    let (ray, weight, mut sampler) = camera((x, y), k);
-                                    let hit = accel.intersect_exact_among(&ray, among);
-                                    sample(pixel, &ray, hit, weight, &mut sampler)?;
+                                    cameras.trace_among(accel, *tile, |at| camera(at, k), among);
+                                    light_proofs.prove(&cameras, *tile, &mut lit);
+                                    let pixels = (tile.y0..tile.y1).zip(rows.iter_mut()).flat_map(
+                                        |(y, row)| {
+                                            (tile.x0..tile.x1)
+                                                .zip(row.iter_mut())
+                                                .map(move |(x, p)| ((x, y), p))
+                                        },
+                                    );
+                                    for ((at, pixel), lit) in pixels.zip(&lit) {
+                                        let (ray, hit, weight, sampler) = cameras.get(*tile, at);
+                                        sample(pixel, ray, hit, weight, sampler, *lit)?;
+                                    }
+                                }
+                            }
+                            // Adaptive rounds (the pixels that take them):
+                            // one ray at a time.
+                            _ => {
+                                for (y, row) in (tile.y0..tile.y1).zip(rows.iter_mut()) {
+                                    for (x, pixel) in (tile.x0..tile.x1).zip(row.iter_mut()) {
+                                        if !passes::takes(pixel, &range, spp, adaptive) {
+                                            continue;
+                                        }
+                                        for k in range.clone() {
+                                            let (ray, weight, mut sampler) = camera((x, y), k);
+                                            let hit =
+                                                accel.intersect_exact_among(&ray, among((x, y)));
+                                            sample(
+                                                pixel,
+                                                &ray,
+                                                hit,
+                                                weight,
+                                                &mut sampler,
+                                                Lit::NONE,
+                                            )?;
+                                        }
+                                    }
                                 }
                             }
                         }
@@ -478,9 +521,29 @@ impl<'a> Tracer<'a> {
 
     /// A camera sample's radiance as linear light: the integrators work in
     /// the scene's colour space (`WorkingGamma`), decoded here.
-    fn sample(&self, camera: &Ray64, hit: Hit, sampler: &mut Sampler, tally: &mut Tally) -> Sample {
+    /// The proofs that spare shadow rays (`lit`), for the Whitted tracer
+    /// where no surface filters shadows: the path tracer's shadow rays
+    /// start at sampled points, not at the camera's hits alone.
+    fn light_proofs(&self) -> Option<LightProofs<'a>> {
+        match self {
+            Tracer::Whitted(w) if w.plan.shadow && !w.plan.filtered_shadows => {
+                LightProofs::new(w.scene, w.accel)
+            }
+            _ => None,
+        }
+    }
+
+    /// `lit` is `Lit::NONE` but for the Whitted tracer (`light_proofs`).
+    fn sample(
+        &self,
+        camera: &Ray64,
+        hit: Hit,
+        sampler: &mut Sampler,
+        tally: &mut Tally,
+        lit: Lit,
+    ) -> Sample {
         let (mut sample, scene) = match self {
-            Tracer::Whitted(w) => (w.sample(camera, hit, sampler, tally), w.scene),
+            Tracer::Whitted(w) => (w.sample(camera, hit, sampler, tally, lit), w.scene),
             Tracer::Path(p) => (p.sample(camera, hit, sampler, tally), p.scene),
         };
         sample.radiance = scene.render.working_gamma.to_linear(sample.radiance);
@@ -589,7 +652,7 @@ pub fn explain(
             let (ray, weight, sampler) = camera(pixel);
             (ray, accel.intersect_exact(&ray), weight, sampler)
         };
-    let mut result = integrator.sample(&ray, hit, &mut sampler, &mut tally);
+    let mut result = integrator.sample(&ray, hit, &mut sampler, &mut tally, Lit::NONE);
     result.weight = weight;
     accel.check()?;
     Ok((result, ray.rounded(), tally.tree.unwrap_or_default()))

@@ -7,9 +7,10 @@
 //! tree: with the specular chains the tree follows from the eye, that covers
 //! L S+ D S* E.
 
+use super::lit::Lit;
 use super::tally::{Node, RayKind, Tally};
 use super::{PhotonMap, Plan};
-use crate::accel::Accel;
+use crate::accel::{Accel, ShapeSet};
 use crate::film::Sample;
 use crate::lights::LightRef;
 use crate::math::{Hit, Ray, Ray64, Vec3, offset};
@@ -17,6 +18,10 @@ use crate::sampling::Sampler;
 use crate::scene::{Interaction, Scene, fog_along, fog_through};
 use crate::shading::fresnel;
 use crate::shading::{MaterialKind, Surface};
+
+/// How far short of a light its shadow rays stop, as a fraction of their
+/// length.
+pub(super) const SHADOW_SHORT: f32 = 1e-4;
 
 /// The most surfaces a shadow ray passes filtered (`Whitted::shadow_through`):
 /// far more than any glass in a scene puts between a point and a light.
@@ -27,6 +32,8 @@ const MAX_FILTERING_SURFACES: u32 = 64;
 struct Walk<'t> {
     tally: &'t mut Tally,
     sampler: &'t mut Sampler,
+    /// The shapes the camera hit's shadow rays are offered.
+    lit: Lit,
 }
 
 pub struct Whitted<'a> {
@@ -40,15 +47,21 @@ pub struct Whitted<'a> {
 impl Whitted<'_> {
     /// The radiance along a camera ray, with the first hit's AOVs. The ray's
     /// `hit` was found in f64 (`Accel::intersect_exact`); it is followed as
-    /// its f32 rounding.
+    /// its f32 rounding. Its shadow rays towards a light `lit` names skip
+    /// the shape proven to cast no shadow on the hit.
     pub fn sample(
         &self,
         camera: &Ray64,
         hit: Hit,
         sampler: &mut Sampler,
         tally: &mut Tally,
+        lit: Lit,
     ) -> Sample {
-        let walk = &mut Walk { tally, sampler };
+        let walk = &mut Walk {
+            tally,
+            sampler,
+            lit,
+        };
         let ray = &camera.rounded();
         // Once for the ray tree and the AOVs: an analytic hit's error bound
         // costs a substitution of the ray into its polynomial.
@@ -288,9 +301,11 @@ impl Whitted<'_> {
     /// materials (`Plan::filtered_shadows`), POV-Ray's shadows: each surface
     /// of one the ray crosses, going in and coming out, lets through its
     /// colour × filter + transmit, without bending the ray.
-    fn shadow_through(&self, shadow: &Ray, fogged: bool) -> Vec3 {
+    /// `among`: the shapes that may block it (see `Lit`), where no
+    /// surface filters shadows.
+    fn shadow_through(&self, shadow: &Ray, fogged: bool, among: ShapeSet) -> Vec3 {
         if !self.plan.filtered_shadows {
-            return if self.accel.occluded(shadow) {
+            return if self.accel.occluded_among(shadow, among) {
                 Vec3::ZERO
             } else if fogged {
                 fog_through(&self.scene.fogs, shadow)
@@ -403,7 +418,7 @@ impl Whitted<'_> {
             }
             let mut shadow = Ray::new(offset(it.p, it.error, it.n, incident.wi), incident.wi);
             // Stop just short of the light: its own surface must not occlude it.
-            shadow.tfar = incident.distance * (1.0 - 1e-4);
+            shadow.tfar = incident.distance * (1.0 - SHADOW_SHORT);
             let shadowing = self.scene.shadowing(light);
             let fogged = shadowing.fogged && self.plan.fog;
             let through = if shadowing.shadowless {
@@ -415,7 +430,11 @@ impl Whitted<'_> {
                 }
             } else {
                 walk.tally.count(RayKind::Shadow, depth);
-                self.shadow_through(&shadow, fogged)
+                let among = match light {
+                    LightRef::Index(i) if depth == 0 => walk.lit.among(i),
+                    _ => ShapeSet::ALL,
+                };
+                self.shadow_through(&shadow, fogged, among)
             };
             let contribution = if through == Vec3::ZERO {
                 Vec3::ZERO

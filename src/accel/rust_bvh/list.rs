@@ -11,7 +11,7 @@ use super::primitives::Slabs;
 use crate::accel::panics::PanicSlot;
 use crate::accel::primitive::{UserPrimitive, crossings, held, padding};
 use crate::geometry::{Pinhole, Shape, ShapeBeams};
-use crate::math::{Bounds, Hit, INVALID_ID, Ray, Ray64};
+use crate::math::{Bounds, DVec3, Hit, INVALID_ID, Ray, Ray64};
 use crate::scene::Scene;
 
 /// The most shapes a scene traced without a BVH may have. With a BVH the
@@ -95,7 +95,7 @@ impl ListScene {
     /// shapes that have one; None if none has.
     pub(crate) fn beams(&self, pinhole: &Pinhole) -> Option<ListBeams<'_>> {
         let shapes: Box<[_]> = (self.shapes.iter())
-            .map(|(b, shape)| shape.beams(pinhole, b))
+            .map(|(b, shape)| shape.beams(pinhole, 0.0, b))
             .collect();
         shapes
             .iter()
@@ -104,13 +104,36 @@ impl ListScene {
     }
 
     /// Whether any shape blocks the ray; a panic counts as no hit.
-    pub(crate) fn occluded(&self, ray: &Ray, panics: &PanicSlot) -> bool {
+    pub(crate) fn occluded(&self, ray: &Ray, among: ShapeSet, panics: &PanicSlot) -> bool {
         panics.guard(false, || {
             let slabs = Slabs::new(ray);
-            (self.shapes.iter()).any(|(b, shape)| {
-                slabs.meet(b, ray.tnear, ray.tfar) && UserPrimitive::occluded(shape, ray)
+            (self.shapes.iter().enumerate()).any(|(i, (b, shape))| {
+                among.has(i)
+                    && slabs.meet(b, ray.tnear, ray.tfar)
+                    && UserPrimitive::occluded(shape, ray)
             })
         })
+    }
+
+    /// Each shape's F along the rays of a point light at `light`
+    /// (`Pinhole::toward` the shape's box), where some shape's can be
+    /// formed: for proving that shadow rays from a shape's own lit points
+    /// meet it nowhere (`LightBeams::lights`).
+    pub(crate) fn light_beams(&self, light: DVec3) -> Option<LightBeams<'_>> {
+        let shapes: Box<[_]> = (self.shapes.iter())
+            .map(|(b, shape)| {
+                // Expanded about the box's centre, where the hits are.
+                let centre = 0.5 * (b.min + b.max).as_dvec3();
+                let depth = (centre - light).length();
+                Pinhole::toward(light, centre)
+                    .and_then(|pinhole| shape.beams(&pinhole, depth, b))
+                    .filter(ShapeBeams::proves_lights)
+            })
+            .collect();
+        shapes
+            .iter()
+            .any(Option::is_some)
+            .then_some(LightBeams(shapes))
     }
 }
 
@@ -120,6 +143,11 @@ pub struct ShapeSet(u8);
 
 impl ShapeSet {
     pub const ALL: ShapeSet = ShapeSet(u8::MAX);
+
+    /// The set without shape `i`.
+    pub fn without(self, i: usize) -> ShapeSet {
+        ShapeSet(self.0 & !1u8.checked_shl(i as u32).unwrap_or(0))
+    }
 
     fn has(self, i: usize) -> bool {
         self.0 & (1 << i) != 0
@@ -131,6 +159,18 @@ const _: () = assert!(MOST_SHAPES <= u8::BITS as usize);
 
 /// The list's shapes along a pinhole camera's rays (see `ShapeBeams`).
 pub struct ListBeams<'a>(Box<[Option<ShapeBeams<'a>>]>);
+
+/// The list's shapes along one point light's rays (`ListScene::light_beams`).
+pub struct LightBeams<'a>(Box<[Option<ShapeBeams<'a>>]>);
+
+impl LightBeams<'_> {
+    /// Whether no shadow ray towards the light from any of `points`, each
+    /// a lit point of shape `i` with a bound on how far from it its
+    /// shadow ray starts, meets shape `i` (`ShapeBeams::lights`).
+    pub fn lights(&self, i: usize, points: &[(DVec3, f64)], short: f64) -> bool {
+        (self.0.get(i)).is_some_and(|b| b.as_ref().is_some_and(|b| b.lights(points, short)))
+    }
+}
 
 impl ListBeams<'_> {
     /// The shapes of `among` that some ray through pixel coordinates
@@ -269,7 +309,7 @@ mod tests {
                         &name,
                         &ray,
                     );
-                    let occluded = list.occluded(&ray, panics);
+                    let occluded = list.occluded(&ray, ShapeSet::ALL, panics);
                     assert_eq!(occluded, embree.occluded(&ray), "{name}: shadow {ray:?}");
                     blocked += usize::from(occluded);
                 }

@@ -11,7 +11,7 @@ mod sah;
 mod triangle;
 
 pub use cwbvh::CwbvhScene;
-pub use list::{ListBeams, ListScene, ShapeSet};
+pub use list::{LightBeams, ListBeams, ListScene, ShapeSet};
 pub use sah::SahScene;
 
 #[cfg(test)]

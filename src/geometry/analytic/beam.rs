@@ -34,8 +34,28 @@ const N: usize = MOST_DEGREE + 1;
 /// points off these by a few roundings) are far below it.
 const CLEAR: f64 = 1.0 / (1u64 << 20) as f64;
 
+/// A bound on the rounding of the proof's own steps (the expansion, the
+/// shifts, the conversion, the halvings: some 150 roundings at most), as a
+/// fraction of the magnitude of G's terms: 2^-40, some 50 times above it.
+const ROUNDING: f64 = 1.0 / (1u64 << 40) as f64;
+
+/// How much nearer the light each stretch before a shadow ray's start
+/// reaches than the one after it (`ShapeBeams::lights`): each is proven
+/// over the window widened for its nearest depth.
+const BACK: f64 = 8.0;
+
 /// Halvings of a stretch of s tried before a rectangle is given up.
 const SPLITS: u32 = 6;
+
+/// Halvings tried for a monotone stretch: it is thin (the depths of a
+/// tile's points), and on POV-Ray's quartic samples more halvings proved
+/// no more tiles.
+const MONOTONE_SPLITS: u32 = 2;
+
+/// How far, as a fraction of its length, a shadow ray's f32 direction
+/// may point beside the light: far above the few roundings of f32's
+/// normalised difference (each about 6e-8).
+const SHADOW_DIRECTION: f64 = 1e-6;
 
 /// How much the stretch of s is widened each way, relative: the rays a
 /// search follows are these rounded, their boxes' ends a few roundings off.
@@ -52,6 +72,30 @@ pub struct Pinhole {
 }
 
 impl Pinhole {
+    /// The rays from a point light at `eye` towards `target`: D(u, v) =
+    /// forward + u·right + v·down, with the three axes orthonormal and
+    /// forward towards the target, so a point p in front of the light is
+    /// eye + s·D(u, v) at s = (p − eye)·forward (`coords`). None where the
+    /// target is the light's own position, or not finite.
+    pub fn toward(eye: DVec3, target: DVec3) -> Option<Pinhole> {
+        let forward = (target - eye).try_normalize()?;
+        let right = forward.any_orthonormal_vector();
+        Some(Pinhole {
+            eye,
+            top_left: forward,
+            right,
+            down: forward.cross(right),
+        })
+    }
+
+    /// (u, v, s) with p = eye + s·D(u, v), for a pinhole made by `toward`;
+    /// None for a point not in front of the eye.
+    pub fn coords(&self, p: DVec3) -> Option<(f64, f64, f64)> {
+        let q = p - self.eye;
+        let s = q.dot(self.top_left);
+        (s > 0.0 && s.is_finite()).then(|| (q.dot(self.right) / s, q.dot(self.down) / s, s))
+    }
+
     fn dir(&self, x: f64, y: f64) -> DVec3 {
         self.top_left + x * self.right + y * self.down
     }
@@ -65,6 +109,8 @@ type Tensor = [[[f64; N]; N]; N];
 pub struct ShapeBeams<'a> {
     form: Form<'a>,
     pinhole: Pinhole,
+    /// Where along the rays G is expanded about: its σ is s − depth.
+    depth: f64,
     /// The world box that holds every hit on the shape.
     hits: (DVec3, DVec3),
     /// The world box of the shape's gate (`bounded_by`), if it has one:
@@ -98,10 +144,11 @@ struct Expanded {
 
 impl Shape {
     /// The shape's F along `pinhole`'s rays, hit only inside `bounds`
-    /// (world): for an algebraic surface of degree 4 or less, and for a
-    /// tree with such solid leaves (None for others, and for a box that
-    /// is not finite).
-    pub fn beams(&self, pinhole: &Pinhole, bounds: &Bounds) -> Option<ShapeBeams<'_>> {
+    /// (world), expanded about `depth` along them (see `Expanded::of`):
+    /// for an algebraic surface of degree 4 or less, and for a tree with
+    /// such solid leaves (None for others, and for a box that is not
+    /// finite).
+    pub fn beams(&self, pinhole: &Pinhole, depth: f64, bounds: &Bounds) -> Option<ShapeBeams<'_>> {
         let finite = |b: &Bounds| {
             let (min, max) = (b.min.as_dvec3(), b.max.as_dvec3());
             (min.is_finite() && max.is_finite() && min.cmple(max).all()).then_some((min, max))
@@ -111,7 +158,7 @@ impl Shape {
             Surface::Csg(tree) => {
                 let leaves: Vec<_> = (tree.leaves().iter())
                     .map(|leaf| match &leaf.part {
-                        Part::Solid(shape) if !leaf.inverse => Expanded::of(shape, pinhole),
+                        Part::Solid(shape) if !leaf.inverse => Expanded::of(shape, pinhole, depth),
                         _ => None,
                     })
                     .collect();
@@ -120,11 +167,12 @@ impl Shape {
                     .any(Option::is_some)
                     .then_some(Form::Tree(tree, leaves))?
             }
-            _ => Form::Plain(Box::new(Expanded::of(self, pinhole)?)),
+            _ => Form::Plain(Box::new(Expanded::of(self, pinhole, depth)?)),
         };
         Some(ShapeBeams {
             form,
             pinhole: *pinhole,
+            depth,
             hits,
             gate: self.gate.as_ref().and_then(|gate| finite(&gate.bounds())),
         })
@@ -132,24 +180,32 @@ impl Shape {
 }
 
 impl Expanded {
-    /// `shape`'s F along `pinhole`'s rays, for an algebraic surface of
-    /// degree 4 or less: F(o + s·T + σ·R + ρ·D) in its object space,
-    /// σ = s·x and ρ = s·y.
-    fn of(shape: &Shape, pinhole: &Pinhole) -> Option<Expanded> {
+    /// `shape`'s F along `pinhole`'s rays eye + (depth + σ)·(T + x·R + y·D),
+    /// as a polynomial G(σ, x, y), for an algebraic surface of degree 4 or
+    /// less: F(c + σ·T + a·R + b·D) in its object space, c = eye +
+    /// depth·T, a = (depth + σ)·x and b = (depth + σ)·y. About a depth
+    /// near the shape, G's terms are of the size of F's values there: a
+    /// far light's own position would give terms that cancel by many
+    /// orders, and a rounding bound as large.
+    fn of(shape: &Shape, pinhole: &Pinhole, depth: f64) -> Option<Expanded> {
         let Surface::Algebraic(f) = &shape.surface else {
             return None;
         };
         if f.degree() > MOST_DEGREE {
             return None;
         }
-        let o = shape.to_object.transform_point3(pinhole.eye).to_array();
+        let o = (shape.to_object)
+            .transform_point3(pinhole.eye + depth * pinhole.top_left)
+            .to_array();
         let axes = [pinhole.top_left, pinhole.right, pinhole.down]
             .map(|v| shape.to_object.transform_vector3(v).to_array());
         let m: [[f64; 3]; 3] = std::array::from_fn(|i| std::array::from_fn(|k| axes[k][i]));
         let positive = Trivariate::from_terms(f.terms().iter().map(|&(e, c)| (e, c.abs())));
-        let g = tensor(&f.compose_affine(m, o));
-        let magnitude =
-            tensor(&positive.compose_affine(m.map(|r| r.map(f64::abs)), o.map(f64::abs)));
+        let g = tensor(&f.compose_affine(m, o), depth);
+        let magnitude = tensor(
+            &positive.compose_affine(m.map(|r| r.map(f64::abs)), o.map(f64::abs)),
+            depth.abs(),
+        );
         let all_finite = |t: &Tensor| flat(t).iter().all(|c| c.is_finite());
         (all_finite(&g) && all_finite(&magnitude)).then_some(Expanded {
             g,
@@ -158,41 +214,44 @@ impl Expanded {
         })
     }
 
-    /// The sign (true: positive) F keeps, clear of zero, on the rays
-    /// through [x0, x1] × [y0, y1] over s in (s0, s1), and with `far`
-    /// beyond s1 too; None where that is not proven.
-    fn sign(
-        &self,
-        (x0, x1): (f64, f64),
-        (y0, y1): (f64, f64),
-        (s0, s1): (f64, f64),
-        far: bool,
-    ) -> Option<bool> {
-        // x = x0 + (x1 − x0) u, y likewise, u and v in [0, 1].
+    /// G over the rays through [x0, x1] × [y0, y1], x = x0 + (x1 − x0) u
+    /// and y likewise, in Bernstein's form in (u, v) on [0, 1]²: the part
+    /// of a proof every stretch of σ over the rectangle shares.
+    fn window(&self, (x0, x1): (f64, f64), (y0, y1): (f64, f64)) -> Window {
         let mut rect = Bounded {
             g: self.g,
             magnitude: self.magnitude,
         };
         rect.along::<1>(|c, positive| shift(c, if positive { x0.abs() } else { x0 }, x1 - x0));
         rect.along::<2>(|c, positive| shift(c, if positive { y0.abs() } else { y0 }, y1 - y0));
-        let bernstein = |mut b: Bounded| {
-            b.along::<0>(|c, _| to_bernstein(c));
-            b.along::<1>(|c, _| to_bernstein(c));
-            b.along::<2>(|c, _| to_bernstein(c));
-            b.sign(SPLITS)
-        };
-        // s = s0 + (s1 − s0) τ, τ in [0, 1].
-        let mut near = rect;
-        near.along::<0>(|c, _| shift(c, s0, s1 - s0));
-        let sign = bernstein(near)?;
+        rect.along::<1>(|c, _| to_bernstein(c));
+        rect.along::<2>(|c, _| to_bernstein(c));
+        Window {
+            rect,
+            degree: self.degree,
+        }
+    }
+}
+
+/// G over a rectangle of rays (`Expanded::window`).
+struct Window {
+    rect: Bounded,
+    degree: usize,
+}
+
+impl Window {
+    /// The sign (true: positive) G keeps, clear of zero, over σ in (σ0, σ1),
+    /// and with `far` beyond σ1 too; None where that is not proven.
+    fn sign(&self, (s0, s1): (f64, f64), far: bool) -> Option<bool> {
+        let sign = self.rect.over(s0, s1).sign(SPLITS)?;
         if !far {
             return Some(sign);
         }
-        // s = s1 / w, w in (0, 1]: G's sign is w^n G(s1 / w)'s, a
+        // σ = σ1 / w, w in (0, 1]: G's sign is w^n G(σ1 / w)'s, a
         // polynomial in w (the coefficients reversed and scaled), whose
         // value at w = 0 is G's leading part, its sign far along the rays.
         let n = self.degree;
-        let mut beyond = rect;
+        let mut beyond = self.rect;
         beyond.along::<0>(|c, _| {
             let mut reversed = [0.0; N];
             let mut power = 1.0;
@@ -201,8 +260,15 @@ impl Expanded {
                 power *= s1;
             }
             *c = reversed;
+            to_bernstein(c);
         });
-        (bernstein(beyond)? == sign).then_some(sign)
+        (beyond.sign(SPLITS)? == sign).then_some(sign)
+    }
+
+    /// Whether G is monotone, with its rate of change clear of zero, along
+    /// every ray over σ in [σ0, σ1].
+    fn monotone(&self, (s0, s1): (f64, f64)) -> bool {
+        self.rect.over(s0, s1).monotone(MONOTONE_SPLITS).is_some()
     }
 }
 
@@ -211,12 +277,18 @@ fn flat(t: &Tensor) -> &[f64] {
     t.as_flattened().as_flattened()
 }
 
-/// A polynomial in (s, σ, ρ) with σ = s·x, ρ = s·y, as one in (s, x, y).
-fn tensor(p: &Trivariate) -> Tensor {
+/// A polynomial in (σ, a, b) with a = (depth + σ)·x, b = (depth + σ)·y,
+/// as one in (σ, x, y): a^j b^k = x^j y^k Σ_m C(j + k, m) depth^(j+k−m) σ^m.
+/// With depth ≥ 0 every weight is positive, so the magnitude's terms map
+/// to a magnitude of the result's.
+fn tensor(p: &Trivariate, depth: f64) -> Tensor {
     let mut t = [[[0.0; N]; N]; N];
     for &([i, j, k], c) in p.terms() {
         let [i, j, k] = [i, j, k].map(usize::from);
-        t[i + j + k][j][k] += c;
+        for m in 0..=j + k {
+            let weight = binomial(j + k, m) * depth.powi((j + k - m) as i32);
+            t[i + m][j][k] += c * weight;
+        }
     }
     t
 }
@@ -229,6 +301,15 @@ struct Bounded {
 }
 
 impl Bounded {
+    /// With σ = s0 + (s1 − s0) τ, τ in [0, 1], in Bernstein's form in τ.
+    fn over(mut self, s0: f64, s1: f64) -> Bounded {
+        self.along::<0>(|c, positive| {
+            shift(c, if positive { s0.abs() } else { s0 }, s1 - s0);
+            to_bernstein(c);
+        });
+        self
+    }
+
     /// `f` on every line along `AXIS` of both: `f` must take a polynomial
     /// with positive coefficients to one with positive coefficients,
     /// through sums of products of positive factors, and the magnitude
@@ -282,6 +363,42 @@ impl Bounded {
         let sign = low.sign(splits - 1)?;
         (high.sign(splits - 1)? == sign).then_some(sign)
     }
+
+    /// The sign (true: rising) of every difference of neighbouring
+    /// coefficients in s (Bernstein's, on [0, 1]³), each clear of zero by
+    /// `ROUNDING` of the two magnitudes, or, `splits` more times, of each
+    /// half in s; None where they differ. The differences are, up to a
+    /// positive factor, the Bernstein coefficients of ∂G/∂s.
+    fn monotone(&self, splits: u32) -> Option<bool> {
+        let (mut rising, mut falling, mut finite) = (true, true, true);
+        for s in 0..N - 1 {
+            for x in 0..N {
+                for y in 0..N {
+                    let d = self.g[s + 1][x][y] - self.g[s][x][y];
+                    let m = self.magnitude[s + 1][x][y] + self.magnitude[s][x][y];
+                    rising &= d > ROUNDING * m;
+                    falling &= d < -ROUNDING * m;
+                    finite &= d.is_finite() && m.is_finite();
+                }
+            }
+        }
+        if rising || falling {
+            return Some(rising);
+        }
+        // The differences at the corners are ∂G/∂s there, up to a
+        // positive factor: two of opposite signs, and no halving helps.
+        let last = N - 1;
+        let corners = [(0, 1), (last - 1, last)]
+            .map(|(a, b)| [0, last].map(|x| [0, last].map(|y| self.g[b][x][y] - self.g[a][x][y])));
+        let corners = corners.as_flattened().as_flattened();
+        let crossed = corners.iter().any(|&c| c > 0.0) && corners.iter().any(|&c| c < 0.0);
+        if splits == 0 || crossed || !finite {
+            return None;
+        }
+        let [low, high] = self.halves();
+        let rate = low.monotone(splits - 1)?;
+        (high.monotone(splits - 1)? == rate).then_some(rate)
+    }
 }
 
 impl ShapeBeams<'_> {
@@ -289,43 +406,169 @@ impl ShapeBeams<'_> {
     /// meets the shape's surface inside its box: false where that is not
     /// proven.
     pub fn misses(&self, xs: (f64, f64), ys: (f64, f64)) -> bool {
-        let p = &self.pinhole;
-        let ((x0, x1), (y0, y1)) = (xs, ys);
-        let corners = [(x0, y0), (x1, y0), (x0, y1), (x1, y1)].map(|(x, y)| p.dir(x, y).length());
-        let longest = corners.into_iter().fold(0.0, f64::max);
-        // |D| is convex: at least its value at the centre less the most
-        // it can change from there.
-        let shortest = p.dir(0.5 * (x0 + x1), 0.5 * (y0 + y1)).length()
-            - 0.5 * ((x1 - x0) * p.right.length() + (y1 - y0) * p.down.length());
-        if !(shortest > 0.0 && longest.is_finite()) {
+        let Some(reach) = self.reach(xs, ys) else {
             return false;
-        }
-        // The stretch of s where a ray meets a box.
-        let stretch = |(min, max): (DVec3, DVec3)| {
-            let (min, max) = (min - p.eye, max - p.eye);
-            let nearest = DVec3::ZERO.max(min).max(-max).length();
-            let farthest = min.abs().max(max.abs()).length();
-            (
-                nearest / longest * (1.0 - SLACK),
-                farthest / shortest * (1.0 + SLACK),
-            )
         };
-        let (s0, s1) = stretch(self.hits);
+        let (s0, s1) = reach.stretch(self.hits);
         // Beyond the gate's box, to infinity, as one stretch.
         let (s1, far) = match self.gate {
-            Some(gate) => (s1.min(stretch(gate).1), true),
+            Some(gate) => (s1.min(reach.stretch(gate).1), true),
             None => (s1, false),
         };
-        if !(s0 >= 0.0 && s1 > s0 && s1.is_finite()) {
+        // In σ = s − depth, which the stretch beyond the gate needs
+        // positive at its start.
+        let (s0, s1) = (s0 - self.depth, s1 - self.depth);
+        if !(s0 + self.depth >= 0.0 && s1 > s0 && s1.is_finite() && (!far || s1 > 0.0)) {
             return false;
         }
-        let sign = |e: &Expanded| e.sign(xs, ys, (s0, s1), far);
+        let sign = |e: &Expanded| e.window(xs, ys).sign((s0, s1), far);
         match &self.form {
             Form::Plain(e) => sign(e).is_some(),
             Form::Tree(tree, leaves) => {
                 tree.outside(&mut |i| leaves[i].as_ref().and_then(sign) == Some(true))
             }
         }
+    }
+
+    /// Whether `lights` can prove anything: for plain surfaces only.
+    pub fn proves_lights(&self) -> bool {
+        matches!(self.form, Form::Plain(_))
+    }
+
+    /// Whether no shadow ray towards the pinhole, a point light's
+    /// (`Pinhole::toward`), meets the surface, from any of `points`: each
+    /// a point of the surface, with a bound on how far from it (world) its
+    /// shadow ray starts, just off the surface on the light's side. The
+    /// rays stop short of the light by `short` of their length. False
+    /// where that is not proven.
+    ///
+    /// Over the window of (u, v) and the stretch [s0, s1] of depths that
+    /// hold the points, F must be monotone along every ray of the window,
+    /// and clear of zero, by more than a ray's search could round, before
+    /// s0 (as far back as the rays run in the shape's box). Along each
+    /// ray the surface is then met at most once up to s1, where the point
+    /// is; the start of its shadow ray, between the point and the light on
+    /// the same side of the surface as the light, is reached by no
+    /// crossing.
+    pub fn lights(&self, points: &[(DVec3, f64)], short: f64) -> bool {
+        let Form::Plain(e) = &self.form else {
+            return false;
+        };
+        let p = &self.pinhole;
+        let (mut us, mut vs) = ((f64::MAX, f64::MIN), (f64::MAX, f64::MIN));
+        let mut ss = (f64::MAX, 0.0_f64);
+        for &(q, pad) in points {
+            let Some((u, v, s)) = p.coords(q) else {
+                return false;
+            };
+            // A move of pad in the world moves (u, v) by at most this
+            // much, seen from at least s − pad away.
+            let near = s - pad;
+            let w = pad * (1.0 + u.abs() + v.abs()) / near;
+            if !(near > 0.0 && w.is_finite()) {
+                return false;
+            }
+            us = (us.0.min(u - w), us.1.max(u + w));
+            vs = (vs.0.min(v - w), vs.1.max(v + w));
+            ss = (ss.0.min(near), ss.1.max(s + pad));
+        }
+        if points.is_empty() {
+            return false;
+        }
+        // The points sample the surface at pixels; between them, towards
+        // the window's corners, the light's rays meet it nearer or
+        // farther by about as much as the points' depths differ. The
+        // stretch proven monotone takes that in on either side.
+        let spread = ss.1 - ss.0;
+        let (s0, s1) = (ss.0 - spread, ss.1 + spread);
+        // A shadow ray is an f32 ray: its direction is the way to the
+        // light to a few roundings, so at depth s its line passes beside
+        // the light's ray by up to SHADOW_DIRECTION of its length, at
+        // most s1: in (u, v), by `w(s)`. Nearer the light the window
+        // widens, a stretch at a time.
+        let most = 1.0 + us.0.abs().max(us.1.abs()) + vs.0.abs().max(vs.1.abs());
+        let w = |s: f64| SHADOW_DIRECTION * s1 * most * most / s;
+        let widened = |w: f64| ((us.0 - w, us.1 + w), (vs.0 - w, vs.1 + w));
+        // One window, widened for the stretches that reach no nearer the
+        // light than s0 / BACK, serves the slab and those stretches.
+        let d = self.depth;
+        let mut widest = w(s0 / BACK);
+        let window_of = |w: f64| {
+            let (xs, ys) = widened(w);
+            e.window(xs, ys)
+        };
+        let mut window = window_of(widest);
+        if !(s0 > 0.0 && s1.is_finite() && window.monotone((s0 - d, s1 - d))) {
+            return false;
+        }
+        // The rays end `short` of their length from the light, and no
+        // point is nearer it than s0. Back from s0, stretches each BACK
+        // times longer than the one after it (F grows away from the
+        // surface, and a stretch's Bernstein bounds are as fine as its
+        // length is to the distance from the surface), and reaching no
+        // nearer the light than 1 / BACK of their far end (the window,
+        // widened for the near end, holds the rays to the far end).
+        let end = 0.5 * short * s0;
+        let (mut to, mut step) = (s0, 4.0 * (s1 - s0));
+        loop {
+            // Where the rays enter the box, found for the window widened
+            // for the stretch's farthest reach back (a wider window's
+            // rays enter no later).
+            let back = (to - step).max(to / BACK).max(end);
+            let (xs, ys) = widened(w(back));
+            let Some(reach) = self.reach(xs, ys) else {
+                return false;
+            };
+            let from = back.max(reach.stretch(self.hits).0);
+            if w(from) > widest {
+                widest = w(from);
+                window = window_of(widest);
+            }
+            if from < to && window.sign((from - d, to - d), false).is_none() {
+                return false;
+            }
+            if from <= end || from >= to {
+                return true;
+            }
+            (to, step) = (from, step * BACK);
+        }
+    }
+
+    /// The least and greatest |D| over the rectangle, None where a ray
+    /// through it is not well defined.
+    fn reach(&self, (x0, x1): (f64, f64), (y0, y1): (f64, f64)) -> Option<Reach> {
+        let p = &self.pinhole;
+        let corners = [(x0, y0), (x1, y0), (x0, y1), (x1, y1)].map(|(x, y)| p.dir(x, y).length());
+        let longest = corners.into_iter().fold(0.0, f64::max);
+        // |D| is convex: at least its value at the centre less the most
+        // it can change from there.
+        let shortest = p.dir(0.5 * (x0 + x1), 0.5 * (y0 + y1)).length()
+            - 0.5 * ((x1 - x0) * p.right.length() + (y1 - y0) * p.down.length());
+        (shortest > 0.0 && longest.is_finite()).then_some(Reach {
+            eye: p.eye,
+            shortest,
+            longest,
+        })
+    }
+}
+
+/// The lengths of a rectangle's rays' D, from the pinhole's eye.
+struct Reach {
+    eye: DVec3,
+    shortest: f64,
+    longest: f64,
+}
+
+impl Reach {
+    /// The stretch of s where a ray of the rectangle can meet a box.
+    fn stretch(&self, (min, max): (DVec3, DVec3)) -> (f64, f64) {
+        let (min, max) = (min - self.eye, max - self.eye);
+        let nearest = DVec3::ZERO.max(min).max(-max).length();
+        let farthest = min.abs().max(max.abs()).length();
+        (
+            nearest / self.longest * (1.0 - SLACK),
+            farthest / self.shortest * (1.0 + SLACK),
+        )
     }
 }
 
@@ -414,6 +657,21 @@ fn halves(b: [f64; N]) -> [[f64; N]; 2] {
         }
     }
     [low, high]
+}
+
+/// A bound on how far (world) from the exact point o + t·d the shadow rays
+/// of a hit there at most start, `error` bounding the hit's t (its root's
+/// error): an integrator shades the f32 point o + t·d, off by its rounding
+/// and the error (`Scene::interaction`), and starts a shadow ray off the
+/// surface by that error bound projected on the normal, one float further
+/// (`math::offset`). Eight times those, and a millionth of the distance
+/// from the origin besides: nothing rides on its being tight.
+pub fn shadow_start_bound(o: DVec3, d: DVec3, t: f64, error: f64) -> f64 {
+    let along = t * d;
+    let epsilon = f64::from(f32::EPSILON);
+    let rounding = epsilon * (o.abs() + along.abs()).element_sum();
+    let off = (error + t.abs() * epsilon) * d.abs().element_sum();
+    8.0 * (off + rounding) + 1e-6 * ((o + along).length() + 1.0)
 }
 
 #[cfg(test)]

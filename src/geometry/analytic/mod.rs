@@ -39,7 +39,7 @@ mod gate;
 mod surface;
 mod unbounded;
 
-pub use beam::{Pinhole, ShapeBeams};
+pub use beam::{Pinhole, ShapeBeams, shadow_start_bound};
 pub use crossings::{Crossing, Crossings};
 use surface::root_uncertainty;
 pub use surface::{Quadric, Surface};
