@@ -296,7 +296,9 @@ fn rays_that_skip_shapes_proven_missed_render_the_same_bytes() {
 /// its gate) and two balls as one quartic, lit by a far light, a near one
 /// that throws the torus's ring onto itself, and one on the balls' axis
 /// that puts one in the other's shadow, render through the list (with the
-/// proofs) as through obvhs (without), at one sample a pixel and at four.
+/// proofs) as through obvhs (without), at one sample a pixel and at four;
+/// so do cubics cut by clear balls, and a torus behind a ball that filters
+/// its shadows.
 #[test]
 fn shadow_rays_spared_by_light_proofs_render_the_same_bytes() {
     let dir = scratch("lights");
@@ -310,6 +312,20 @@ fn shadow_rays_spared_by_light_proofs_render_the_same_bytes() {
         // light on their axis.
         "quartic { < 1,0,0,0,2,0,0,2,0,-2, 0,0,0,0,0,0,0,0,0,0, 1,0,0,2,0,0.56,0,0,0,0, \
          1,0,0.56,0,0.0784 > translate 3*z pigment { rgb 1 } }",
+        // tcubic.pov's and folium.pov's cubics, each cut by a clear ball
+        // (a clip), so the scene's shadows are filtered; folium's points
+        // are lit from the cubic's inside.
+        "intersection { quartic { < 0,0,0,-0.5,0,0,0,0,0,-0.5, 0,0,0,0,0,0,0,0,0,0, \
+         0,0,0,0,0,1,0,0,0,0, 0,0,1,0,0 > pigment { rgb 1 } } \
+         sphere { 0, 2 pigment { rgbf 1 } } rotate <0, -15, 0> scale 0.7 translate 3*z }",
+        "intersection { quartic { < 0,0,0,0,0,0,0,0,0,2, 0,0,-3,0,0,0,0,-3,0,0, \
+         0,0,0,0,0,1,0,0,0,0, 0,0,1,0,0 > pigment { rgb 1 } } \
+         sphere { 0, 10 pigment { rgbf 1 } } rotate <0, 50, 10> scale 0.15 translate 3*z }",
+        // A torus behind a ball that filters its shadows: past the ball's
+        // surfaces, every shape is offered again.
+        "quartic { < 1,0,0,0,2,0,0,2,0,-104, 0,0,0,0,0,0,0,0,0,0, 1,0,0,2,0,56,0,0,0,0, \
+         1,0,-104,0,784 > scale 0.2 rotate <-50, 20, 0> translate 3*z pigment { rgb 1 } } \
+         sphere { <0.4, 0.3, 1.8>, 0.35 pigment { rgbf <1, 0.8, 0.6, 0.7> } }",
     ];
     for (i, body) in scenes.iter().enumerate() {
         let text = format!(

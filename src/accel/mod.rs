@@ -155,10 +155,14 @@ impl Accel {
     }
 
     pub fn intersect(&self, ray: &Ray) -> Hit {
+        self.intersect_among(ray, ShapeSet::ALL)
+    }
+
+    /// `intersect`, offered to the shapes of `among` only where the
+    /// render's rays skip the BVH (as `occluded_among`).
+    pub fn intersect_among(&self, ray: &Ray, among: ShapeSet) -> Hit {
         match self {
-            Accel::Embree(s, Some(list)) => {
-                list.nearest(ray, &Ray64::of(ray), ShapeSet::ALL, s.panics())
-            }
+            Accel::Embree(s, Some(list)) => list.nearest(ray, &Ray64::of(ray), among, s.panics()),
             Accel::Embree(s, None) => s.intersect(ray),
             Accel::Obvhs(s) => s.intersect(ray),
             Accel::Bvh(s) => s.intersect(ray),

@@ -4,10 +4,14 @@
 //! once a render. A tile's camera hits on a shape, seen from the light, lie
 //! in a window of (u, v) and a stretch of s. Where F keeps one sign along
 //! the light's rays through the window up to that stretch, and is monotone
-//! along them across it (`ShapeBeams::first_within`), each hit is the first
+//! along them across it (`ShapeBeams::lights`), each hit is the first
 //! point of the shape its light ray meets: its shadow ray, which starts
 //! just off the surface on the light's side, meets the shape nowhere. The
 //! search it would have made finds no root, so the image is the same.
+//!
+//! A CSG tree is proven a leaf at a time: the leaf's crossing-free sign
+//! along the shadow rays then leaves none of the tree's surfaces to meet
+//! (`Csg::unseen`), or the tree is not skipped.
 //!
 //! In POV-Ray's single-quartic samples every shadow ray starts on the
 //! quartic it tests, at some 1,650 instructions a ray on lemnisca.pov
@@ -78,15 +82,15 @@ impl<'a> LightProofs<'a> {
     /// traced over `grid`: proven over the whole tile, and where that
     /// fails, over each quarter of it.
     pub(super) fn prove(&self, cameras: &TileCameras, grid: Region, lit: &mut Vec<Lit>) {
-        let hits: Vec<Option<(usize, DVec3, f64, DVec3)>> = cameras
+        let hits: Vec<Option<Point>> = cameras
             .hits()
             .map(|(ray, hit)| self.point(ray, hit))
             .collect();
         lit.clear();
         lit.extend(hits.iter().map(|h| match h {
-            Some((shape, ..)) => Lit {
+            Some(point) => Lit {
                 lights: 0,
-                among: ShapeSet::ALL.without(*shape),
+                among: ShapeSet::ALL.without(point.on.0),
             },
             None => Lit::NONE,
         }));
@@ -100,10 +104,13 @@ impl<'a> LightProofs<'a> {
         ];
         let mut points = Vec::new();
         let mut members = Vec::new();
+        // The (shape, leaf) pairs hit, each proven on its own.
+        let mut surfaces: Vec<(usize, usize)> = hits.iter().flatten().map(|h| h.on).collect();
+        surfaces.sort_unstable();
+        surfaces.dedup();
         for (light, at, beams) in &self.lights {
             let bit = 1u64 << light;
-            let shapes = (hits.iter().flatten()).fold(0u32, |set, &(s, ..)| set | 1 << s);
-            for shape in (0..u32::BITS as usize).filter(|s| shapes & (1 << s) != 0) {
+            for &(shape, leaf) in &surfaces {
                 for rects in [&whole[..], &quarters[..]] {
                     let mut all = true;
                     for &(x0, x1, y0, y1) in rects {
@@ -112,14 +119,14 @@ impl<'a> LightProofs<'a> {
                         for y in y0..y1 {
                             for x in x0..x1 {
                                 let i = y * w + x;
-                                let Some((s, p, pad, n)) = hits[i] else {
+                                let Some(Point { on, p, pad, n }) = hits[i] else {
                                     continue;
                                 };
                                 let seen = cameras.ray(i).dir;
                                 // The light on the side the camera sees:
                                 // elsewhere the pixel has no shadow ray
                                 // (and its point would fail the proof).
-                                if s == shape && n.dot(*at - p) * n.dot(-seen) > 0.0 {
+                                if on == (shape, leaf) && n.dot(*at - p) * n.dot(-seen) > 0.0 {
                                     points.push((p, pad));
                                     members.push(i);
                                 }
@@ -130,7 +137,7 @@ impl<'a> LightProofs<'a> {
                             all = false;
                             continue;
                         }
-                        if beams.lights(shape, &points, f64::from(SHADOW_SHORT)) {
+                        if beams.lights(shape, leaf, &points, f64::from(SHADOW_SHORT)) {
                             for &i in &members {
                                 lit[i].lights |= bit;
                             }
@@ -146,18 +153,34 @@ impl<'a> LightProofs<'a> {
         }
     }
 
-    /// A camera hit on one of the list's shapes: the shape, the point
-    /// (world), a bound on how far from it the hit's shadow rays start
-    /// (`shadow_start_bound`, the root's error being in the hit's v), and
-    /// the normal.
-    fn point(&self, ray: &Ray64, hit: &Hit) -> Option<(usize, DVec3, f64, DVec3)> {
+    /// A camera hit on one of the list's shapes (the root's error being
+    /// in the hit's v, its CSG leaf in u: `accel::analytic`).
+    fn point(&self, ray: &Ray64, hit: &Hit) -> Option<Point> {
         if !hit.is_hit() || hit.geom_id != self.geom_id {
             return None;
         }
         let t = f64::from(hit.t);
         let p = ray.origin + t * ray.dir;
         let pad = shadow_start_bound(ray.origin, ray.dir, t, f64::from(hit.v));
-        (p.is_finite() && pad.is_finite())
-            .then(|| (hit.prim_id as usize, p, pad, hit.ng.as_dvec3()))
+        (p.is_finite() && pad.is_finite()).then(|| Point {
+            on: (hit.prim_id as usize, hit.u as usize),
+            p,
+            pad,
+            n: hit.ng.as_dvec3(),
+        })
     }
+}
+
+/// A camera hit on one of the list's shapes.
+#[derive(Clone, Copy)]
+struct Point {
+    /// The shape, and its CSG leaf (0 for a plain surface).
+    on: (usize, usize),
+    /// The point (world).
+    p: DVec3,
+    /// A bound on how far from it the hit's shadow rays start
+    /// (`shadow_start_bound`).
+    pad: f64,
+    /// The surface's normal.
+    n: DVec3,
 }

@@ -526,9 +526,7 @@ impl<'a> Tracer<'a> {
     /// start at sampled points, not at the camera's hits alone.
     fn light_proofs(&self) -> Option<LightProofs<'a>> {
         match self {
-            Tracer::Whitted(w) if w.plan.shadow && !w.plan.filtered_shadows => {
-                LightProofs::new(w.scene, w.accel)
-            }
+            Tracer::Whitted(w) if w.plan.shadow => LightProofs::new(w.scene, w.accel),
             _ => None,
         }
     }

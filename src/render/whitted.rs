@@ -301,8 +301,9 @@ impl Whitted<'_> {
     /// materials (`Plan::filtered_shadows`), POV-Ray's shadows: each surface
     /// of one the ray crosses, going in and coming out, lets through its
     /// colour × filter + transmit, without bending the ray.
-    /// `among`: the shapes that may block it (see `Lit`), where no
-    /// surface filters shadows.
+    /// `among`: the shapes that may block it (see `Lit`). Past a surface
+    /// that filters it, the ray goes on from a point off its line, which
+    /// the proof did not cover, and every shape is offered.
     fn shadow_through(&self, shadow: &Ray, fogged: bool, among: ShapeSet) -> Vec3 {
         if !self.plan.filtered_shadows {
             return if self.accel.occluded_among(shadow, among) {
@@ -315,8 +316,9 @@ impl Whitted<'_> {
         }
         let mut ray = *shadow;
         let mut through = Vec3::ONE;
-        for _ in 0..MAX_FILTERING_SURFACES {
-            let hit = self.accel.intersect(&ray);
+        for surface in 0..MAX_FILTERING_SURFACES {
+            let among = if surface == 0 { among } else { ShapeSet::ALL };
+            let hit = self.accel.intersect_among(&ray, among);
             if !hit.is_hit() {
                 return if fogged {
                     through * fog_through(&self.scene.fogs, &ray)

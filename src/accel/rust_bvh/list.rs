@@ -125,9 +125,7 @@ impl ListScene {
                 // Expanded about the box's centre, where the hits are.
                 let centre = 0.5 * (b.min + b.max).as_dvec3();
                 let depth = (centre - light).length();
-                Pinhole::toward(light, centre)
-                    .and_then(|pinhole| shape.beams(&pinhole, depth, b))
-                    .filter(ShapeBeams::proves_lights)
+                Pinhole::toward(light, centre).and_then(|pinhole| shape.beams(&pinhole, depth, b))
             })
             .collect();
         shapes
@@ -165,10 +163,11 @@ pub struct LightBeams<'a>(Box<[Option<ShapeBeams<'a>>]>);
 
 impl LightBeams<'_> {
     /// Whether no shadow ray towards the light from any of `points`, each
-    /// a lit point of shape `i` with a bound on how far from it its
-    /// shadow ray starts, meets shape `i` (`ShapeBeams::lights`).
-    pub fn lights(&self, i: usize, points: &[(DVec3, f64)], short: f64) -> bool {
-        (self.0.get(i)).is_some_and(|b| b.as_ref().is_some_and(|b| b.lights(points, short)))
+    /// a lit point of shape `i` (of its CSG leaf `leaf`, 0 for a plain
+    /// surface) with a bound on how far from it its shadow ray starts,
+    /// meets shape `i` (`ShapeBeams::lights`).
+    pub fn lights(&self, i: usize, leaf: usize, points: &[(DVec3, f64)], short: f64) -> bool {
+        (self.0.get(i)).is_some_and(|b| b.as_ref().is_some_and(|b| b.lights(leaf, points, short)))
     }
 }
 

@@ -430,14 +430,10 @@ impl ShapeBeams<'_> {
         }
     }
 
-    /// Whether `lights` can prove anything: for plain surfaces only.
-    pub fn proves_lights(&self) -> bool {
-        matches!(self.form, Form::Plain(_))
-    }
-
     /// Whether no shadow ray towards the pinhole, a point light's
-    /// (`Pinhole::toward`), meets the surface, from any of `points`: each
-    /// a point of the surface, with a bound on how far from it (world) its
+    /// (`Pinhole::toward`), meets the shape, from any of `points`: each
+    /// a point of the surface (of the tree's leaf `leaf`; a plain
+    /// surface's is 0), with a bound on how far from it (world) its
     /// shadow ray starts, just off the surface on the light's side. The
     /// rays stop short of the light by `short` of their length. False
     /// where that is not proven.
@@ -450,9 +446,20 @@ impl ShapeBeams<'_> {
     /// is; the start of its shadow ray, between the point and the light on
     /// the same side of the surface as the light, is reached by no
     /// crossing.
-    pub fn lights(&self, points: &[(DVec3, f64)], short: f64) -> bool {
-        let Form::Plain(e) = &self.form else {
-            return false;
+    ///
+    /// A tree's leaf then keeps, along every such shadow ray in the
+    /// tree's box, the sign it was proven to have before s0: where that
+    /// sign is outside and leaves the tree outside (`Csg::outside`), the
+    /// shadow rays cross none of the tree's surfaces. So the first stretch
+    /// before s0 is proven for a tree even where the box starts past s0.
+    pub fn lights(&self, leaf: usize, points: &[(DVec3, f64)], short: f64) -> bool {
+        let e = match &self.form {
+            Form::Plain(e) if leaf == 0 => e,
+            Form::Tree(_, leaves) => match leaves.get(leaf) {
+                Some(Some(e)) => e,
+                _ => return false,
+            },
+            Form::Plain(_) => return false,
         };
         let p = &self.pinhole;
         let (mut us, mut vs) = ((f64::MAX, f64::MIN), (f64::MAX, f64::MIN));
@@ -510,6 +517,9 @@ impl ShapeBeams<'_> {
         // widened for the near end, holds the rays to the far end).
         let end = 0.5 * short * s0;
         let (mut to, mut step) = (s0, 4.0 * (s1 - s0));
+        // The sign of the stretches proven (all one: F is clear of zero
+        // where they meet).
+        let mut sign = None;
         loop {
             // Where the rays enter the box, found for the window widened
             // for the stretch's farthest reach back (a wider window's
@@ -519,18 +529,29 @@ impl ShapeBeams<'_> {
             let Some(reach) = self.reach(xs, ys) else {
                 return false;
             };
-            let from = back.max(reach.stretch(self.hits).0);
+            let entry = reach.stretch(self.hits).0;
+            let from = match (&self.form, sign) {
+                (Form::Tree(..), None) => back,
+                _ => back.max(entry),
+            };
             if w(from) > widest {
                 widest = w(from);
                 window = window_of(widest);
             }
-            if from < to && window.sign((from - d, to - d), false).is_none() {
-                return false;
+            if from < to {
+                match window.sign((from - d, to - d), false) {
+                    Some(s) if sign.is_none_or(|t| t == s) => sign = Some(s),
+                    _ => return false,
+                }
             }
-            if from <= end || from >= to {
-                return true;
+            if from <= end.max(entry) || from >= to {
+                break;
             }
             (to, step) = (from, step * BACK);
+        }
+        match &self.form {
+            Form::Plain(_) => true,
+            Form::Tree(tree, _) => sign.is_some_and(|positive| tree.unseen(leaf, !positive)),
         }
     }
 

@@ -77,6 +77,23 @@ impl Shape {
         Ok(())
     }
 
+    /// Whether the box `b`, in the space `to_world` places in the world,
+    /// lies within the shape's box, clear of its faces by a billionth of
+    /// its size: no face of the box, which closes a solid where the
+    /// surface is cut, is then in `b`.
+    pub(super) fn box_holds(&self, b: &Box3, to_world: &DAffine3) -> bool {
+        let inner = world_box(b, &(self.to_object * *to_world));
+        let own = &self.object_box;
+        let margin = 1e-9 * (own.max - own.min).max_element();
+        inner.min.cmpgt(own.min + margin).all() && inner.max.cmplt(own.max - margin).all()
+    }
+
+    /// Whether the shape's solid (F < 0 within its box) lies within the
+    /// box of `other`, clear of its faces (`box_holds`).
+    pub(super) fn held_by(&self, other: &Shape) -> bool {
+        other.box_holds(&self.object_box, &self.to_object.inverse())
+    }
+
     /// Where, in the world ray's t, a tree starts the walk over this shape's
     /// crossings for a ray that starts at tmin: at the line's entry into its
     /// box (−∞ here), where the line is known to be outside; but for a box

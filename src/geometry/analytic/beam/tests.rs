@@ -200,6 +200,67 @@ fn no_ray_through_a_missed_rectangle_hits() {
     }
 }
 
+/// Trees as POV-Ray's samples make them: tcubic.pov's cubic and
+/// folium.pov's, each intersected with a clear ball, which the reader
+/// makes a clip (`scene::pov`), with the cubic cut to a box just around
+/// the ball's. Folium's points are lit from the cubic's inside.
+fn clipped_cubics() -> Vec<(&'static str, Shape)> {
+    use crate::geometry::analytic::csg::{Csg, Leaf, Node, Op, Part};
+    let clipped = |terms: &[([u8; 3], f64)], cut: f64, radius: f64, to_world: DAffine3| {
+        let f = Trivariate::from_terms(terms.iter().copied());
+        let solver = Solver::default();
+        let surface = Surface::Algebraic(Box::new(f));
+        let mut cubic = Shape::unclipped(surface, to_world, 0, solver).unwrap();
+        cubic.clip_within(&Box3::cube(cut), to_world).unwrap();
+        let ball = Shape::new(Surface::Sphere { radius }, to_world, None, 0, solver).unwrap();
+        let leaves = [cubic, ball].map(|s| Leaf {
+            part: Part::Solid(s),
+            inverse: false,
+            material: 0,
+        });
+        let root = Node::Op {
+            op: Op::Clip,
+            inverse: false,
+            children: vec![Node::Leaf(0), Node::Leaf(1)],
+        };
+        let tree = Csg::within(root, leaves.into(), Box3::cube(100.0)).unwrap();
+        let surface = Surface::Csg(Box::new(tree));
+        Shape::new(surface, DAffine3::IDENTITY, None, 0, solver).unwrap()
+    };
+    let turn = |x: f64, y: f64, at: DVec3, scale: f64| {
+        DAffine3::from_translation(at)
+            * DAffine3::from_rotation_x(x)
+            * DAffine3::from_rotation_y(y)
+            * DAffine3::from_scale(DVec3::splat(scale))
+    };
+    let folium_at = turn(0.2, 0.9, DVec3::new(0.0, 0.0, 6.0), 0.2);
+    let tcubic = [
+        ([3, 0, 0], -0.5),
+        ([2, 0, 0], -0.5),
+        ([0, 2, 0], 1.0),
+        ([0, 0, 2], 1.0),
+    ];
+    let folium = [
+        ([3, 0, 0], 2.0),
+        ([1, 2, 0], -3.0),
+        ([1, 0, 2], -3.0),
+        ([0, 2, 0], 1.0),
+        ([0, 0, 2], 1.0),
+    ];
+    vec![
+        (
+            "cubic in a ball",
+            clipped(
+                &tcubic,
+                2.002,
+                2.0,
+                turn(0.1, -0.26, DVec3::new(0.0, 0.0, 5.0), 1.0),
+            ),
+        ),
+        ("folium in a ball", clipped(&folium, 10.01, 10.0, folium_at)),
+    ]
+}
+
 /// Whenever a tile's lit points are proven to cast no shadow on
 /// themselves towards a light, no shadow ray from them, made as the
 /// Whitted tracer makes it (from the f32 point, offset off the surface,
@@ -219,7 +280,7 @@ fn no_shadow_ray_from_a_proven_tile_meets_its_shape() {
     };
     let short = 1e-4;
     let (mut proven, mut tried) = (0, 0);
-    for (name, shape) in shapes() {
+    for (name, shape) in shapes().into_iter().chain(clipped_cubics()) {
         let (mut shape_proven, mut rays) = (0, 0);
         let lights = [
             DVec3::new(200.0, 30.0, -300.0),
@@ -266,32 +327,36 @@ fn no_shadow_ray_from_a_proven_tile_meets_its_shape() {
                                 "{name}: a start {} from its point, bound {pad}",
                                 (start.as_dvec3() - p).length()
                             );
-                            lit.push(((p, pad), (start, wi, tfar)));
+                            lit.push((hit.part as usize, (p, pad), (start, wi, tfar)));
                         }
                     }
-                    if lit.is_empty() {
-                        continue;
-                    }
-                    tried += 1;
-                    let points: Vec<_> = lit.iter().map(|&(point, _)| point).collect();
-                    if !beams.lights(&points, short) {
-                        continue;
-                    }
-                    (proven, shape_proven) = (proven + 1, shape_proven + 1);
-                    for &(_, (start, wi, tfar)) in &lit {
-                        let (o, d): (Vec3, Vec3) = (start, wi);
-                        rays += 1;
-                        assert!(
-                            !shape.occluded(o.as_dvec3(), d.as_dvec3(), 0.0, f64::from(tfar)),
-                            "{name}: the shadow ray from {o} towards {light} meets the shape"
-                        );
+                    // Each leaf's points on their own, as a render's.
+                    for leaf in 0..2 {
+                        let lit: Vec<_> = lit.iter().filter(|h| h.0 == leaf).collect();
+                        if lit.is_empty() {
+                            continue;
+                        }
+                        tried += 1;
+                        let points: Vec<_> = lit.iter().map(|&&(_, point, _)| point).collect();
+                        if !beams.lights(leaf, &points, short) {
+                            continue;
+                        }
+                        (proven, shape_proven) = (proven + 1, shape_proven + 1);
+                        for &&(_, _, (start, wi, tfar)) in &lit {
+                            let (o, d): (Vec3, Vec3) = (start, wi);
+                            rays += 1;
+                            assert!(
+                                !shape.occluded(o.as_dvec3(), d.as_dvec3(), 0.0, f64::from(tfar)),
+                                "{name}: the shadow ray from {o} towards {light} meets the shape"
+                            );
+                        }
                     }
                 }
             }
         }
         // The far sphere covers a few pixels, the spindle's light rays
-        // pass its needle: the torus and the cubic are proven widely.
-        if name == "torus" || name == "cubic" {
+        // pass its needle: the torus and the cubics are proven widely.
+        if ["torus", "cubic", "cubic in a ball", "folium in a ball"].contains(&name) {
             assert!(
                 shape_proven >= 50 && rays > 1000,
                 "{name}: {shape_proven} tiles proven"

@@ -215,6 +215,64 @@ impl Csg {
         }
     }
 
+    /// Whether a segment in the tree's box crosses none of its seen
+    /// surfaces, given that the solid leaf `leaf` is crossed nowhere on it
+    /// and keeps one side: inside (F < 0) or out. Out, it is as `outside`
+    /// proves. Either way its own surface is not met: nor are the faces of
+    /// its box where they lie beyond the tree's box, or beyond a solid
+    /// that clips it; so neither is a clip whose first child that leaf
+    /// is, nor an operation of it alone. (Where a boundary reaches out of
+    /// the box, `reaches_out`, false.)
+    pub(crate) fn unseen(&self, leaf: usize, inside: bool) -> bool {
+        !self.reaches_out
+            && (self.node_outside(&self.root, &mut |i| i == leaf && !inside)
+                || self.node_unseen(&self.root, leaf, inside, &[]))
+    }
+
+    /// `unseen` for `node`, shown only where each of `clips` is inside.
+    fn node_unseen(&self, node: &Node, leaf: usize, inside: bool, clips: &[Node]) -> bool {
+        match node {
+            Node::Leaf(i) => {
+                let clipped = |s: &Shape| {
+                    clips.iter().any(|c| match c {
+                        Node::Leaf(c) => match &self.leaves[*c as usize] {
+                            Leaf {
+                                part: Part::Solid(cut),
+                                inverse: false,
+                                ..
+                            } => cut.held_by(s),
+                            _ => false,
+                        },
+                        _ => false,
+                    })
+                };
+                *i as usize == leaf
+                    && match &self.leaves[leaf].part {
+                        Part::Sheet(_) => true,
+                        Part::Solid(s) => {
+                            !inside || s.box_holds(&self.bounds, &DAffine3::IDENTITY) || clipped(s)
+                        }
+                        Part::Plane { .. } | Part::Disc { .. } => false,
+                    }
+            }
+            // A clip shows its first child's surface, where every other
+            // child is inside (an inversion moves no surface).
+            Node::Op {
+                op: Op::Clip,
+                children,
+                ..
+            } => {
+                self.node_unseen(&children[0], leaf, inside, &children[1..])
+                    || (children[1..].iter())
+                        .any(|c| self.node_outside(c, &mut |i| i == leaf && !inside))
+            }
+            Node::Op { children, .. } => {
+                (children.iter()).all(|c| self.node_unseen(c, leaf, inside, &[]))
+            }
+            Node::Gated { child, .. } => self.node_unseen(child, leaf, inside, clips),
+        }
+    }
+
     /// A tree over `leaves`. Its box: a union's is the union of its
     /// children's, an intersection's (and a clip's) the overlap of theirs, a
     /// difference's its first child's; a half-space or an inverted child is
