@@ -98,6 +98,12 @@ impl LightPicker {
         }
     }
 
+    /// Whether `pick` uses its `u`: not where the scene has no area light
+    /// and no environment, whose points it would sample.
+    pub fn uses_u(&self) -> bool {
+        !self.area.is_empty()
+    }
+
     /// The light a hit on primitive (geom_id, prim_id) found, with the
     /// probability [`LightPicker::pick`] picks it; None for geometry that is no
     /// sampled light.
@@ -174,6 +180,22 @@ mod tests {
             "{:?}",
             top.u
         );
+    }
+
+    /// Point lights alone leave the pick's number unused (the Whitted
+    /// tracer then draws none); an area light or an environment uses it.
+    #[test]
+    fn the_pick_uses_its_number_only_for_an_area_light_or_environment() {
+        let point = Light::Point {
+            position: Vec3::ZERO,
+            intensity: Vec3::ONE,
+        };
+        let points = LightPicker::new(&[point.clone(), point.clone()], HashMap::new(), None);
+        assert!(!points.uses_u());
+        assert_eq!(points.pick([0.1, 0.2]).area, None);
+        let with_area = LightPicker::new(&[point, sphere(1.0)], HashMap::new(), None);
+        assert!(with_area.uses_u());
+        assert!(LightPicker::new(&[], HashMap::new(), Some(1.0)).uses_u());
     }
 
     #[test]

@@ -405,7 +405,16 @@ impl Whitted<'_> {
         weight: Vec3,
         walk: &mut Walk<'_>,
     ) -> Vec3 {
-        let pick = self.scene.light_picker.pick(walk.sampler.get_2d());
+        // No number is drawn where the pick would not use it (some 130
+        // instructions a shading point): the tracer draws none after it,
+        // so no later number moves.
+        let picker = &self.scene.light_picker;
+        let u = if picker.uses_u() {
+            walk.sampler.get_2d()
+        } else {
+            [0.5; 2]
+        };
+        let pick = picker.pick(u);
         let area = pick.area.into_iter();
         let mut radiance = Vec3::ZERO;
         let deltas = pick.delta.map(|i| (LightRef::Index(i), 1.0));
