@@ -47,6 +47,10 @@ const BACK: f64 = 8.0;
 /// Halvings of a stretch of s tried before a rectangle is given up.
 const SPLITS: u32 = 6;
 
+/// Halvings of a stretch of s over which a tree is proven outside a piece
+/// at a time (`outside_by_pieces`).
+const TREE_SPLITS: u32 = 2;
+
 /// Halvings tried for a monotone stretch: it is thin (the depths of a
 /// tile's points), and on POV-Ray's quartic samples more halvings proved
 /// no more tiles.
@@ -140,6 +144,8 @@ struct Expanded {
     magnitude: Tensor,
     /// G's degree in s.
     degree: usize,
+    /// The most halvings of a stretch its proofs take (`Window::sign`).
+    splits: u32,
 }
 
 impl Shape {
@@ -158,14 +164,19 @@ impl Shape {
             Surface::Csg(tree) => {
                 let leaves: Vec<_> = (tree.leaves().iter())
                     .map(|leaf| match &leaf.part {
-                        Part::Solid(shape) if !leaf.inverse => Expanded::of(shape, pinhole, depth),
+                        Part::Solid(shape) if !leaf.inverse => {
+                            Expanded::of_leaf(shape, pinhole, depth)
+                        }
                         _ => None,
                     })
                     .collect();
-                leaves
-                    .iter()
-                    .any(Option::is_some)
-                    .then_some(Form::Tree(tree, leaves))?
+                // A tree of spheres and quadrics alone is not worth a proof:
+                // their crossings cost a ray less than a proof a rectangle.
+                let algebraic = (tree.leaves().iter().zip(&leaves)).any(|(leaf, e)| {
+                    e.is_some()
+                        && matches!(&leaf.part, Part::Solid(s) if matches!(s.surface, Surface::Algebraic(_)))
+                });
+                algebraic.then_some(Form::Tree(tree, leaves))?
             }
             _ => Form::Plain(Box::new(Expanded::of(self, pinhole, depth)?)),
         };
@@ -188,9 +199,28 @@ impl Expanded {
     /// far light's own position would give terms that cancel by many
     /// orders, and a rounding bound as large.
     fn of(shape: &Shape, pinhole: &Pinhole, depth: f64) -> Option<Expanded> {
-        let Surface::Algebraic(f) = &shape.surface else {
-            return None;
-        };
+        match &shape.surface {
+            Surface::Algebraic(f) => Expanded::of_polynomial(shape, f, pinhole, depth),
+            _ => None,
+        }
+    }
+
+    /// `of` for a tree's leaf, where a sphere's or a quadric's sign may
+    /// show the line outside where the others' cannot (`outside_by_pieces`).
+    fn of_leaf(shape: &Shape, pinhole: &Pinhole, depth: f64) -> Option<Expanded> {
+        match &shape.surface {
+            Surface::Algebraic(f) => Expanded::of_polynomial(shape, f, pinhole, depth),
+            surface => Expanded::of_polynomial(shape, &quadratic_of(surface)?, pinhole, depth),
+        }
+    }
+
+    /// `of`, for `shape`'s F given as `f` in its object space.
+    fn of_polynomial(
+        shape: &Shape,
+        f: &Trivariate,
+        pinhole: &Pinhole,
+        depth: f64,
+    ) -> Option<Expanded> {
         if f.degree() > MOST_DEGREE {
             return None;
         }
@@ -211,6 +241,14 @@ impl Expanded {
             g,
             magnitude,
             degree: f.degree(),
+            // A sphere's or a quadric's sign over a stretch is plain or
+            // it crosses: halving it seldom proves more, and a tree asks
+            // it for every rectangle.
+            splits: if matches!(shape.surface, Surface::Algebraic(_)) {
+                SPLITS
+            } else {
+                1
+            },
         })
     }
 
@@ -229,6 +267,7 @@ impl Expanded {
         Window {
             rect,
             degree: self.degree,
+            splits: self.splits,
         }
     }
 }
@@ -237,15 +276,23 @@ impl Expanded {
 struct Window {
     rect: Bounded,
     degree: usize,
+    splits: u32,
 }
 
 impl Window {
-    /// The sign (true: positive) G keeps, clear of zero, over σ in (σ0, σ1),
-    /// and with `far` beyond σ1 too; None where that is not proven.
-    fn sign(&self, (s0, s1): (f64, f64), far: bool) -> Option<bool> {
-        let sign = self.rect.over(s0, s1).sign(SPLITS)?;
+    /// The sign (true: positive) G keeps, clear of zero, over σ in (σ0, σ1)
+    /// (halved up to `splits` times, and no more than its surface's own
+    /// limit), and with `far` beyond σ1 too; None
+    /// where that is not proven. An empty stretch (σ0 = σ1) asks only
+    /// about what lies beyond.
+    fn sign(&self, (s0, s1): (f64, f64), far: bool, splits: u32) -> Option<bool> {
+        let sign = if s0 < s1 {
+            Some(self.rect.over(s0, s1).sign(splits.min(self.splits))?)
+        } else {
+            None
+        };
         if !far {
-            return Some(sign);
+            return sign;
         }
         // σ = σ1 / w, w in (0, 1]: G's sign is w^n G(σ1 / w)'s, a
         // polynomial in w (the coefficients reversed and scaled), whose
@@ -262,7 +309,8 @@ impl Window {
             *c = reversed;
             to_bernstein(c);
         });
-        (beyond.sign(SPLITS)? == sign).then_some(sign)
+        let beyond = beyond.sign(SPLITS)?;
+        sign.is_none_or(|sign| sign == beyond).then_some(beyond)
     }
 
     /// Whether G is monotone, with its rate of change clear of zero, along
@@ -270,6 +318,62 @@ impl Window {
     fn monotone(&self, (s0, s1): (f64, f64)) -> bool {
         self.rect.over(s0, s1).monotone(MONOTONE_SPLITS).is_some()
     }
+}
+
+/// A sphere's or a quadric's F as a polynomial in its object space (None
+/// for other surfaces, and for a box's constant quadric, whose inside is
+/// its box).
+fn quadratic_of(surface: &Surface) -> Option<Trivariate> {
+    match surface {
+        Surface::Sphere { radius } => Some(Trivariate::from_terms([
+            ([2, 0, 0], 1.0),
+            ([0, 2, 0], 1.0),
+            ([0, 0, 2], 1.0),
+            ([0, 0, 0], -radius * radius),
+        ])),
+        Surface::Quadric(q) if q.constant().is_none() => {
+            let unit = |i: usize| {
+                let mut e = [0u8; 3];
+                e[i] += 1;
+                e
+            };
+            let pair = |i: usize, j: usize| {
+                let mut e = unit(i);
+                e[j] += 1;
+                e
+            };
+            let a = |i: usize, j: usize| q.a.col(j)[i];
+            let mut terms = vec![([0, 0, 0], q.c)];
+            for i in 0..3 {
+                terms.push((unit(i), q.b[i]));
+                terms.push((pair(i, i), a(i, i)));
+                for j in i + 1..3 {
+                    terms.push((pair(i, j), a(i, j) + a(j, i)));
+                }
+            }
+            Some(Trivariate::from_terms(terms))
+        }
+        _ => None,
+    }
+}
+
+/// Whether a tree is proven outside over σ in (σ0, σ1) (`outside`, given
+/// a stretch, whether beyond it too, and the halvings each leaf's proof
+/// may take) a piece at a time: a line can leave one leaf's solid before
+/// it enters another's, so that no single leaf keeps it outside
+/// throughout. Up to `splits` halvings, each piece's leaves with one more
+/// halving of their own.
+fn outside_by_pieces(
+    outside: &impl Fn((f64, f64), bool, u32) -> bool,
+    (s0, s1): (f64, f64),
+    splits: u32,
+) -> bool {
+    if splits == 0 {
+        return false;
+    }
+    let middle = 0.5 * (s0 + s1);
+    let half = |piece| outside(piece, false, 1) || outside_by_pieces(outside, piece, splits - 1);
+    half((s0, middle)) && half((middle, s1))
 }
 
 /// A tensor's coefficients in one slice.
@@ -421,11 +525,24 @@ impl ShapeBeams<'_> {
         if !(s0 + self.depth >= 0.0 && s1 > s0 && s1.is_finite() && (!far || s1 > 0.0)) {
             return false;
         }
-        let sign = |e: &Expanded| e.window(xs, ys).sign((s0, s1), far);
         match &self.form {
-            Form::Plain(e) => sign(e).is_some(),
+            Form::Plain(e) => e.window(xs, ys).sign((s0, s1), far, SPLITS).is_some(),
             Form::Tree(tree, leaves) => {
-                tree.outside(&mut |i| leaves[i].as_ref().and_then(sign) == Some(true))
+                let windows: Vec<_> = (leaves.iter())
+                    .map(|e| e.as_ref().map(|e| e.window(xs, ys)))
+                    .collect();
+                let outside = |piece: (f64, f64), far: bool, splits: u32| {
+                    tree.outside(&mut |i| {
+                        (windows[i].as_ref()).and_then(|w| w.sign(piece, far, splits)) == Some(true)
+                    })
+                };
+                // Pieces help only where two leaves can each be outside
+                // on some of them.
+                let pieces = windows.iter().flatten().count() > 1;
+                outside((s0, s1), far, SPLITS)
+                    || pieces
+                        && (!far || outside((s1, s1), true, 0))
+                        && outside_by_pieces(&outside, (s0, s1), TREE_SPLITS)
             }
         }
     }
@@ -539,7 +656,7 @@ impl ShapeBeams<'_> {
                 window = window_of(widest);
             }
             if from < to {
-                match window.sign((from - d, to - d), false) {
+                match window.sign((from - d, to - d), false, SPLITS) {
                     Some(s) if sign.is_none_or(|t| t == s) => sign = Some(s),
                     _ => return false,
                 }

@@ -161,7 +161,7 @@ fn no_ray_through_a_missed_rectangle_hits() {
         right: DVec3::new(1.0 / width, 0.0, 0.0),
         down: DVec3::new(0.0, -0.75 / height, 0.0),
     };
-    for (name, shape) in shapes() {
+    for (name, shape) in shapes().into_iter().chain(clipped_cubics()) {
         let beams = shape
             .beams(&pinhole, 0.0, &shape.bounds())
             .expect("a quartic in a finite box");
