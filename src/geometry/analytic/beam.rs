@@ -14,7 +14,7 @@
 //! proves it (some 2,000 instructions a ray on quarcyl.pov, `valgrind
 //! --tool=callgrind`); one proof answers for a tile's 256 rays.
 
-use glam::DVec3;
+use glam::{DAffine3, DVec3};
 
 use super::csg::{Csg, Part};
 use super::{Shape, Surface};
@@ -164,8 +164,18 @@ impl Shape {
             Surface::Csg(tree) => {
                 let leaves: Vec<_> = (tree.leaves().iter())
                     .map(|leaf| match &leaf.part {
-                        Part::Solid(shape) if !leaf.inverse => {
-                            Expanded::of_leaf(shape, pinhole, depth)
+                        _ if leaf.inverse => None,
+                        Part::Solid(shape) => Expanded::of_leaf(shape, pinhole, depth),
+                        // A half-space n·p < offset, in world space.
+                        &Part::Plane { normal, offset } => {
+                            let [a, b, c] = normal.to_array();
+                            let f = Trivariate::from_terms([
+                                ([1, 0, 0], a),
+                                ([0, 1, 0], b),
+                                ([0, 0, 1], c),
+                                ([0, 0, 0], -offset),
+                            ]);
+                            Expanded::of_polynomial(&DAffine3::IDENTITY, &f, pinhole, depth, 1)
                         }
                         _ => None,
                     })
@@ -200,35 +210,42 @@ impl Expanded {
     /// orders, and a rounding bound as large.
     fn of(shape: &Shape, pinhole: &Pinhole, depth: f64) -> Option<Expanded> {
         match &shape.surface {
-            Surface::Algebraic(f) => Expanded::of_polynomial(shape, f, pinhole, depth),
+            Surface::Algebraic(f) => {
+                Expanded::of_polynomial(&shape.to_object, f, pinhole, depth, SPLITS)
+            }
             _ => None,
         }
     }
 
     /// `of` for a tree's leaf, where a sphere's or a quadric's sign may
     /// show the line outside where the others' cannot (`outside_by_pieces`).
+    /// Their sign over a stretch is plain or it crosses: halving it seldom
+    /// proves more, and a tree asks it for every rectangle, so once.
     fn of_leaf(shape: &Shape, pinhole: &Pinhole, depth: f64) -> Option<Expanded> {
+        let to_object = &shape.to_object;
         match &shape.surface {
-            Surface::Algebraic(f) => Expanded::of_polynomial(shape, f, pinhole, depth),
-            surface => Expanded::of_polynomial(shape, &quadratic_of(surface)?, pinhole, depth),
+            Surface::Algebraic(f) => Expanded::of_polynomial(to_object, f, pinhole, depth, SPLITS),
+            surface => {
+                Expanded::of_polynomial(to_object, &quadratic_of(surface)?, pinhole, depth, 1)
+            }
         }
     }
 
-    /// `of`, for `shape`'s F given as `f` in its object space.
+    /// `of`, for an F given as `f` in the space `to_object` maps the world
+    /// to, whose proofs halve a stretch up to `splits` times.
     fn of_polynomial(
-        shape: &Shape,
+        to_object: &DAffine3,
         f: &Trivariate,
         pinhole: &Pinhole,
         depth: f64,
+        splits: u32,
     ) -> Option<Expanded> {
         if f.degree() > MOST_DEGREE {
             return None;
         }
-        let o = (shape.to_object)
-            .transform_point3(pinhole.eye + depth * pinhole.top_left)
-            .to_array();
+        let o = (to_object.transform_point3(pinhole.eye + depth * pinhole.top_left)).to_array();
         let axes = [pinhole.top_left, pinhole.right, pinhole.down]
-            .map(|v| shape.to_object.transform_vector3(v).to_array());
+            .map(|v| to_object.transform_vector3(v).to_array());
         let m: [[f64; 3]; 3] = std::array::from_fn(|i| std::array::from_fn(|k| axes[k][i]));
         let positive = Trivariate::from_terms(f.terms().iter().map(|&(e, c)| (e, c.abs())));
         let g = tensor(&f.compose_affine(m, o), depth);
@@ -241,14 +258,7 @@ impl Expanded {
             g,
             magnitude,
             degree: f.degree(),
-            // A sphere's or a quadric's sign over a stretch is plain or
-            // it crosses: halving it seldom proves more, and a tree asks
-            // it for every rectangle.
-            splits: if matches!(shape.surface, Surface::Algebraic(_)) {
-                SPLITS
-            } else {
-                1
-            },
+            splits,
         })
     }
 
@@ -564,19 +574,23 @@ impl ShapeBeams<'_> {
     /// the same side of the surface as the light, is reached by no
     /// crossing.
     ///
-    /// A tree's leaf then keeps, along every such shadow ray in the
-    /// tree's box, the sign it was proven to have before s0: where that
-    /// sign is outside and leaves the tree outside (`Csg::outside`), the
-    /// shadow rays cross none of the tree's surfaces. So the first stretch
-    /// before s0 is proven for a tree even where the box starts past s0.
+    /// A tree's leaf (one whose box's faces never show, so that every hit
+    /// on it is on its surface: `Csg::faces_hidden`) then keeps, along
+    /// every such shadow ray in the tree's box, the sign it was proven to
+    /// have before s0: where that leaves none of the tree's surfaces to
+    /// meet (`Csg::unseen`), the shadow rays cross none. So the first
+    /// stretch before s0 is proven for a tree even where the box starts
+    /// past s0.
     pub fn lights(&self, leaf: usize, points: &[(DVec3, f64)], short: f64) -> bool {
         let e = match &self.form {
             Form::Plain(e) if leaf == 0 => e,
-            Form::Tree(_, leaves) => match leaves.get(leaf) {
+            // The points must lie on the leaf's surface, not on the faces
+            // that close its solid.
+            Form::Tree(tree, leaves) if tree.faces_hidden(leaf) => match leaves.get(leaf) {
                 Some(Some(e)) => e,
                 _ => return false,
             },
-            Form::Plain(_) => return false,
+            _ => return false,
         };
         let p = &self.pinhole;
         let (mut us, mut vs) = ((f64::MAX, f64::MIN), (f64::MAX, f64::MIN));

@@ -203,12 +203,13 @@ fn no_ray_through_a_missed_rectangle_hits() {
 /// Trees as POV-Ray's samples make them: tcubic.pov's cubic and
 /// folium.pov's, each intersected with a clear ball, which the reader
 /// makes a clip (`scene::pov`), with the cubic cut to a box just around
-/// the ball's. Folium's points are lit from the cubic's inside.
+/// the ball's. Folium's points are lit from the cubic's inside. And
+/// grafbic.pov's form: tcubic's cubic between two half-spaces.
 fn clipped_cubics() -> Vec<(&'static str, Shape)> {
     use crate::geometry::analytic::csg::{Csg, Leaf, Node, Op, Part};
+    let solver = Solver::default();
     let clipped = |terms: &[([u8; 3], f64)], cut: f64, radius: f64, to_world: DAffine3| {
         let f = Trivariate::from_terms(terms.iter().copied());
-        let solver = Solver::default();
         let surface = Surface::Algebraic(Box::new(f));
         let mut cubic = Shape::unclipped(surface, to_world, 0, solver).unwrap();
         cubic.clip_within(&Box3::cube(cut), to_world).unwrap();
@@ -234,6 +235,46 @@ fn clipped_cubics() -> Vec<(&'static str, Shape)> {
             * DAffine3::from_scale(DVec3::splat(scale))
     };
     let folium_at = turn(0.2, 0.9, DVec3::new(0.0, 0.0, 6.0), 0.2);
+    // grafbic.pov's form: a quartic clipped by two half-spaces (world).
+    let between_planes = |terms: &[([u8; 3], f64)]| {
+        let f = Trivariate::from_terms(terms.iter().copied());
+        let to_world = turn(0.3, -0.4, DVec3::new(0.2, 0.0, 5.0), 1.0);
+        let mut cubic =
+            Shape::unclipped(Surface::Algebraic(Box::new(f)), to_world, 0, solver).unwrap();
+        cubic.clip_within(&Box3::cube(2.0), to_world).unwrap();
+        let normal = to_world.transform_vector3(DVec3::Y);
+        let at = to_world.translation.dot(normal);
+        let leaf = |part| Leaf {
+            part,
+            inverse: false,
+            material: 0,
+        };
+        let leaves = vec![
+            leaf(Part::Solid(cubic)),
+            leaf(Part::Plane {
+                normal,
+                offset: at + 0.6,
+            }),
+            leaf(Part::Plane {
+                normal: -normal,
+                offset: 0.4 - at,
+            }),
+        ];
+        let root = Node::Op {
+            op: Op::Clip,
+            inverse: false,
+            children: vec![Node::Leaf(0), Node::Leaf(1), Node::Leaf(2)],
+        };
+        let tree = Csg::within(root, leaves, Box3::cube(100.0)).unwrap();
+        Shape::new(
+            Surface::Csg(Box::new(tree)),
+            DAffine3::IDENTITY,
+            None,
+            0,
+            solver,
+        )
+        .unwrap()
+    };
     let tcubic = [
         ([3, 0, 0], -0.5),
         ([2, 0, 0], -0.5),
@@ -258,6 +299,7 @@ fn clipped_cubics() -> Vec<(&'static str, Shape)> {
             ),
         ),
         ("folium in a ball", clipped(&folium, 10.01, 10.0, folium_at)),
+        ("cubic between planes", between_planes(&tcubic)),
     ]
 }
 
@@ -331,7 +373,7 @@ fn no_shadow_ray_from_a_proven_tile_meets_its_shape() {
                         }
                     }
                     // Each leaf's points on their own, as a render's.
-                    for leaf in 0..2 {
+                    for leaf in 0..3 {
                         let lit: Vec<_> = lit.iter().filter(|h| h.0 == leaf).collect();
                         if lit.is_empty() {
                             continue;

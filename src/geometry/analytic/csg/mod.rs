@@ -185,11 +185,11 @@ impl Csg {
     }
 
     /// Whether no point of a region lies inside the tree or on its seen
-    /// surface, where `outside(i)` proves that of leaf i, a solid leaf
-    /// whose F > 0 throughout the region: an intersection or a clip is
-    /// outside where one child is, a union or merge where all are, a
-    /// difference where its first child is; the inverse of a part, or a
-    /// leaf that is not a solid, is never proven outside. The state is
+    /// surface, where `outside(i)` proves that of leaf i, a solid or
+    /// half-space leaf whose F > 0 throughout the region: an intersection
+    /// or a clip is outside where one child is, a union or merge where all
+    /// are, a difference where its first child is; the inverse of a part,
+    /// or a sheet or disc, is never proven outside. The state is
     /// then the same at every point of the region, so no line through it
     /// crosses the tree's surface there (see `beam`). Each leaf is asked
     /// at most once.
@@ -201,7 +201,9 @@ impl Csg {
         match node {
             Node::Leaf(i) => {
                 let leaf = &self.leaves[*i as usize];
-                !leaf.inverse && matches!(leaf.part, Part::Solid(_)) && outside(*i as usize)
+                !leaf.inverse
+                    && matches!(leaf.part, Part::Solid(_) | Part::Plane { .. })
+                    && outside(*i as usize)
             }
             Node::Op { inverse: true, .. } => false,
             Node::Op { op, children, .. } => match op {
@@ -227,6 +229,14 @@ impl Csg {
         !self.reaches_out
             && (self.node_outside(&self.root, &mut |i| i == leaf && !inside)
                 || self.node_unseen(&self.root, leaf, inside, &[]))
+    }
+
+    /// Whether no seen surface of the tree lies on the faces of leaf
+    /// `leaf`'s box, so that every hit on that leaf is a point of its
+    /// surface (F = 0): where the leaf is alone or a clip's first child and
+    /// its faces lie beyond the tree's box or the clipping solid's.
+    pub(crate) fn faces_hidden(&self, leaf: usize) -> bool {
+        !self.reaches_out && self.node_unseen(&self.root, leaf, true, &[])
     }
 
     /// `unseen` for `node`, shown only where each of `clips` is inside.
