@@ -313,8 +313,8 @@ fn shadow_rays_spared_by_light_proofs_render_the_same_bytes() {
         "quartic { < 1,0,0,0,2,0,0,2,0,-2, 0,0,0,0,0,0,0,0,0,0, 1,0,0,2,0,0.56,0,0,0,0, \
          1,0,0.56,0,0.0784 > translate 3*z pigment { rgb 1 } }",
         // tcubic.pov's and folium.pov's cubics, each cut by a clear ball
-        // (a clip), so the scene's shadows are filtered; folium's points
-        // are lit from the cubic's inside.
+        // (which the reader makes a clip, not a filtering surface);
+        // folium's points are lit from the cubic's inside.
         "intersection { quartic { < 0,0,0,-0.5,0,0,0,0,0,-0.5, 0,0,0,0,0,0,0,0,0,0, \
          0,0,0,0,0,1,0,0,0,0, 0,0,1,0,0 > pigment { rgb 1 } } \
          sphere { 0, 2 pigment { rgbf 1 } } rotate <0, -15, 0> scale 0.7 translate 3*z }",

@@ -292,9 +292,8 @@ struct Window {
 impl Window {
     /// The sign (true: positive) G keeps, clear of zero, over σ in (σ0, σ1)
     /// (halved up to `splits` times, and no more than its surface's own
-    /// limit), and with `far` beyond σ1 too; None
-    /// where that is not proven. An empty stretch (σ0 = σ1) asks only
-    /// about what lies beyond.
+    /// limit), and with `far` beyond σ1 too; None where that is not
+    /// proven. An empty stretch (σ0 = σ1) asks only about what lies beyond.
     fn sign(&self, (s0, s1): (f64, f64), far: bool, splits: u32) -> Option<bool> {
         let sign = if s0 < s1 {
             Some(self.rect.over(s0, s1).sign(splits.min(self.splits))?)
