@@ -1,6 +1,6 @@
 use glam::{DAffine3, DVec3};
 
-use super::{N, Pinhole, halves, shadow_start_bound, shift, to_bernstein};
+use super::{N, Pinhole, halves, quadratic_of, shadow_start_bound, shift, to_bernstein};
 use crate::geometry::analytic::{Box3, Shape, Surface};
 use crate::poly::solve::Solver;
 use crate::poly::trivariate::Trivariate;
@@ -39,6 +39,34 @@ fn shifts_conversions_and_halves_keep_the_polynomial() {
             eval_bernstein(&high, 2.0 * t - 1.0)
         };
         assert!(close(half), "halves at {t}");
+    }
+}
+
+/// A sphere's and a general quadric's F as polynomials agree with the
+/// surfaces' own F (the constant of Q(t) along a line from the point).
+#[test]
+fn quadratic_leaves_as_polynomials_keep_their_f() {
+    use crate::geometry::analytic::Quadric;
+    let quadric = Quadric {
+        a: glam::DMat3::from_cols_array(&[1.0, 0.3, -0.2, 0.5, -2.0, 0.7, 0.1, 0.4, 0.6]),
+        b: DVec3::new(0.3, -1.1, 0.8),
+        c: -0.9,
+    };
+    for surface in [Surface::Sphere { radius: 1.7 }, Surface::Quadric(quadric)] {
+        let f = quadratic_of(&surface).unwrap();
+        for k in 0..20 {
+            let p = DVec3::new(
+                f64::from(k) * 0.37 - 3.0,
+                f64::from(k % 7) - 2.5,
+                1.3 - 0.21 * f64::from(k),
+            );
+            let want = surface.along_line(p, DVec3::X).unwrap()[0];
+            let got = f.eval(p.to_array());
+            assert!(
+                (got - want).abs() <= 1e-12 * (1.0 + want.abs()),
+                "{surface:?} at {p}: {got} != {want}"
+            );
+        }
     }
 }
 
@@ -373,7 +401,10 @@ fn no_shadow_ray_from_a_proven_tile_meets_its_shape() {
                         }
                     }
                     // Each leaf's points on their own, as a render's.
-                    for leaf in 0..3 {
+                    let mut leaves: Vec<usize> = lit.iter().map(|h| h.0).collect();
+                    leaves.sort_unstable();
+                    leaves.dedup();
+                    for leaf in leaves {
                         let lit: Vec<_> = lit.iter().filter(|h| h.0 == leaf).collect();
                         if lit.is_empty() {
                             continue;
