@@ -125,7 +125,9 @@ impl ListScene {
                 // Expanded about the box's centre, where the hits are.
                 let centre = 0.5 * (b.min + b.max).as_dvec3();
                 let depth = (centre - light).length();
-                Pinhole::toward(light, centre).and_then(|pinhole| shape.beams(&pinhole, depth, b))
+                Pinhole::toward(light, centre)
+                    .and_then(|pinhole| shape.beams(&pinhole, depth, b))
+                    .filter(ShapeBeams::proves_lights)
             })
             .collect();
         shapes

@@ -20,6 +20,7 @@ use super::csg::{Csg, Part};
 use super::{Shape, Surface};
 use crate::math::Bounds;
 use crate::poly::trivariate::Trivariate;
+use discriminant::Discriminant;
 
 /// The highest degree proven: the cubics and quartics of POV-Ray's
 /// samples. The tensor of coefficients has (degree + 1)³ entries.
@@ -128,6 +129,9 @@ pub struct ShapeBeams<'a> {
 enum Form<'a> {
     /// A surface, missed where F keeps either sign.
     Plain(Box<Expanded>),
+    /// A sphere or a quadric, missed where no line through the rectangle
+    /// meets it.
+    Quadratic(Box<Discriminant>),
     /// A tree, missed where the solid leaves that F > 0 leaves outside
     /// leave the whole tree outside (`Csg::outside`): each leaf's G, for
     /// algebraic leaves (a sphere's or a box's crossings cost a ray less
@@ -187,6 +191,9 @@ impl Shape {
                         && matches!(&leaf.part, Part::Solid(s) if matches!(s.surface, Surface::Algebraic(_)))
                 });
                 algebraic.then_some(Form::Tree(tree, leaves))?
+            }
+            Surface::Sphere { .. } | Surface::Quadric(_) => {
+                Form::Quadratic(Box::new(Discriminant::of(self, pinhole)?))
             }
             _ => Form::Plain(Box::new(Expanded::of(self, pinhole, depth)?)),
         };
@@ -519,6 +526,9 @@ impl ShapeBeams<'_> {
     /// meets the shape's surface inside its box: false where that is not
     /// proven.
     pub fn misses(&self, xs: (f64, f64), ys: (f64, f64)) -> bool {
+        if let Form::Quadratic(q) = &self.form {
+            return q.misses(xs, ys);
+        }
         let Some(reach) = self.reach(xs, ys) else {
             return false;
         };
@@ -536,6 +546,7 @@ impl ShapeBeams<'_> {
         }
         match &self.form {
             Form::Plain(e) => e.window(xs, ys).sign((s0, s1), far, SPLITS).is_some(),
+            Form::Quadratic(_) => false,
             Form::Tree(tree, leaves) => {
                 let windows: Vec<_> = (leaves.iter())
                     .map(|e| e.as_ref().map(|e| e.window(xs, ys)))
@@ -554,6 +565,12 @@ impl ShapeBeams<'_> {
                         && outside_by_pieces(&outside, (s0, s1), TREE_SPLITS)
             }
         }
+    }
+
+    /// Whether `lights` can prove anything: a quadric's rays are proven
+    /// only as a camera's (`misses`).
+    pub fn proves_lights(&self) -> bool {
+        !matches!(self.form, Form::Quadratic(_))
     }
 
     /// Whether no shadow ray towards the pinhole, a point light's
@@ -682,6 +699,8 @@ impl ShapeBeams<'_> {
         match &self.form {
             Form::Plain(_) => true,
             Form::Tree(tree, _) => sign.is_some_and(|positive| tree.unseen(leaf, !positive)),
+            // Not proven along a light's rays (see `e` above).
+            Form::Quadratic(_) => false,
         }
     }
 
@@ -825,5 +844,6 @@ pub fn shadow_start_bound(o: DVec3, d: DVec3, t: f64, error: f64) -> f64 {
     8.0 * (off + rounding) + 1e-6 * ((o + along).length() + 1.0)
 }
 
+mod discriminant;
 #[cfg(test)]
 mod tests;

@@ -1,6 +1,7 @@
-use glam::{DAffine3, DVec3};
+use glam::{DAffine3, DMat3, DVec3};
 
 use super::{N, Pinhole, halves, quadratic_of, shadow_start_bound, shift, to_bernstein};
+use crate::geometry::analytic::surface::Quadric;
 use crate::geometry::analytic::{Box3, Shape, Surface};
 use crate::poly::solve::Solver;
 use crate::poly::trivariate::Trivariate;
@@ -189,7 +190,11 @@ fn no_ray_through_a_missed_rectangle_hits() {
         right: DVec3::new(1.0 / width, 0.0, 0.0),
         down: DVec3::new(0.0, -0.75 / height, 0.0),
     };
-    for (name, shape) in shapes().into_iter().chain(clipped_cubics()) {
+    for (name, shape) in shapes()
+        .into_iter()
+        .chain(clipped_cubics())
+        .chain(quadratics())
+    {
         let beams = shape
             .beams(&pinhole, 0.0, &shape.bounds())
             .expect("a quartic in a finite box");
@@ -226,6 +231,82 @@ fn no_ray_through_a_missed_rectangle_hits() {
             "{name}: {proven} of {tried} proven"
         );
     }
+}
+
+/// Spheres and quadrics, proven by their discriminant (`Discriminant`):
+/// POV-Ray's `Axes` cylinder (radius 0.01, in a box around the eye, seen
+/// along its length and across it), a ball in a box the eye is outside, a
+/// hyperboloid of one sheet (a form that curves both ways) and a
+/// paraboloid (b ≠ 0), each turned.
+fn quadratics() -> Vec<(&'static str, Shape)> {
+    let quadric = |a: DMat3, b: DVec3, c: f64, to_world: DAffine3, clip: f64| {
+        Shape::new(
+            Surface::Quadric(Quadric { a, b, c }),
+            to_world,
+            Some(Box3::cube(clip)),
+            0,
+            Solver::default(),
+        )
+        .unwrap()
+    };
+    let turn = |x: f64, y: f64, at: DVec3| {
+        DAffine3::from_translation(at) * DAffine3::from_rotation_x(x) * DAffine3::from_rotation_y(y)
+    };
+    let thin = DAffine3::from_scale(DVec3::new(1.0, 0.01, 0.01));
+    let cylinder = DMat3::from_diagonal(DVec3::new(0.0, 1.0, 1.0));
+    vec![
+        (
+            "thin cylinder across",
+            quadric(
+                cylinder,
+                DVec3::ZERO,
+                -1.0,
+                turn(0.4, 0.3, DVec3::new(0.0, 0.0, 4.0)) * thin,
+                1e6,
+            ),
+        ),
+        (
+            "thin cylinder along",
+            quadric(
+                cylinder,
+                DVec3::ZERO,
+                -1.0,
+                turn(0.1, 1.3, DVec3::new(0.02, 0.01, 4.0)) * thin,
+                1e6,
+            ),
+        ),
+        (
+            "ball",
+            Shape::new(
+                Surface::Sphere { radius: 0.8 },
+                turn(0.0, 0.0, DVec3::new(0.3, 0.2, 5.0)),
+                Some(Box3::cube(0.8)),
+                0,
+                Solver::default(),
+            )
+            .unwrap(),
+        ),
+        (
+            "hyperboloid",
+            quadric(
+                DMat3::from_diagonal(DVec3::new(1.0, 1.0, -1.0)),
+                DVec3::ZERO,
+                -0.04,
+                turn(1.2, 0.4, DVec3::new(0.1, 0.0, 6.0)),
+                1.5,
+            ),
+        ),
+        (
+            "paraboloid",
+            quadric(
+                DMat3::from_diagonal(DVec3::new(1.0, 1.0, 0.0)),
+                DVec3::new(0.0, 0.0, -1.0),
+                0.3,
+                turn(-0.7, 0.5, DVec3::new(0.0, 0.0, 6.0)),
+                2.0,
+            ),
+        ),
+    ]
 }
 
 /// Trees as POV-Ray's samples make them: tcubic.pov's cubic and
