@@ -44,10 +44,8 @@ impl Sample {
     }
 }
 
-// Zeroable: a render's pass buffer starts as zero bytes (see render::render_from);
-// Pod (C layout, no padding): a buffer may be a memory map (see `Pixels`).
-#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Zeroable, bytemuck::Pod)]
-#[repr(C)]
+// Zeroable: a render's pass buffer starts as zero bytes (see render::render_from).
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Zeroable)]
 pub struct Pixel {
     /// Σ weight · radiance.
     pub radiance: [f64; 3],

@@ -286,8 +286,8 @@ pub fn render_from(
         }
         let first = passes::is_first(&range);
         // Zero bytes the kernel maps on first write, from every thread at
-        // once, in huge pages where it can (see `Pixels`); each pixel is
-        // overwritten before anything reads it.
+        // once (see `Pixels`); each pixel is overwritten before anything
+        // reads it.
         let mut next = spare
             .take()
             .unwrap_or_else(|| Pixels::zeroed(region.area()));
