@@ -8,7 +8,7 @@
 //! machine but, where another program had just run (POV-Ray, in the speed
 //! comparison), made the kernel compact memory in the faults: render
 //! times 1.4-1.6x those of small pages on four of five scenes, and far
-//! more spread (see ARCHITECTURE.md, "Whole passes, in place").
+//! more spread (see ARCHITECTURE.md, "Passes write the film in place").
 
 use std::ops::{Deref, DerefMut};
 
