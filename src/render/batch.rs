@@ -12,6 +12,7 @@
 //! rendered (a crop's edge tile traces its grid tile's other pixels too,
 //! and drops them), the passes, the threads or a resume.
 
+use super::TILE;
 use crate::accel::{Accel, ShapeSet};
 use crate::film::Region;
 use crate::math::{Hit, Ray64};
@@ -28,11 +29,14 @@ pub(super) struct TileCameras {
 }
 
 impl TileCameras {
+    /// Buffers for a whole tile's rays, made once: grown a push at a time
+    /// they were 2% of bicube.pov's render loop (`valgrind --tool=callgrind`,
+    /// `RawVec::grow_one`).
     pub(super) fn new() -> TileCameras {
         TileCameras {
-            rays: Vec::new(),
-            hits: Vec::new(),
-            samples: Vec::new(),
+            rays: Vec::with_capacity(TILE * TILE),
+            hits: Vec::with_capacity(TILE * TILE),
+            samples: Vec::with_capacity(TILE * TILE),
         }
     }
 

@@ -102,8 +102,10 @@ impl<'a> LightProofs<'a> {
             (0, w / 2, h / 2, h),
             (w / 2, w, h / 2, h),
         ];
-        let mut points = Vec::new();
-        let mut members = Vec::new();
+        // At most a point a pixel: sized once, not grown a push at a time
+        // (see `TileCameras::new`).
+        let mut points = Vec::with_capacity(hits.len());
+        let mut members = Vec::with_capacity(hits.len());
         // The (shape, leaf) pairs hit, each proven on its own.
         let mut surfaces: Vec<(usize, usize)> = hits.iter().flatten().map(|h| h.on).collect();
         surfaces.sort_unstable();
