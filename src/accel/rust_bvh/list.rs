@@ -144,9 +144,26 @@ pub struct ShapeSet(u8);
 impl ShapeSet {
     pub const ALL: ShapeSet = ShapeSet(u8::MAX);
 
+    pub const NONE: ShapeSet = ShapeSet(0);
+
+    /// The set of shape `i` alone (none for an `i` past the list's).
+    pub fn only(i: usize) -> ShapeSet {
+        ShapeSet(1u8.checked_shl(i as u32).unwrap_or(0))
+    }
+
     /// The set without shape `i`.
     pub fn without(self, i: usize) -> ShapeSet {
-        ShapeSet(self.0 & !1u8.checked_shl(i as u32).unwrap_or(0))
+        self.minus(ShapeSet::only(i))
+    }
+
+    /// The set without the shapes of `other`.
+    pub fn minus(self, other: ShapeSet) -> ShapeSet {
+        ShapeSet(self.0 & !other.0)
+    }
+
+    /// The shapes of either set.
+    pub fn with(self, other: ShapeSet) -> ShapeSet {
+        ShapeSet(self.0 | other.0)
     }
 
     fn has(self, i: usize) -> bool {
