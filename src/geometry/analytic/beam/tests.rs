@@ -253,6 +253,17 @@ fn quadratics() -> Vec<(&'static str, Shape)> {
     let turn = |x: f64, y: f64, at: DVec3| {
         DAffine3::from_translation(at) * DAffine3::from_rotation_x(x) * DAffine3::from_rotation_y(y)
     };
+    // Centred at `at`, in its own box.
+    let ball = |radius: f64, at: DVec3| {
+        Shape::new(
+            Surface::Sphere { radius },
+            DAffine3::from_translation(at),
+            Some(Box3::cube(radius)),
+            0,
+            Solver::default(),
+        )
+        .unwrap()
+    };
     let thin = DAffine3::from_scale(DVec3::new(1.0, 0.01, 0.01));
     let cylinder = DMat3::from_diagonal(DVec3::new(0.0, 1.0, 1.0));
     vec![
@@ -276,28 +287,11 @@ fn quadratics() -> Vec<(&'static str, Shape)> {
                 1e6,
             ),
         ),
-        (
-            "ball",
-            Shape::new(
-                Surface::Sphere { radius: 0.8 },
-                turn(0.0, 0.0, DVec3::new(0.3, 0.2, 5.0)),
-                Some(Box3::cube(0.8)),
-                0,
-                Solver::default(),
-            )
-            .unwrap(),
-        ),
+        ("ball", ball(0.8, DVec3::new(0.3, 0.2, 5.0))),
         (
             // 0.004 of a pixel across.
             "tiny ball",
-            Shape::new(
-                Surface::Sphere { radius: 1e-4 },
-                turn(0.0, 0.0, DVec3::new(0.05, -0.02, 3.0)),
-                Some(Box3::cube(1e-4)),
-                0,
-                Solver::default(),
-            )
-            .unwrap(),
+            ball(1e-4, DVec3::new(0.05, -0.02, 3.0)),
         ),
         (
             // Terms of 1e4 that cancel to the small values near its rim (at
@@ -305,14 +299,7 @@ fn quadratics() -> Vec<(&'static str, Shape)> {
             // from the terms at the far corners of its box, where a ray from
             // outside the box forms its Q).
             "big ball",
-            Shape::new(
-                Surface::Sphere { radius: 100.0 },
-                turn(0.0, 0.0, DVec3::new(100.2, 0.0, 4.0)),
-                Some(Box3::cube(100.0)),
-                0,
-                Solver::default(),
-            )
-            .unwrap(),
+            ball(100.0, DVec3::new(100.2, 0.0, 4.0)),
         ),
         (
             "hyperboloid",
