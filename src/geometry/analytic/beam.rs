@@ -156,8 +156,9 @@ impl Shape {
     /// The shape's F along `pinhole`'s rays, hit only inside `bounds`
     /// (world), expanded about `depth` along them (see `Expanded::of`):
     /// for an algebraic surface of degree 4 or less, and for a tree with
-    /// such solid leaves (None for others, and for a box that is not
-    /// finite).
+    /// such solid leaves; for a sphere or a quadric other than a plane,
+    /// its discriminant (`Discriminant`: camera rays only). None for
+    /// others, and for a box that is not finite.
     pub fn beams(&self, pinhole: &Pinhole, depth: f64, bounds: &Bounds) -> Option<ShapeBeams<'_>> {
         let finite = |b: &Bounds| {
             let (min, max) = (b.min.as_dvec3(), b.max.as_dvec3());
