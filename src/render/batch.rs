@@ -15,7 +15,7 @@
 use super::TILE;
 use crate::accel::{Accel, ShapeSet};
 use crate::film::Region;
-use crate::math::{Hit, Ray64};
+use crate::math::{DVec3, Hit, Ray64};
 use crate::sampling::Sampler;
 
 /// The camera rays of one grid tile for one sample index, with their hits,
@@ -25,7 +25,9 @@ use crate::sampling::Sampler;
 pub(super) struct TileCameras {
     rays: Vec<Ray64>,
     hits: Vec<Hit>,
-    samples: Vec<(f32, Sampler)>,
+    /// Each pixel's filter weight and sampler; None for a pixel left
+    /// untraced (`trace_among`'s `untraced`).
+    samples: Vec<Option<(f32, Sampler)>>,
 }
 
 impl TileCameras {
@@ -54,19 +56,37 @@ impl TileCameras {
     }
 
     /// `trace`, one ray at a time, each offered the shapes `among` gives
-    /// its pixel (see `Accel::intersect_exact_among`).
+    /// its pixel (see `Accel::intersect_exact_among`). A pixel offered
+    /// none where `untraced` holds gets no ray at all: a miss, whose
+    /// sample the caller knows without one (`get` gives None).
     pub(super) fn trace_among(
         &mut self,
         accel: &Accel,
         grid: Region,
         camera: impl Fn((usize, usize)) -> (Ray64, f32, Sampler),
         among: impl Fn((usize, usize)) -> ShapeSet,
+        untraced: bool,
     ) {
-        self.gather(grid, camera);
+        self.rays.clear();
+        self.samples.clear();
         self.hits.clear();
-        let pixels = (grid.y0..grid.y1).flat_map(|y| (grid.x0..grid.x1).map(move |x| (x, y)));
-        for (ray, at) in self.rays.iter().zip(pixels) {
-            self.hits.push(accel.intersect_exact_among(ray, among(at)));
+        for y in grid.y0..grid.y1 {
+            for x in grid.x0..grid.x1 {
+                let set = among((x, y));
+                if untraced && set == ShapeSet::NONE {
+                    self.rays.push(Ray64 {
+                        origin: DVec3::ZERO,
+                        dir: DVec3::ZERO,
+                    });
+                    self.samples.push(None);
+                    self.hits.push(Hit::MISS);
+                    continue;
+                }
+                let (ray, weight, sampler) = camera((x, y));
+                self.hits.push(accel.intersect_exact_among(&ray, set));
+                self.rays.push(ray);
+                self.samples.push(Some((weight, sampler)));
+            }
         }
     }
 
@@ -77,7 +97,7 @@ impl TileCameras {
             for x in grid.x0..grid.x1 {
                 let (ray, weight, sampler) = camera((x, y));
                 self.rays.push(ray);
-                self.samples.push((weight, sampler));
+                self.samples.push(Some((weight, sampler)));
             }
         }
     }
@@ -92,14 +112,15 @@ impl TileCameras {
         self.rays.iter().zip(&self.hits)
     }
 
-    /// Pixel (x, y)'s ray, hit, weight and sampler, of `grid` as last traced.
+    /// Pixel (x, y)'s ray, hit, weight and sampler, of `grid` as last
+    /// traced; None for a pixel left untraced.
     pub(super) fn get(
         &mut self,
         grid: Region,
         (x, y): (usize, usize),
-    ) -> (&Ray64, Hit, f32, &mut Sampler) {
+    ) -> Option<(&Ray64, Hit, f32, &mut Sampler)> {
         let i = (y - grid.y0) * grid.width() + (x - grid.x0);
-        let (weight, sampler) = &mut self.samples[i];
-        (&self.rays[i], self.hits[i], *weight, sampler)
+        let (weight, sampler) = self.samples[i].as_mut()?;
+        Some((&self.rays[i], self.hits[i], *weight, sampler))
     }
 }

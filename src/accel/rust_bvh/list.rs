@@ -67,6 +67,11 @@ impl ListScene {
         among: ShapeSet,
         panics: &PanicSlot,
     ) -> Hit {
+        // Most camera rays of a scene proven missed by their rectangle
+        // (`ListBeams`) are offered no shape: they skip the walk's set-up.
+        if among == ShapeSet::NONE {
+            return Hit::MISS;
+        }
         panics.guard(Hit::MISS, || {
             let slabs = Slabs::new(ray);
             let (mut rest, mut hit) = (*ray, Hit::MISS);
@@ -97,14 +102,19 @@ impl ListScene {
         let shapes: Box<[_]> = (self.shapes.iter())
             .map(|(b, shape)| shape.beams(pinhole, 0.0, b))
             .collect();
-        shapes
-            .iter()
-            .any(Option::is_some)
-            .then_some(ListBeams(shapes))
+        let screens: Box<[_]> = (self.shapes.iter())
+            .map(|(b, _)| pinhole.screen(b.min.as_dvec3(), b.max.as_dvec3()))
+            .collect();
+        (shapes.iter().any(Option::is_some) || screens.iter().any(Option::is_some))
+            .then_some(ListBeams { shapes, screens })
     }
 
     /// Whether any shape blocks the ray; a panic counts as no hit.
     pub(crate) fn occluded(&self, ray: &Ray, among: ShapeSet, panics: &PanicSlot) -> bool {
+        // A shadow ray proven clear of the only shape (`LightProofs`).
+        if among == ShapeSet::NONE {
+            return false;
+        }
         panics.guard(false, || {
             let slabs = Slabs::new(ray);
             (self.shapes.iter().enumerate()).any(|(i, (b, shape))| {
@@ -175,7 +185,13 @@ impl ShapeSet {
 const _: () = assert!(MOST_SHAPES <= u8::BITS as usize);
 
 /// The list's shapes along a pinhole camera's rays (see `ShapeBeams`).
-pub struct ListBeams<'a>(Box<[Option<ShapeBeams<'a>>]>);
+pub struct ListBeams<'a> {
+    shapes: Box<[Option<ShapeBeams<'a>>]>,
+    /// Where on the image each shape's box is seen (`Pinhole::screen`):
+    /// no ray through a pixel outside it is asked of the shape, as its
+    /// box is missed.
+    screens: Box<[Option<[f64; 4]>]>,
+}
 
 /// The list's shapes along one point light's rays (`ListScene::light_beams`).
 pub struct LightBeams<'a>(Box<[Option<ShapeBeams<'a>>]>);
@@ -194,10 +210,36 @@ impl ListBeams<'_> {
     /// The shapes of `among` that some ray through pixel coordinates
     /// (x, y) in [x0, x1] × [y0, y1] may hit: all but those proven missed.
     pub fn may_hit(&self, xs: (f64, f64), ys: (f64, f64), among: ShapeSet) -> ShapeSet {
-        let missed = (self.0.iter().enumerate())
+        let among = self.in_sight(xs, ys, among);
+        let missed = (self.shapes.iter().enumerate())
             .filter(|&(i, beams)| among.has(i) && beams.as_ref().is_some_and(|b| b.misses(xs, ys)))
             .fold(0, |set, (i, _)| set | (1 << i));
         ShapeSet(among.0 & !missed)
+    }
+
+    /// The shapes of `among` whose box some ray through pixel coordinates
+    /// (x, y) in [x0, x1] × [y0, y1] may meet (`Pinhole::screen`): a few
+    /// comparisons a shape, cheap enough for every pixel. Only the list's
+    /// shapes: a set none of them is in is `ShapeSet::NONE`.
+    pub fn in_sight(
+        &self,
+        (x0, x1): (f64, f64),
+        (y0, y1): (f64, f64),
+        among: ShapeSet,
+    ) -> ShapeSet {
+        let unseen = (self.screens.iter().enumerate())
+            .filter(|(_, screen)| {
+                screen.is_some_and(|[sx0, sx1, sy0, sy1]| {
+                    x1 < sx0 || sx1 < x0 || y1 < sy0 || sy1 < y0
+                })
+            })
+            .fold(0, |set, (i, _)| set | (1 << i));
+        ShapeSet(among.0 & self.listed().0 & !unseen)
+    }
+
+    /// The set of every shape of the list.
+    pub fn listed(&self) -> ShapeSet {
+        ShapeSet(ShapeSet::ALL.0 >> (u8::BITS as usize - self.screens.len()))
     }
 }
 

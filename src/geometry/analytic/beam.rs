@@ -104,7 +104,66 @@ impl Pinhole {
     fn dir(&self, x: f64, y: f64) -> DVec3 {
         self.top_left + x * self.right + y * self.down
     }
+
+    /// The rectangle [x0, x1] × [y0, y1] of pixel coordinates outside
+    /// which no ray eye + s·D(x, y), s > 0, meets the box [lo, hi]: the
+    /// bounds of its corners' images, grown by a margin far above their
+    /// rounding. None where some corner is not in front of the eye (or
+    /// not finite), as for a box around the eye.
+    pub fn screen(&self, lo: DVec3, hi: DVec3) -> Option<[f64; 4]> {
+        // p − eye = s·(top_left + x·right + y·down): s from the normal of
+        // the image plane, then x and y from the dual basis of (right,
+        // down), which need not be orthogonal (POV-Ray's `right`, `up`).
+        let normal = self.right.cross(self.down);
+        let depth = self.top_left.dot(normal);
+        let (across, along) = (self.down.cross(normal), normal.cross(self.right));
+        let (across, along) = (
+            across / self.right.dot(across),
+            along / self.down.dot(along),
+        );
+        let mut rect = [
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+        ];
+        for corner in 0..8 {
+            let pick = |bit: usize, l: f64, h: f64| if corner & bit == 0 { l } else { h };
+            let p = DVec3::new(
+                pick(1, lo.x, hi.x),
+                pick(2, lo.y, hi.y),
+                pick(4, lo.z, hi.z),
+            );
+            let q = p - self.eye;
+            let s = q.dot(normal) / depth;
+            if !(s > 0.0 && s.is_finite()) {
+                return None;
+            }
+            let w = q / s - self.top_left;
+            let (x, y) = (w.dot(across), w.dot(along));
+            rect = [
+                rect[0].min(x),
+                rect[1].max(x),
+                rect[2].min(y),
+                rect[3].max(y),
+            ];
+        }
+        // A few roundings of each coordinate above, and of a ray's
+        // direction: 2^-20 of a pixel and of the coordinates' size.
+        let margin = SCREEN_MARGIN * (1.0 + rect.iter().fold(0.0_f64, |m, c| m.max(c.abs())));
+        let grown = [
+            rect[0] - margin,
+            rect[1] + margin,
+            rect[2] - margin,
+            rect[3] + margin,
+        ];
+        grown.iter().all(|c| c.is_finite()).then_some(grown)
+    }
 }
+
+/// How far `Pinhole::screen` grows a box's image, in pixels per pixel of
+/// its coordinates' size.
+const SCREEN_MARGIN: f64 = 1.0 / (1 << 20) as f64;
 
 /// Coefficients of a polynomial in (s, x, y), indexed by the powers [s][x][y].
 type Tensor = [[[f64; N]; N]; N];

@@ -5,6 +5,7 @@ use crate::geometry::analytic::surface::Quadric;
 use crate::geometry::analytic::{Box3, Shape, Surface};
 use crate::poly::solve::Solver;
 use crate::poly::trivariate::Trivariate;
+use crate::sampling::Rng;
 
 fn eval(c: &[f64; N], t: f64) -> f64 {
     c.iter().rev().fold(0.0, |v, &k| v * t + k)
@@ -533,4 +534,76 @@ fn no_shadow_ray_from_a_proven_tile_meets_its_shape() {
         }
     }
     assert!(proven < tried, "every one of {tried} tiles proven");
+}
+
+/// Whether the ray o + t·d, t > 0, meets the box [lo, hi] (slabs, in f64).
+fn meets_box(o: DVec3, d: DVec3, lo: DVec3, hi: DVec3) -> bool {
+    let (a, b) = ((lo - o) / d, (hi - o) / d);
+    let near = a.min(b).max_element();
+    let far = a.max(b).min_element();
+    near <= far && far > 0.0
+}
+
+/// No ray through a pixel outside a box's screen rectangle meets the box,
+/// for cameras whose `right` and `down` are neither orthogonal nor of one
+/// length (POV-Ray's `right` and `up` may be anything), boxes thin, flat,
+/// long, near and far; rays inside it do meet the box, so it is no wider
+/// than the image of the box. A box around the eye, behind it, or across
+/// the plane of the eye has no rectangle.
+#[test]
+fn no_ray_outside_a_box_screen_rectangle_meets_the_box() {
+    let mut rng = Rng::for_sample(7, 0, 0);
+    let mut random = move || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+    let (mut inside, mut outside) = (0, 0);
+    for case in 0..200 {
+        let pinhole = Pinhole {
+            eye: DVec3::new(random() - 0.5, random() - 0.5, -2.0 - random()),
+            top_left: DVec3::new(-0.6 + 0.2 * random(), 0.4 + 0.1 * random(), 1.0),
+            right: DVec3::new(0.01 * (0.5 + random()), 0.002 * (random() - 0.5), 0.0),
+            down: DVec3::new(
+                0.003 * (random() - 0.5),
+                -0.01 * (0.5 + random()),
+                0.001 * random(),
+            ),
+        };
+        let size = DVec3::new(random(), random(), random()).powf(3.0) * 2.0 + DVec3::splat(1e-6);
+        let centre = DVec3::new(2.0 * random() - 1.0, 2.0 * random() - 1.0, 4.0 * random());
+        let (lo, hi) = (centre - size, centre + size);
+        let [x0, x1, y0, y1] = pinhole.screen(lo, hi).expect("a box in front of the eye");
+        assert!(x0 < x1 && y0 < y1, "case {case}: {x0} {x1} {y0} {y1}");
+        // A grid reaching half the rectangle's size past each side.
+        let (wide, high) = (x1 - x0, y1 - y0);
+        for i in 0..=40 {
+            for j in 0..=40 {
+                let x = x0 - 0.5 * wide + 2.0 * wide * f64::from(i) / 40.0;
+                let y = y0 - 0.5 * high + 2.0 * high * f64::from(j) / 40.0;
+                let meets = meets_box(pinhole.eye, pinhole.dir(x, y), lo, hi);
+                let within = (x0..=x1).contains(&x) && (y0..=y1).contains(&y);
+                assert!(within || !meets, "case {case}: ({x}, {y}) meets the box");
+                inside += usize::from(within && meets);
+                outside += usize::from(!within);
+            }
+        }
+    }
+    assert!(
+        inside > 10_000 && outside > 100_000,
+        "{inside} met inside, {outside} outside"
+    );
+    let pinhole = Pinhole {
+        eye: DVec3::ZERO,
+        top_left: DVec3::new(-0.5, 0.5, 1.0),
+        right: DVec3::new(0.01, 0.0, 0.0),
+        down: DVec3::new(0.0, -0.01, 0.0),
+    };
+    for (lo, hi) in [
+        (DVec3::splat(-1.0), DVec3::splat(1.0)),
+        (DVec3::new(-1.0, -1.0, -5.0), DVec3::new(1.0, 1.0, -3.0)),
+        (DVec3::new(-1.0, -1.0, -1.0), DVec3::new(1.0, 1.0, 3.0)),
+        (
+            DVec3::new(-1.0, -1.0, 2.0),
+            DVec3::new(1.0, 1.0, f64::INFINITY),
+        ),
+    ] {
+        assert_eq!(pinhole.screen(lo, hi), None, "{lo} {hi}");
+    }
 }
