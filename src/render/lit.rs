@@ -33,6 +33,9 @@ const FEWEST: usize = 16;
 pub(super) struct LightProofs<'a> {
     lights: Vec<(usize, DVec3, LightBeams<'a>)>,
     geom_id: u32,
+    /// Every shape of the list: a shadow ray proven clear of the only
+    /// one is offered `ShapeSet::NONE`.
+    listed: ShapeSet,
 }
 
 /// The lights towards which the shape a pixel's camera ray hit is proven
@@ -75,6 +78,7 @@ impl<'a> LightProofs<'a> {
         (!lights.is_empty()).then(|| LightProofs {
             lights,
             geom_id: scene.shapes_geom_id(),
+            listed: ShapeSet::first(scene.shapes.len()),
         })
     }
 
@@ -90,7 +94,7 @@ impl<'a> LightProofs<'a> {
         lit.extend(hits.iter().map(|h| match h {
             Some(point) => Lit {
                 lights: 0,
-                among: ShapeSet::ALL.without(point.on.0),
+                among: self.listed.without(point.on.0),
             },
             None => Lit::NONE,
         }));

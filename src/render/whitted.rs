@@ -427,15 +427,18 @@ impl Whitted<'_> {
             if !it.leaves_as(incident.wi, false) || cos <= 0.0 {
                 continue;
             }
-            let mut shadow = Ray::new(offset(it.p, it.error, it.n, incident.wi), incident.wi);
-            // Stop just short of the light: its own surface must not occlude it.
-            shadow.tfar = incident.distance * (1.0 - SHADOW_SHORT);
+            let shadow = || {
+                let mut shadow = Ray::new(offset(it.p, it.error, it.n, incident.wi), incident.wi);
+                // Stop just short of the light: its own surface must not occlude it.
+                shadow.tfar = incident.distance * (1.0 - SHADOW_SHORT);
+                shadow
+            };
             let shadowing = self.scene.shadowing(light);
             let fogged = shadowing.fogged && self.plan.fog;
             let through = if shadowing.shadowless {
                 // No shadow ray: only the fog, over the whole way.
                 if fogged {
-                    fog_through(&self.scene.fogs, &shadow)
+                    fog_through(&self.scene.fogs, &shadow())
                 } else {
                     Vec3::ONE
                 }
@@ -445,7 +448,13 @@ impl Whitted<'_> {
                     LightRef::Index(i) if depth == 0 => walk.lit.among(i),
                     _ => ShapeSet::ALL,
                 };
-                self.shadow_through(&shadow, fogged, among)
+                // A shadow ray proven clear of every shape (`Lit`) meets
+                // nothing: unfogged, it is not made.
+                if among == ShapeSet::NONE && !fogged {
+                    Vec3::ONE
+                } else {
+                    self.shadow_through(&shadow(), fogged, among)
+                }
             };
             let contribution = if through == Vec3::ZERO {
                 Vec3::ZERO
@@ -463,7 +472,7 @@ impl Whitted<'_> {
                         _ => "filtered",
                     }
                 ),
-                t: shadow.tfar,
+                t: shadow().tfar,
                 material: None,
                 weight: weight.to_array(),
                 radiance: contribution.to_array(),

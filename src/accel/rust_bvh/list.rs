@@ -156,6 +156,17 @@ impl ShapeSet {
 
     pub const NONE: ShapeSet = ShapeSet(0);
 
+    /// The set of a list's first `n` shapes: a list of `n` shapes' every
+    /// shape, which a set holding none of them then differs from only by
+    /// being `NONE`.
+    pub fn first(n: usize) -> ShapeSet {
+        ShapeSet(
+            u8::MAX
+                .checked_shr(u8::BITS.saturating_sub(n as u32))
+                .unwrap_or(0),
+        )
+    }
+
     /// The set of shape `i` alone (none for an `i` past the list's).
     pub fn only(i: usize) -> ShapeSet {
         ShapeSet(1u8.checked_shl(i as u32).unwrap_or(0))
@@ -239,7 +250,7 @@ impl ListBeams<'_> {
 
     /// The set of every shape of the list.
     pub fn listed(&self) -> ShapeSet {
-        ShapeSet(ShapeSet::ALL.0 >> (u8::BITS as usize - self.screens.len()))
+        ShapeSet::first(self.screens.len())
     }
 }
 
@@ -480,5 +491,18 @@ mod tests {
             proven_anywhere > 1000,
             "{proven_anywhere} rays skipped a shape whose box they meet"
         );
+    }
+
+    /// A list's every shape, and no other bit: a set with none of them left
+    /// is `NONE`.
+    #[test]
+    fn a_list_s_first_shapes_are_its_every_shape() {
+        assert_eq!(ShapeSet::first(0), ShapeSet::NONE);
+        for n in 1..=8 {
+            let each = (0..n).fold(ShapeSet::NONE, |set, i| set.with(ShapeSet::only(i)));
+            assert_eq!(ShapeSet::first(n), each, "{n}");
+            assert_eq!((0..n).fold(each, |set, i| set.without(i)), ShapeSet::NONE);
+        }
+        assert_eq!(ShapeSet::first(9), ShapeSet::ALL);
     }
 }
