@@ -231,8 +231,10 @@ fn renders_through_every_backend_agree() {
 /// (`ListBeams`, through Embree's shape list) render the same bytes as
 /// the pure-Rust BVH, which offers every ray every shape: POV-Ray's
 /// quarcyl spindle in its `bounded_by` sphere (unbounded, so its box
-/// reaches far past the sphere) and tcubic's cubic clipped by a sphere
-/// (a tree), at one sample a pixel (pixel centres) and at four (the
+/// reaches far past the sphere), tcubic's cubic clipped by a sphere
+/// (a tree, proven outside the ball by its discriminant) and a quartic
+/// cut by a hyperboloid around the eye (a discriminant that proves the
+/// lines inside, not out), at one sample a pixel (pixel centres) and at four (the
 /// filter's jitter, up to its radius from the centre). The proofs must
 /// skip the shapes on some tiles, or the test shows nothing.
 #[test]
@@ -245,6 +247,12 @@ fn rays_that_skip_shapes_proven_missed_render_the_same_bytes() {
         "intersection { quartic { < 0,0,0,-0.5,0,0,0,0,0,-0.5, 0,0,0,0,0,0,0,0,0,0, \
          0,0,0,0,0,1,0,0,0,0, 0,0,1,0,0 > } sphere { 0, 2 } \
          bounded_by { sphere { 0, 2.2 } } rotate <0, -15, 0> translate 3*z pigment { rgb 1 } }",
+        // The eye inside a hyperboloid's hole, whose lines near its axis
+        // never meet it: they stay inside, so the tree is not missed there.
+        "intersection { quadric { <1, 1, -1>, <0, 0, 0>, <0, 0, 0>, -1 } \
+         quartic { < 1,0,0,0,2,0,0,2,0,-104, 0,0,0,0,0,0,0,0,0,0, 1,0,0,2,0,56,0,0,0,0, \
+         1,0,-104,0,784 > scale 0.1 rotate 70*x translate 3*z } \
+         bounded_by { sphere { 3*z, 1.2 } } pigment { rgb 1 } }",
     ];
     for (i, body) in scenes.iter().enumerate() {
         let text = format!(

@@ -36,6 +36,10 @@ pub(super) struct Discriminant {
     at: DVec3,
     /// F's terms made positive at `at`.
     m0: f64,
+    /// Whether F > 0 at the eye: where no line through a rectangle meets
+    /// the surface, F keeps that sign along every one of them, since
+    /// (DᵀAD)·F(e) then exceeds (D·g)² ≥ 0.
+    outside: bool,
 }
 
 impl Discriminant {
@@ -87,7 +91,14 @@ impl Discriminant {
             abs_b,
             at,
             m0,
+            outside: f > 0.0,
         })
+    }
+
+    /// Whether F > 0 (outside) all along every ray through the rectangle:
+    /// `misses` it, from an eye outside.
+    pub(super) fn outside(&self, xs: (f64, f64), ys: (f64, f64)) -> bool {
+        self.outside && self.misses(xs, ys)
     }
 
     /// Whether no ray through pixel coordinates (x, y) in [x0, x1] ×
