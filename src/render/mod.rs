@@ -292,6 +292,13 @@ pub fn render_from(
         .then(|| integrator.constant_miss(&frame))
         .flatten();
     let blank = untraced.is_some();
+    // In a pass that starts every pixel afresh (no film before it), such a
+    // pixel is one value, added up once.
+    let untraced_pixel = untraced.map(|sample| {
+        let mut pixel = Pixel::default();
+        let bad = passes::add(&mut pixel, sample);
+        (pixel, bad)
+    });
 
     let passes = passes::passes(spp, adaptive, from);
     let total = passes
@@ -365,6 +372,10 @@ pub fn render_from(
                             // Left untraced only where `untraced` is known.
                             None => {
                                 tally.count(RayKind::Camera, 0);
+                                if let (None, Some((fresh, fresh_bad))) = (prev, untraced_pixel) {
+                                    (*pixel, bad) = (fresh, bad + fresh_bad);
+                                    return Some(());
+                                }
                                 untraced?
                             }
                         };
