@@ -56,15 +56,16 @@ impl TileCameras {
     }
 
     /// `trace`, one ray at a time, each offered the shapes `among` gives
-    /// its pixel (see `Accel::intersect_exact_among`). A pixel offered
-    /// none where `untraced` holds gets no ray at all: a miss, whose
-    /// sample the caller knows without one (`get` gives None).
+    /// its pixel: `hit` finds its nearest hit among them (see
+    /// `Accel::intersect_exact_among`). A pixel offered none where
+    /// `untraced` holds gets no ray at all: a miss, whose sample the
+    /// caller knows without one (`get` gives None).
     pub(super) fn trace_among(
         &mut self,
-        accel: &Accel,
         grid: Region,
         camera: impl Fn((usize, usize)) -> (Ray64, f32, Sampler),
         among: impl Fn((usize, usize)) -> ShapeSet,
+        mut hit: impl FnMut((usize, usize), &Ray64, ShapeSet) -> Hit,
         untraced: bool,
     ) {
         self.rays.clear();
@@ -83,7 +84,7 @@ impl TileCameras {
                     continue;
                 }
                 let (ray, weight, sampler) = camera((x, y));
-                self.hits.push(accel.intersect_exact_among(&ray, set));
+                self.hits.push(hit((x, y), &ray, set));
                 self.rays.push(ray);
                 self.samples.push(Some((weight, sampler)));
             }

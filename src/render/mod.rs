@@ -107,7 +107,7 @@ fn tile_sets(
     beams: &ListBeams<'_>,
     tile: Region,
     reach: f64,
-    probe: impl Fn((usize, usize)) -> Option<usize>,
+    mut probe: impl FnMut((usize, usize)) -> Option<usize>,
 ) -> [ShapeSet; TILE * TILE] {
     let span = |from: usize, to: usize| (from as f64 + 0.5 - reach, to as f64 - 0.5 + reach);
     let rect = |r: &Region| (span(r.x0, r.x1), span(r.y0, r.y1));
@@ -398,13 +398,28 @@ pub fn render_from(
                     } else {
                         // Backends without streams, each ray offered the
                         // shapes its rectangle may hit.
-                        let probe = |at| {
+                        // The probes' hits are their pixels' sample 0 (the
+                        // sets offer those pixels every shape that may be
+                        // hit, so the nearest is the same): kept, not traced
+                        // twice, where the tile's sets are proven now.
+                        let mut probed = [None; 4];
+                        let mut probe = |at| {
                             let hit = accel.intersect_exact_among(&camera(at, 0).0, ShapeSet::ALL);
+                            if let Some(slot) = probed.iter_mut().find(|p| p.is_none()) {
+                                *slot = Some((at, hit));
+                            }
                             (hit.is_hit() && hit.geom_id == shapes_geom_id)
                                 .then_some(hit.prim_id as usize)
                         };
                         let sets = (beams.as_ref())
-                            .map(|b| proofs.get_or_init(|| tile_sets(b, *tile, reach, probe)));
+                            .map(|b| proofs.get_or_init(|| tile_sets(b, *tile, reach, &mut probe)));
+                        let known = |at, k| {
+                            let probed = probed.iter().flatten().filter(|_| k == 0);
+                            probed
+                                .into_iter()
+                                .find(|(p, _)| *p == at)
+                                .map(|(_, hit)| *hit)
+                        };
                         let among = |(x, y): (usize, usize)| {
                             sets.as_ref()
                                 .map_or(ShapeSet::ALL, |s| s[(y - tile.y0) * TILE + x - tile.x0])
@@ -418,7 +433,12 @@ pub fn render_from(
                                 let (mut cameras, mut lit) = (TileCameras::new(), Vec::new());
                                 for k in range.clone() {
                                     let camera = |at| camera(at, k);
-                                    cameras.trace_among(accel, *tile, camera, among, blank);
+                                    let hit = |at, ray: &Ray64, set| {
+                                        known(at, k).unwrap_or_else(|| {
+                                            accel.intersect_exact_among(ray, set)
+                                        })
+                                    };
+                                    cameras.trace_among(*tile, camera, among, hit, blank);
                                     light_proofs.prove(&cameras, *tile, &mut lit);
                                     let pixels = (tile.y0..tile.y1).zip(rows.iter_mut()).flat_map(
                                         |(y, row)| {
@@ -447,7 +467,9 @@ pub fn render_from(
                                                 continue;
                                             }
                                             let (ray, weight, mut sampler) = camera((x, y), k);
-                                            let hit = accel.intersect_exact_among(&ray, set);
+                                            let hit = known((x, y), k).unwrap_or_else(|| {
+                                                accel.intersect_exact_among(&ray, set)
+                                            });
                                             let traced = (&ray, hit, weight, &mut sampler);
                                             sample(pixel, Some(traced), Lit::NONE)?;
                                         }
