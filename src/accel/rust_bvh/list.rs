@@ -67,11 +67,6 @@ impl ListScene {
         among: ShapeSet,
         panics: &PanicSlot,
     ) -> Hit {
-        // Most camera rays of a scene proven missed by their rectangle
-        // (`ListBeams`) are offered no shape: they skip the walk's set-up.
-        if among == ShapeSet::NONE {
-            return Hit::MISS;
-        }
         panics.guard(Hit::MISS, || {
             let slabs = Slabs::new(ray);
             let (mut rest, mut hit) = (*ray, Hit::MISS);
@@ -111,10 +106,6 @@ impl ListScene {
 
     /// Whether any shape blocks the ray; a panic counts as no hit.
     pub(crate) fn occluded(&self, ray: &Ray, among: ShapeSet, panics: &PanicSlot) -> bool {
-        // A shadow ray proven clear of the only shape (`LightProofs`).
-        if among == ShapeSet::NONE {
-            return false;
-        }
         panics.guard(false, || {
             let slabs = Slabs::new(ray);
             (self.shapes.iter().enumerate()).any(|(i, (b, shape))| {
